@@ -1,0 +1,82 @@
+//! The row-following benchmark of shared/plant.md: three row shapes at three speeds,
+//! every disturbance on, in lockstep simulation; the tool's cross-track error after
+//! the first 5 m of each row.
+
+use mechweed_hw::sim::{CrossTrackSummary, RowShape, SimParams};
+use serde::Serialize;
+
+use crate::config::Settings;
+use crate::lockstep::Lockstep;
+use crate::modes::Mode;
+
+pub const ROWS: [RowShape; 3] = [RowShape::Straight, RowShape::SCurve, RowShape::Arc];
+pub const SPEEDS_MPS: [f64; 3] = [0.3, 0.5, 1.0];
+
+#[derive(Debug, Clone, Serialize)]
+pub struct RowRun {
+    pub row: String,
+    pub speed_mps: f64,
+    pub cross_track_cm: CrossTrackSummary,
+    pub faults: Vec<String>,
+    pub sim_time_s: f64,
+}
+
+pub fn row_name(row: RowShape) -> &'static str {
+    match row {
+        RowShape::Straight => "straight",
+        RowShape::SCurve => "scurve",
+        RowShape::Arc => "arc",
+    }
+}
+
+/// Drive one benchmark row in autonomous mode to its end; the controller's settings
+/// are `settings`' (its [sim] section is replaced by the benchmark's plant).
+pub fn run_row(settings: &Settings, row: RowShape, speed_mps: f64, seed: u64) -> RowRun {
+    let mut s = settings.clone();
+    s.sim = SimParams::benchmark(row, seed);
+    s.steer.speed_mps = speed_mps;
+    let limit_s = s.sim.row_length_m / speed_mps.max(0.05) + 30.0;
+    let mut sim = Lockstep::new(&s, Mode::Autonomous);
+    while !sim.robot.truth().row_done && sim.now_s() < limit_s {
+        sim.tick();
+    }
+    RowRun {
+        row: row_name(row).to_string(),
+        speed_mps,
+        cross_track_cm: sim.robot.cross_track().summary(),
+        faults: sim
+            .supervisor
+            .fault_log
+            .iter()
+            .map(|f| format!("{:.2} s: {}", f.t_s, f.cause))
+            .collect(),
+        sim_time_s: sim.now_s(),
+    }
+}
+
+/// The table `mechweed bench rows` prints.
+pub fn table(runs: &[RowRun]) -> String {
+    let mut out =
+        String::from("row       speed   mean    s.d.    RMS     p95     max    >2cm  faults\n");
+    out += "          m/s     cm      cm      cm      cm      cm     %\n";
+    for r in runs {
+        let c = &r.cross_track_cm;
+        out += &format!(
+            "{:<9} {:4.1} {:7.2} {:7.2} {:7.2} {:7.2} {:7.2} {:6.1}  {}\n",
+            r.row,
+            r.speed_mps,
+            c.mean_cm,
+            c.sd_cm,
+            c.rms_cm,
+            c.p95_cm,
+            c.max_cm,
+            c.share_over_2cm * 100.0,
+            if r.faults.is_empty() {
+                "none".to_string()
+            } else {
+                r.faults.join("; ")
+            }
+        );
+    }
+    out
+}

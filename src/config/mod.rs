@@ -1,0 +1,287 @@
+//! robot.ini -> typed settings. Every setting lives in config/robot.ini with a comment
+//! and its unit; there are no hidden defaults in the code, so what the file says is
+//! what the robot does. Errors name the file, line, section and key.
+
+mod reader;
+mod sim;
+
+use std::path::Path;
+
+pub use reader::ConfigError;
+use reader::Reader;
+
+/// The settings file shipped with the program, used when no file is given and
+/// config/robot.ini is not in the working directory.
+pub const DEFAULT_INI: &str = include_str!("../../config/robot.ini");
+
+/// Every section the file must have.
+const SECTIONS: &[&str] = &[
+    "robot",
+    "supervisor",
+    "faults",
+    "pid.left",
+    "pid.right",
+    "pid.steer",
+    "steer",
+    "joystick",
+    "camera",
+    "hw",
+    "sim",
+];
+
+/// The controller's model of the robot (the simulated plant has its own, in [sim]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RobotSettings {
+    pub wheelbase_m: f64,
+    pub track_m: f64,
+    pub enc_counts_per_m: f64,
+    pub steer_counts_per_deg: f64,
+    pub pot_centre_v: f64,
+    pub pot_v_per_deg: f64,
+    pub max_wheel_angle_deg: f64,
+    pub tool_offset_m: f64,
+    pub camera_lookahead_m: f64,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct SupervisorSettings {
+    pub rate_hz: f64,
+    pub max_speed_mps: f64,
+    pub accel_mps2: f64,
+    pub wheel_angle_rate_dps: f64,
+    pub calibration_s: f64,
+    pub power_up_timeout_s: f64,
+    pub speed_filter_s: f64,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct FaultSettings {
+    pub battery_min_v: f64,
+    pub battery_low_s: f64,
+    pub pot_min_v: f64,
+    pub pot_max_v: f64,
+    pub pot_disagree_deg: f64,
+    pub pot_disagree_s: f64,
+    pub encoder_stuck_v: f64,
+    pub encoder_stuck_s: f64,
+    pub endswitch_unhandled_s: f64,
+    pub endswitch_timeout_s: f64,
+    pub steer_silent_s: f64,
+}
+
+/// PI speed regulator of one drive wheel, with feed-forward.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PiSettings {
+    /// Proportional gain, V per m/s of speed error.
+    pub kp: f64,
+    /// Integral gain, V per m of accumulated speed error.
+    pub ki: f64,
+    /// Feed-forward, V per m/s of speed reference.
+    pub kff: f64,
+    pub out_max_v: f64,
+}
+
+/// PD angle regulator of the steering.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PdSettings {
+    /// Proportional gain, V per rad of angle error.
+    pub kp: f64,
+    /// Derivative gain on the measured angle, V per rad/s.
+    pub kd: f64,
+    /// Time constant of the derivative's low-pass filter, s.
+    pub d_filter_s: f64,
+    pub out_max_v: f64,
+}
+
+/// The steering law and the steer thread.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SteerSettings {
+    pub rate_hz: f64,
+    pub speed_mps: f64,
+    pub lookahead_m: f64,
+    pub ki_per_m2: f64,
+    pub integral_max_deg: f64,
+    pub curvature_filter_m: f64,
+    pub latency_s: f64,
+    pub endswitch_back_deg: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JoystickSettings {
+    pub full_scale_v: f64,
+    pub deadband_v: f64,
+    pub max_speed_mps: f64,
+    pub max_angle_deg: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraSettings {
+    pub link_timeout_s: f64,
+    pub restart_after_s: f64,
+    pub min_quality: u8,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Backend {
+    Sim,
+}
+
+/// Everything in robot.ini, typed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Settings {
+    pub robot: RobotSettings,
+    pub supervisor: SupervisorSettings,
+    pub faults: FaultSettings,
+    pub pid_left: PiSettings,
+    pub pid_right: PiSettings,
+    pub pid_steer: PdSettings,
+    pub steer: SteerSettings,
+    pub joystick: JoystickSettings,
+    pub camera: CameraSettings,
+    pub backend: Backend,
+    pub sim: mechweed_hw::sim::SimParams,
+}
+
+impl Settings {
+    /// Read and check a settings file, with `--set SECTION.KEY=VALUE` overrides.
+    pub fn load(path: &Path, overrides: &[String]) -> Result<Settings, Vec<ConfigError>> {
+        let label = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            vec![ConfigError {
+                place: label.clone(),
+                what: format!("cannot read the settings file: {e}"),
+            }]
+        })?;
+        Settings::parse(&label, &text, overrides)
+    }
+
+    /// The settings shipped with the program, as in config/robot.ini.
+    pub fn shipped() -> Settings {
+        Settings::parse("config/robot.ini", DEFAULT_INI, &[])
+            .expect("the shipped config/robot.ini is checked by the tests")
+    }
+
+    /// Read settings from text (`file` names it in messages).
+    pub fn parse(
+        file: &str,
+        text: &str,
+        overrides: &[String],
+    ) -> Result<Settings, Vec<ConfigError>> {
+        let mut r = Reader::new(file, text, overrides);
+        let settings = Settings {
+            robot: robot(&mut r),
+            supervisor: supervisor(&mut r),
+            faults: faults(&mut r),
+            pid_left: pi(&mut r, "pid.left"),
+            pid_right: pi(&mut r, "pid.right"),
+            pid_steer: pd(&mut r, "pid.steer"),
+            steer: steer(&mut r),
+            joystick: joystick(&mut r),
+            camera: camera(&mut r),
+            backend: [Backend::Sim][r.choice("hw", "backend", &["sim"])],
+            sim: sim::load(&mut r),
+        };
+        let errors = r.finish(SECTIONS);
+        if errors.is_empty() {
+            Ok(settings)
+        } else {
+            Err(errors)
+        }
+    }
+}
+
+fn robot(r: &mut Reader) -> RobotSettings {
+    let s = "robot";
+    RobotSettings {
+        wheelbase_m: r.f64(s, "wheelbase_m", 0.2, 5.0),
+        track_m: r.f64(s, "track_m", 0.2, 5.0),
+        enc_counts_per_m: r.f64(s, "enc_counts_per_m", 1.0, 1e7),
+        steer_counts_per_deg: r.f64(s, "steer_counts_per_deg", 1.0, 1e6),
+        pot_centre_v: r.f64(s, "pot_centre_v", 0.0, 5.0),
+        pot_v_per_deg: r.f64(s, "pot_v_per_deg", 0.001, 1.0),
+        max_wheel_angle_deg: r.f64(s, "max_wheel_angle_deg", 1.0, 45.0),
+        tool_offset_m: r.f64(s, "tool_offset_m", -3.0, 3.0),
+        camera_lookahead_m: r.f64(s, "camera_lookahead_m", 0.0, 5.0),
+    }
+}
+
+fn supervisor(r: &mut Reader) -> SupervisorSettings {
+    let s = "supervisor";
+    SupervisorSettings {
+        rate_hz: r.f64(s, "rate_hz", 10.0, 2000.0),
+        max_speed_mps: r.f64(s, "max_speed_mps", 0.0, 3.0),
+        accel_mps2: r.f64(s, "accel_mps2", 0.01, 10.0),
+        wheel_angle_rate_dps: r.f64(s, "wheel_angle_rate_dps", 1.0, 200.0),
+        calibration_s: r.f64(s, "calibration_s", 0.0, 5.0),
+        power_up_timeout_s: r.f64(s, "power_up_timeout_s", 0.05, 10.0),
+        speed_filter_s: r.f64(s, "speed_filter_s", 0.0, 1.0),
+    }
+}
+
+fn faults(r: &mut Reader) -> FaultSettings {
+    let s = "faults";
+    FaultSettings {
+        battery_min_v: r.f64(s, "battery_min_v", 0.0, 60.0),
+        battery_low_s: r.f64(s, "battery_low_s", 0.0, 60.0),
+        pot_min_v: r.f64(s, "pot_min_v", 0.0, 5.0),
+        pot_max_v: r.f64(s, "pot_max_v", 0.0, 5.0),
+        pot_disagree_deg: r.f64(s, "pot_disagree_deg", 0.1, 30.0),
+        pot_disagree_s: r.f64(s, "pot_disagree_s", 0.0, 10.0),
+        encoder_stuck_v: r.f64(s, "encoder_stuck_v", 0.5, 10.0),
+        encoder_stuck_s: r.f64(s, "encoder_stuck_s", 0.05, 10.0),
+        endswitch_unhandled_s: r.f64(s, "endswitch_unhandled_s", 0.01, 5.0),
+        endswitch_timeout_s: r.f64(s, "endswitch_timeout_s", 0.1, 60.0),
+        steer_silent_s: r.f64(s, "steer_silent_s", 0.05, 10.0),
+    }
+}
+
+fn pi(r: &mut Reader, s: &str) -> PiSettings {
+    PiSettings {
+        kp: r.f64(s, "kp", 0.0, 1000.0),
+        ki: r.f64(s, "ki", 0.0, 10000.0),
+        kff: r.f64(s, "kff", 0.0, 1000.0),
+        out_max_v: r.f64(s, "out_max_v", 0.0, 10.0),
+    }
+}
+
+fn pd(r: &mut Reader, s: &str) -> PdSettings {
+    PdSettings {
+        kp: r.f64(s, "kp", 0.0, 10000.0),
+        kd: r.f64(s, "kd", 0.0, 1000.0),
+        d_filter_s: r.f64(s, "d_filter_s", 0.0, 1.0),
+        out_max_v: r.f64(s, "out_max_v", 0.0, 10.0),
+    }
+}
+
+fn steer(r: &mut Reader) -> SteerSettings {
+    let s = "steer";
+    SteerSettings {
+        rate_hz: r.f64(s, "rate_hz", 1.0, 200.0),
+        speed_mps: r.f64(s, "speed_mps", 0.0, 3.0),
+        lookahead_m: r.f64(s, "lookahead_m", 0.1, 10.0),
+        ki_per_m2: r.f64(s, "ki_per_m2", 0.0, 10.0),
+        integral_max_deg: r.f64(s, "integral_max_deg", 0.0, 30.0),
+        curvature_filter_m: r.f64(s, "curvature_filter_m", 0.01, 100.0),
+        latency_s: r.f64(s, "latency_s", 0.0, 1.0),
+        endswitch_back_deg: r.f64(s, "endswitch_back_deg", 0.0, 45.0),
+    }
+}
+
+fn joystick(r: &mut Reader) -> JoystickSettings {
+    let s = "joystick";
+    JoystickSettings {
+        full_scale_v: r.f64(s, "full_scale_v", 0.1, 10.0),
+        deadband_v: r.f64(s, "deadband_v", 0.0, 5.0),
+        max_speed_mps: r.f64(s, "max_speed_mps", 0.0, 3.0),
+        max_angle_deg: r.f64(s, "max_angle_deg", 0.0, 45.0),
+    }
+}
+
+fn camera(r: &mut Reader) -> CameraSettings {
+    let s = "camera";
+    CameraSettings {
+        link_timeout_s: r.f64(s, "link_timeout_s", 0.05, 60.0),
+        restart_after_s: r.f64(s, "restart_after_s", 0.05, 60.0),
+        min_quality: r.u64(s, "min_quality", 0, 100) as u8,
+    }
+}

@@ -1,0 +1,311 @@
+//! Reads typed values out of robot.ini and collects every error, each naming the file,
+//! the line, the section and the key, so that `check-config` can list them all at once.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::fmt;
+
+use ini::Ini;
+
+/// One thing wrong with the settings, said so that a person can fix it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConfigError {
+    /// Where: "config/robot.ini line 42" or "--set pid.left.kp=abc".
+    pub place: String,
+    /// What: "[pid.steer] kp = 'abc' is not a number".
+    pub what: String,
+}
+
+impl fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.place, self.what)
+    }
+}
+
+/// Where a value came from, to name it in an error.
+enum Origin {
+    Line(usize),
+    Override(String),
+    Nowhere,
+}
+
+/// Reads one ini text (plus `--set` overrides) into typed values.
+pub struct Reader {
+    file: String,
+    ini: Ini,
+    /// (section, key) -> 1-based line in the file, for messages.
+    lines: BTreeMap<(String, String), usize>,
+    section_lines: BTreeMap<String, usize>,
+    /// (section, key) -> the `--set` text that changed it.
+    overrides: BTreeMap<(String, String), String>,
+    used: BTreeSet<(String, String)>,
+    pub errors: Vec<ConfigError>,
+}
+
+impl Reader {
+    /// Parse `text` (named `file` in messages) and apply `--set SECTION.KEY=VALUE` items.
+    pub fn new(file: &str, text: &str, overrides: &[String]) -> Reader {
+        let mut errors = Vec::new();
+        let ini = match Ini::load_from_str(text) {
+            Ok(ini) => ini,
+            Err(e) => {
+                errors.push(ConfigError {
+                    place: format!("{file} line {}", e.line),
+                    what: format!("cannot read this line as ini ({})", e.msg),
+                });
+                Ini::new()
+            }
+        };
+        let (lines, section_lines) = locate_keys(text);
+        let mut reader = Reader {
+            file: file.to_string(),
+            ini,
+            lines,
+            section_lines,
+            overrides: BTreeMap::new(),
+            used: BTreeSet::new(),
+            errors,
+        };
+        reader.check_duplicates();
+        for item in overrides {
+            reader.apply_override(item);
+        }
+        reader
+    }
+
+    fn check_duplicates(&mut self) {
+        let mut found = Vec::new();
+        for (name, props) in self.ini.iter() {
+            let name = name.unwrap_or("");
+            for (key, _) in props.iter() {
+                if props.get_all(key).count() > 1 {
+                    found.push((name.to_string(), key.to_string()));
+                }
+            }
+        }
+        found.dedup();
+        for (section, key) in found {
+            let place = self.place_of(&section, &key);
+            self.push(place, format!("[{section}] {key} is set more than once"));
+        }
+    }
+
+    fn apply_override(&mut self, item: &str) {
+        let parsed = item.split_once('=').and_then(|(path, value)| {
+            let (section, key) = path.trim().rsplit_once('.')?;
+            Some((
+                section.to_string(),
+                key.to_string(),
+                value.trim().to_string(),
+            ))
+        });
+        let Some((section, key, value)) = parsed else {
+            self.push(
+                Origin::Override(item.to_string()),
+                "expected SECTION.KEY=VALUE, for example steer.speed_mps=0.3".to_string(),
+            );
+            return;
+        };
+        let known = self
+            .ini
+            .section(Some(section.as_str()))
+            .is_some_and(|s| s.contains_key(&key));
+        if !known {
+            self.push(
+                Origin::Override(item.to_string()),
+                format!("[{section}] {key} is not a setting in {}", self.file),
+            );
+            return;
+        }
+        self.ini
+            .with_section(Some(section.as_str()))
+            .set(key.as_str(), value);
+        self.overrides.insert((section, key), item.to_string());
+    }
+
+    fn place_of(&self, section: &str, key: &str) -> Origin {
+        let id = (section.to_string(), key.to_string());
+        if let Some(item) = self.overrides.get(&id) {
+            Origin::Override(item.clone())
+        } else if let Some(&line) = self.lines.get(&id) {
+            Origin::Line(line)
+        } else {
+            Origin::Nowhere
+        }
+    }
+
+    fn push(&mut self, origin: Origin, what: String) {
+        let place = match origin {
+            Origin::Line(n) => format!("{} line {n}", self.file),
+            Origin::Override(item) => format!("--set {item}"),
+            Origin::Nowhere => self.file.clone(),
+        };
+        self.errors.push(ConfigError { place, what });
+    }
+
+    /// The raw text of a setting, or None (with an error recorded) if it is missing.
+    fn raw(&mut self, section: &str, key: &str) -> Option<String> {
+        self.used.insert((section.to_string(), key.to_string()));
+        let Some(props) = self.ini.section(Some(section)) else {
+            // Reported once per section by `finish`.
+            return None;
+        };
+        match props.get(key) {
+            Some(v) => Some(v.trim().to_string()),
+            None => {
+                let place = match self.section_lines.get(section) {
+                    Some(&line) => Origin::Line(line),
+                    None => Origin::Nowhere,
+                };
+                self.push(place, format!("[{section}] {key} is missing"));
+                None
+            }
+        }
+    }
+
+    /// A number within `min..=max` (the unit is part of the key's name).
+    pub fn f64(&mut self, section: &str, key: &str, min: f64, max: f64) -> f64 {
+        let Some(text) = self.raw(section, key) else {
+            return min;
+        };
+        match text.parse::<f64>() {
+            Ok(v) if v.is_finite() && (min..=max).contains(&v) => v,
+            Ok(_) => {
+                let place = self.place_of(section, key);
+                self.push(
+                    place,
+                    format!("[{section}] {key} = {text} is out of range ({min} to {max})"),
+                );
+                min
+            }
+            Err(_) => {
+                let place = self.place_of(section, key);
+                self.push(
+                    place,
+                    format!("[{section}] {key} = '{text}' is not a number"),
+                );
+                min
+            }
+        }
+    }
+
+    /// A whole number within `min..=max`.
+    pub fn u64(&mut self, section: &str, key: &str, min: u64, max: u64) -> u64 {
+        let Some(text) = self.raw(section, key) else {
+            return min;
+        };
+        match text.parse::<u64>() {
+            Ok(v) if (min..=max).contains(&v) => v,
+            Ok(_) => {
+                let place = self.place_of(section, key);
+                self.push(
+                    place,
+                    format!("[{section}] {key} = {text} is out of range ({min} to {max})"),
+                );
+                min
+            }
+            Err(_) => {
+                let place = self.place_of(section, key);
+                self.push(
+                    place,
+                    format!("[{section}] {key} = '{text}' is not a whole number"),
+                );
+                min
+            }
+        }
+    }
+
+    /// One of a fixed list of words; returns its index in `choices`.
+    pub fn choice(&mut self, section: &str, key: &str, choices: &[&str]) -> usize {
+        let Some(text) = self.raw(section, key) else {
+            return 0;
+        };
+        match choices.iter().position(|c| c.eq_ignore_ascii_case(&text)) {
+            Some(i) => i,
+            None => {
+                let place = self.place_of(section, key);
+                self.push(
+                    place,
+                    format!(
+                        "[{section}] {key} = '{text}' is not one of: {}",
+                        choices.join(", ")
+                    ),
+                );
+                0
+            }
+        }
+    }
+
+    /// Free text, parsed by `parse`; its error message is shown after the key.
+    pub fn parsed<T>(
+        &mut self,
+        section: &str,
+        key: &str,
+        parse: impl FnOnce(&str) -> Result<T, String>,
+    ) -> Option<T> {
+        let text = self.raw(section, key)?;
+        match parse(&text) {
+            Ok(v) => Some(v),
+            Err(why) => {
+                let place = self.place_of(section, key);
+                self.push(place, format!("[{section}] {key}: {why}"));
+                None
+            }
+        }
+    }
+
+    /// Report missing sections, unknown sections and unknown keys; return every error.
+    pub fn finish(mut self, sections: &[&str]) -> Vec<ConfigError> {
+        for &name in sections {
+            if self.ini.section(Some(name)).is_none() {
+                self.push(Origin::Nowhere, format!("missing section [{name}]"));
+            }
+        }
+        let mut unknown = Vec::new();
+        for (name, props) in self.ini.iter() {
+            let name = name.unwrap_or("");
+            if !sections.contains(&name) {
+                if name.is_empty() && props.is_empty() {
+                    continue;
+                }
+                let line = self.section_lines.get(name).copied();
+                unknown.push((line, format!("unknown section [{name}]")));
+                continue;
+            }
+            for (key, _) in props.iter() {
+                if !self.used.contains(&(name.to_string(), key.to_string())) {
+                    let line = self
+                        .lines
+                        .get(&(name.to_string(), key.to_string()))
+                        .copied();
+                    unknown.push((line, format!("[{name}] {key} is not a known setting")));
+                }
+            }
+        }
+        for (line, what) in unknown {
+            let origin = line.map_or(Origin::Nowhere, Origin::Line);
+            self.push(origin, what);
+        }
+        self.errors
+    }
+}
+
+/// Find the line of every `[section]` and `key =` in the text, as rust-ini does not keep them.
+fn locate_keys(text: &str) -> (BTreeMap<(String, String), usize>, BTreeMap<String, usize>) {
+    let mut keys = BTreeMap::new();
+    let mut sections = BTreeMap::new();
+    let mut section = String::new();
+    for (i, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if let Some(name) = line.strip_prefix('[').and_then(|l| l.strip_suffix(']')) {
+            section = name.trim().to_string();
+            sections.entry(section.clone()).or_insert(i + 1);
+        } else if let Some((key, _)) = line.split_once('=')
+            && !line.starts_with(';')
+            && !line.starts_with('#')
+        {
+            keys.entry((section.clone(), key.trim().to_string()))
+                .or_insert(i + 1);
+        }
+    }
+    (keys, sections)
+}

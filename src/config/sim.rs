@@ -1,0 +1,57 @@
+//! The [sim] section: the simulated robot, field and camera computer (shared/plant.md).
+//! These are the plant's true values; the controller's own model is in [robot].
+
+use mechweed_hw::sim::{RowShape, SimParams, parse_events};
+
+use super::reader::Reader;
+
+const ROWS: [(&str, RowShape); 3] = [
+    ("straight", RowShape::Straight),
+    ("scurve", RowShape::SCurve),
+    ("arc", RowShape::Arc),
+];
+
+pub(super) fn load(r: &mut Reader) -> SimParams {
+    let s = "sim";
+    let names: Vec<&str> = ROWS.iter().map(|(name, _)| *name).collect();
+    SimParams {
+        seed: r.u64(s, "seed", 0, u64::MAX),
+        step_s: r.f64(s, "step_s", 1e-5, 0.002),
+        wheelbase_m: r.f64(s, "wheelbase_m", 0.2, 5.0),
+        track_m: r.f64(s, "track_m", 0.2, 5.0),
+        motor_gain_mps_per_v: r.f64(s, "motor_gain_mps_per_v", 0.001, 10.0),
+        motor_tau_s: r.f64(s, "motor_tau_s", 0.001, 10.0),
+        motor_deadband_v: r.f64(s, "motor_deadband_v", 0.0, 5.0),
+        motor_mismatch: r.f64(s, "motor_mismatch", -0.5, 0.5),
+        steer_rate_dps_per_v: r.f64(s, "steer_rate_dps_per_v", 0.1, 100.0),
+        steer_lag_s: r.f64(s, "steer_lag_s", 0.0, 1.0),
+        steer_limit_deg: r.f64(s, "steer_limit_deg", 1.0, 60.0),
+        end_switch_deg: r.f64(s, "end_switch_deg", 1.0, 60.0),
+        pot_noise_v: r.f64(s, "pot_noise_v", 0.0, 1.0),
+        enc_counts_per_m: r.f64(s, "enc_counts_per_m", 1.0, 1e7),
+        steer_counts_per_deg: r.f64(s, "steer_counts_per_deg", 1.0, 1e6),
+        tool_offset_m: r.f64(s, "tool_offset_m", -3.0, 3.0),
+        brake_stop_s: r.f64(s, "brake_stop_s", 0.01, 10.0),
+        side_slip_deg: r.f64(s, "side_slip_deg", -20.0, 20.0),
+        battery_v: r.f64(s, "battery_v", 0.0, 60.0),
+        initial_wheel_angle_deg: r.f64(s, "initial_wheel_angle_deg", -30.0, 30.0),
+        row: ROWS[r.choice(s, "row", &names)].1,
+        row_length_m: r.f64(s, "row_length_m", 1.0, 10000.0),
+        start_offset_m: r.f64(s, "start_offset_m", -0.5, 0.5),
+        scurve_amplitude_m: r.f64(s, "scurve_amplitude_m", 0.0, 2.0),
+        scurve_wavelength_m: r.f64(s, "scurve_wavelength_m", 0.5, 1000.0),
+        arc_radius_m: r.f64(s, "arc_radius_m", 2.0, 10000.0),
+        plant_spacing_m: r.f64(s, "plant_spacing_m", 0.01, 10.0),
+        plant_scatter_m: r.f64(s, "plant_scatter_m", 0.0, 0.5),
+        camera_lookahead_m: r.f64(s, "camera_lookahead_m", 0.0, 5.0),
+        camera_rate_hz: r.f64(s, "camera_rate_hz", 0.5, 100.0),
+        camera_latency_s: r.f64(s, "camera_latency_s", 0.0, 2.0),
+        camera_jitter_s: r.f64(s, "camera_jitter_s", 0.0, 1.0),
+        camera_noise_offset_m: r.f64(s, "camera_noise_offset_m", 0.0, 0.5),
+        camera_noise_angle_deg: r.f64(s, "camera_noise_angle_deg", 0.0, 30.0),
+        camera_drop: r.f64(s, "camera_drop", 0.0, 1.0),
+        camera_corrupt: r.f64(s, "camera_corrupt", 0.0, 1.0),
+        camera_reboot_s: r.f64(s, "camera_reboot_s", 0.0, 600.0),
+        events: r.parsed(s, "events", parse_events).unwrap_or_default(),
+    }
+}

@@ -1,0 +1,80 @@
+//! The headless operator console of `mechweed run`: follows the operator script,
+//! prints faults and notices as they happen and a status line every few seconds, and
+//! ends the run at its duration, on Ctrl-C, or when a thread has stopped.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use mechweed_hw::sim::TruthHandle;
+
+use crate::camlink::LinkStatus;
+use crate::operator::OperatorScript;
+use crate::run::{RunOptions, SupervisorHandle};
+use crate::state::Reader;
+
+const POLL: Duration = Duration::from_millis(10);
+
+pub fn operate(
+    opts: &RunOptions,
+    supervisor: &SupervisorHandle,
+    link: &Reader<LinkStatus>,
+    truth: &TruthHandle,
+    clock: Instant,
+    stop: &Arc<AtomicBool>,
+    any_thread_ended: impl Fn() -> bool,
+) {
+    let mut script = OperatorScript::new(&opts.settings.sim.events, opts.start_mode);
+    let mut last_refusal = String::new();
+    let mut faults_seen = None;
+    let mut notice_seen = None;
+    let mut next_line_s = opts.status_every_s;
+    let mut frames_at_last_line = 0;
+    loop {
+        std::thread::sleep(POLL);
+        let now_s = clock.elapsed().as_secs_f64();
+        if stop.load(Ordering::Relaxed) || opts.duration_s.is_some_and(|d| now_s >= d) {
+            return;
+        }
+        if any_thread_ended() {
+            eprintln!("a controller thread stopped unexpectedly; ending the run");
+            return;
+        }
+        let status = supervisor.status.snapshot();
+        if let Some(request) = script.due(now_s, &status)
+            && let Err(why) = supervisor.request(request)
+            && why != last_refusal
+        {
+            eprintln!("{now_s:7.2} s  request {request:?} refused: {why}");
+            last_refusal = why;
+        }
+        if let Some(fault) = status.fault
+            && faults_seen != Some(fault.tick_seen)
+        {
+            faults_seen = Some(fault.tick_seen);
+            println!("{:7.2} s  FAULT: {}", fault.t_s, fault.cause);
+        }
+        if status.notice != notice_seen {
+            notice_seen = status.notice;
+            if let Some(notice) = status.notice {
+                println!("{now_s:7.2} s  {}", crate::report::notice_text(&notice));
+            }
+        }
+        if opts.status_every_s > 0.0 && now_s >= next_line_s {
+            let l = link.snapshot();
+            let frames = l.counters.frames_ok;
+            let rate = (frames - frames_at_last_line) as f64 / opts.status_every_s;
+            frames_at_last_line = frames;
+            let t = truth.truth();
+            println!(
+                "{now_s:7.2} s  {:<10} speed {:5.2} m/s  wheel {:5.1} deg  tool off row {:5.1} cm  camera {rate:4.1} frames/s, {} CRC errors",
+                status.mode.name(),
+                status.measured.speed_mps,
+                status.measured.wheel_angle_rad.to_degrees(),
+                t.tool_cross_track_m * 100.0,
+                l.counters.crc_errors,
+            );
+            next_line_s += opts.status_every_s;
+        }
+    }
+}

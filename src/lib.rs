@@ -1,0 +1,22 @@
+//! mechweed: the control program of an agricultural weeding robot.
+//!
+//! Threads and what each owns: the supervisor (supervisor.rs, faults.rs, pid.rs),
+//! the steer thread (steer/), the camera link (camlink/); run.rs starts them on real
+//! time, lockstep.rs runs the same tick functions on simulated time.
+
+pub mod bench_rows;
+pub mod camlink;
+pub mod config;
+pub mod console;
+pub mod faults;
+pub mod lockstep;
+pub mod measure;
+pub mod modes;
+pub mod operator;
+pub mod pid;
+pub mod report;
+pub mod rt;
+pub mod run;
+pub mod state;
+pub mod steer;
+pub mod supervisor;

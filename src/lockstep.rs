@@ -1,0 +1,121 @@
+//! The lockstep driver: the same tick functions as the real-time threads, run one
+//! after the other on simulated time, as fast as the computer goes. Tests and
+//! benchmarks use it; the product uses run.rs.
+//!
+//! Every millisecond of simulated time: the plant advances, bytes from the simulated
+//! camera computer go through the real decoder, the steer tick runs on a new estimate
+//! or at its rate, command bytes go back; at the supervisor's rate the supervisor
+//! reads the plant's inputs, ticks, and writes its outputs into the plant.
+
+use mechweed_hw::Outputs;
+use mechweed_hw::sim::{PipeEnd, SimRobot, byte_pipe};
+
+use crate::camlink::LinkCore;
+use crate::config::Settings;
+use crate::modes::{Mode, Refusal, Request};
+use crate::operator::OperatorScript;
+use crate::steer::{SteerCommand, SteerCore};
+use crate::supervisor::Supervisor;
+
+/// Simulated time advances in steps of this, us (also the camera link's poll interval).
+const STEP_US: u64 = 1000;
+
+pub struct Lockstep {
+    pub robot: SimRobot,
+    pipe: PipeEnd,
+    pub supervisor: Supervisor,
+    pub steer: SteerCore,
+    pub link: LinkCore,
+    pub steer_command: SteerCommand,
+    operator: OperatorScript,
+    t_us: u64,
+    supervisor_period_us: u64,
+    steer_period_us: u64,
+    next_steer_us: u64,
+    buf: [u8; 512],
+    pub steer_ticks: u64,
+}
+
+impl Lockstep {
+    /// A simulated robot at the row start with the controller beside it; the operator
+    /// script pursues `start_mode` and the operator actions of [sim] events.
+    pub fn new(settings: &Settings, start_mode: Mode) -> Lockstep {
+        let (camera_end, robot_end) = byte_pipe(4096);
+        Lockstep {
+            robot: SimRobot::new(&settings.sim, camera_end),
+            pipe: robot_end,
+            supervisor: Supervisor::new(settings),
+            steer: SteerCore::new(settings),
+            link: LinkCore::new(&settings.camera),
+            steer_command: SteerCommand::default(),
+            operator: OperatorScript::new(&settings.sim.events, start_mode),
+            t_us: 0,
+            supervisor_period_us: (1e6 / settings.supervisor.rate_hz).round() as u64,
+            steer_period_us: (1e6 / settings.steer.rate_hz).round() as u64,
+            next_steer_us: 0,
+            buf: [0; 512],
+            steer_ticks: 0,
+        }
+    }
+
+    pub fn now_s(&self) -> f64 {
+        self.t_us as f64 * 1e-6
+    }
+
+    /// Send a request to the supervisor, as the GUI would.
+    pub fn request(&mut self, request: Request) -> Result<(), Refusal> {
+        self.supervisor.handle(request)
+    }
+
+    fn steer_tick(&mut self) {
+        let now = self.now_s();
+        self.steer_command = self
+            .steer
+            .tick(now, self.supervisor.status(), self.link.status());
+        self.steer_ticks += 1;
+    }
+
+    /// Advance to the next supervisor tick, run it, and return the outputs it wrote.
+    pub fn tick(&mut self) -> Outputs {
+        let step_us = STEP_US.min(self.supervisor_period_us);
+        let next_supervisor_us =
+            (self.t_us / self.supervisor_period_us + 1) * self.supervisor_period_us;
+        while self.t_us < next_supervisor_us {
+            self.t_us = (self.t_us + step_us).min(next_supervisor_us);
+            let now = self.now_s();
+            self.robot.advance_to(now);
+            let n = self.pipe.try_read(&mut self.buf);
+            let new_estimate = self.link.receive(&self.buf[..n], now);
+            if new_estimate || self.t_us >= self.next_steer_us {
+                if self.t_us >= self.next_steer_us {
+                    self.next_steer_us += self.steer_period_us;
+                }
+                self.steer_tick();
+            }
+            if let Some(byte) = self.link.command(self.steer_command.wants_rows, now) {
+                use std::io::Write;
+                // The pipe drops what does not fit, as a UART would; a command is one byte.
+                let _ = self.pipe.write(&[byte]);
+            }
+        }
+        let now = self.now_s();
+        if let Some(request) = self.operator.due(now, self.supervisor.status()) {
+            // A refused request is what a person would see greyed out; the status shows why.
+            let _ = self.supervisor.handle(request);
+        }
+        let inputs = self.robot.inputs();
+        let outputs = self
+            .supervisor
+            .tick(now, &inputs, &self.steer_command, self.link.status());
+        self.robot.set_outputs(&outputs);
+        outputs
+    }
+
+    /// Run supervisor ticks for `seconds` of simulated time.
+    pub fn run_for(&mut self, seconds: f64) {
+        let end_us = self.t_us + (seconds * 1e6).round() as u64;
+        while self.t_us < end_us {
+            self.tick();
+        }
+    }
+}

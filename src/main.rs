@@ -1,0 +1,215 @@
+//! The mechweed command line.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+use mechweed::bench_rows;
+use mechweed::config::{ConfigError, DEFAULT_INI, Settings};
+use mechweed::modes::Mode;
+use mechweed::report::Report;
+use mechweed::run::{RunOptions, run};
+
+#[derive(Parser)]
+#[command(
+    name = "mechweed",
+    version,
+    about = "Control program for the weeding robot. Runs on the simulated robot unless config/robot.ini [hw] says otherwise.",
+    after_help = "Without a command, mechweed runs as `mechweed run`."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run the controller on real threads and real time.
+    Run(RunArgs),
+    /// Check a settings file: prints "ok", or every error found (exit 1).
+    CheckConfig {
+        /// The settings file [default: config/robot.ini]
+        file: Option<PathBuf>,
+    },
+    /// Benchmarks on the simulated robot.
+    #[command(subcommand)]
+    Bench(BenchCommand),
+}
+
+#[derive(clap::Args, Default)]
+struct RunArgs {
+    /// Settings file [default: config/robot.ini, or the built-in copy if there is none]
+    #[arg(long)]
+    config: Option<PathBuf>,
+    /// Run without the operator GUI (the GUI is not built yet: runs are headless).
+    #[arg(long)]
+    headless: bool,
+    /// Mode to bring the robot into at start (powering up first).
+    #[arg(long, value_enum, default_value = "halt")]
+    mode: StartMode,
+    /// Stop after this many seconds (default: run until Ctrl-C).
+    #[arg(long, value_name = "SECONDS")]
+    duration: Option<f64>,
+    /// Seed of the simulation (overrides [sim] seed).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Override one setting, e.g. --set steer.speed_mps=0.3 (repeatable).
+    #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
+    set: Vec<String>,
+    /// Write the run report as JSON to this file.
+    #[arg(long, value_name = "FILE")]
+    report: Option<PathBuf>,
+}
+
+#[derive(Clone, Copy, ValueEnum, Default)]
+enum StartMode {
+    #[default]
+    Halt,
+    Joystick,
+    Autonomous,
+}
+
+#[derive(Subcommand)]
+enum BenchCommand {
+    /// The row-following benchmark of shared/plant.md: 3 rows x 3 speeds, lockstep.
+    Rows {
+        /// Seed of the simulation.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Also write the results as JSON to this file.
+        #[arg(long, value_name = "FILE")]
+        json: Option<PathBuf>,
+    },
+}
+
+fn print_errors(errors: &[ConfigError]) {
+    for e in errors {
+        eprintln!("{e}");
+    }
+}
+
+/// The settings file: the one named, else config/robot.ini here, else the built-in copy.
+fn load_settings(file: Option<&Path>, overrides: &[String]) -> Result<Settings, Vec<ConfigError>> {
+    let default = Path::new("config/robot.ini");
+    match file {
+        Some(path) => Settings::load(path, overrides),
+        None if default.exists() => Settings::load(default, overrides),
+        None => {
+            eprintln!("no config/robot.ini here: using the built-in settings");
+            Settings::parse("built-in robot.ini", DEFAULT_INI, overrides)
+        }
+    }
+}
+
+fn run_command(args: RunArgs) -> ExitCode {
+    let mut overrides = args.set.clone();
+    if let Some(seed) = args.seed {
+        overrides.push(format!("sim.seed={seed}"));
+    }
+    let settings = match load_settings(args.config.as_deref(), &overrides) {
+        Ok(s) => s,
+        Err(errors) => {
+            print_errors(&errors);
+            return ExitCode::FAILURE;
+        }
+    };
+    if !args.headless {
+        eprintln!("the operator GUI is not built yet: running headless");
+    }
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = stop.clone();
+        if let Err(e) = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed)) {
+            eprintln!("cannot catch Ctrl-C ({e}); stop with --duration");
+        }
+    }
+    let start_mode = match args.mode {
+        StartMode::Halt => Mode::Halt,
+        StartMode::Joystick => Mode::Joystick,
+        StartMode::Autonomous => Mode::Autonomous,
+    };
+    println!(
+        "mechweed on the simulated robot: {} row, {} m/s, seed {}; start mode {start_mode}",
+        bench_rows::row_name(settings.sim.row),
+        settings.steer.speed_mps,
+        settings.sim.seed
+    );
+    let options = RunOptions {
+        settings,
+        start_mode,
+        duration_s: args.duration,
+        status_every_s: 5.0,
+    };
+    let outcome = run(&options, stop);
+    let report = Report::from_run(&outcome);
+    print!("{}", report.human());
+    if let Some(path) = args.report {
+        let json = serde_json::to_string_pretty(&report).expect("the report is plain data");
+        if let Err(e) = std::fs::write(&path, json) {
+            eprintln!("cannot write the report to {}: {e}", path.display());
+            return ExitCode::FAILURE;
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+fn check_config(file: Option<PathBuf>) -> ExitCode {
+    let path = file.unwrap_or_else(|| PathBuf::from("config/robot.ini"));
+    match Settings::load(&path, &[]) {
+        Ok(_) => {
+            println!("ok");
+            ExitCode::SUCCESS
+        }
+        Err(errors) => {
+            print_errors(&errors);
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn bench(command: BenchCommand) -> ExitCode {
+    let BenchCommand::Rows { seed, json } = command;
+    let settings = match load_settings(None, &[]) {
+        Ok(s) => s,
+        Err(errors) => {
+            print_errors(&errors);
+            return ExitCode::FAILURE;
+        }
+    };
+    let mut runs = Vec::new();
+    for row in bench_rows::ROWS {
+        for speed in bench_rows::SPEEDS_MPS {
+            eprintln!(
+                "running {} row at {speed} m/s ...",
+                bench_rows::row_name(row)
+            );
+            runs.push(bench_rows::run_row(&settings, row, speed, seed));
+        }
+    }
+    print!("{}", bench_rows::table(&runs));
+    if let Some(path) = json {
+        let text = serde_json::to_string_pretty(&runs).expect("plain data");
+        if let Err(e) = std::fs::write(&path, text) {
+            eprintln!("cannot write {}: {e}", path.display());
+            return ExitCode::FAILURE;
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+fn main() -> ExitCode {
+    tracing_subscriber::fmt()
+        .with_writer(std::io::stderr)
+        .with_target(false)
+        .init();
+    let cli = Cli::parse();
+    match cli.command {
+        None => run_command(RunArgs::default()),
+        Some(Command::Run(args)) => run_command(args),
+        Some(Command::CheckConfig { file }) => check_config(file),
+        Some(Command::Bench(b)) => bench(b),
+    }
+}

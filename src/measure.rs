@@ -1,0 +1,113 @@
+//! From raw inputs to physical measurements: wheel speeds from encoder counts, the
+//! wheel angle from the steering encoder, and the steering encoder's calibration from
+//! the potentiometer at start (the encoder is relative: it reads 0 wherever the wheel
+//! was at power-up, while the potentiometer knows the absolute angle but is noisy).
+
+use mechweed_hw::Inputs;
+
+use crate::config::{FaultSettings, RobotSettings, SupervisorSettings};
+
+/// What the supervisor knows about the robot's motion, in SI units.
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+pub struct Measured {
+    pub v_left_mps: f64,
+    pub v_right_mps: f64,
+    /// Speed of the rear axle centre, m/s.
+    pub speed_mps: f64,
+    /// Wheel angle from the calibrated steering encoder, rad (positive = left).
+    pub wheel_angle_rad: f64,
+    /// Wheel angle from the potentiometer, low-pass filtered, rad.
+    pub pot_angle_filtered_rad: f64,
+    /// Heading rate from the bicycle model, rad/s (positive = turning left).
+    pub yaw_rate_rps: f64,
+    /// Distance driven by the rear axle centre, m.
+    pub distance_m: f64,
+    /// The steering encoder has been calibrated from the potentiometer.
+    pub calibrated: bool,
+}
+
+/// The potentiometer's noise is filtered over this time before comparing, s.
+const POT_FILTER_S: f64 = 0.05;
+
+pub struct Measurement {
+    robot: RobotSettings,
+    speed_filter_s: f64,
+    calibration_samples: u32,
+    pot_band_v: (f64, f64),
+    last_counts: Option<[i64; 3]>,
+    /// Sum and count of (pot angle - raw encoder angle) while calibrating, deg.
+    calib_sum_deg: f64,
+    calib_n: u32,
+    /// Absolute angle of encoder count 0, deg, once calibrated.
+    steer_zero_deg: Option<f64>,
+    pub measured: Measured,
+    /// Counts moved since the last update: left, right, steering.
+    pub counts_moved: [bool; 3],
+}
+
+impl Measurement {
+    pub fn new(robot: &RobotSettings, sup: &SupervisorSettings, faults: &FaultSettings) -> Self {
+        Measurement {
+            robot: robot.clone(),
+            speed_filter_s: sup.speed_filter_s,
+            calibration_samples: (sup.calibration_s * sup.rate_hz).ceil().max(1.0) as u32,
+            pot_band_v: (faults.pot_min_v, faults.pot_max_v),
+            last_counts: None,
+            calib_sum_deg: 0.0,
+            calib_n: 0,
+            steer_zero_deg: None,
+            measured: Measured::default(),
+            counts_moved: [false; 3],
+        }
+    }
+
+    /// Update from one tick's inputs, `dt_s` after the previous one.
+    pub fn update(&mut self, i: &Inputs, dt_s: f64) -> Measured {
+        let counts = [i.enc_left_counts, i.enc_right_counts, i.enc_steer_counts];
+        let last = self.last_counts.unwrap_or(counts);
+        self.last_counts = Some(counts);
+        for k in 0..3 {
+            self.counts_moved[k] = counts[k] != last[k];
+        }
+        let m = &mut self.measured;
+        let blend = |filter_s: f64| {
+            if filter_s > 0.0 {
+                dt_s / (filter_s + dt_s)
+            } else {
+                1.0
+            }
+        };
+
+        if dt_s > 0.0 {
+            let per_m = self.robot.enc_counts_per_m;
+            let raw_left = (counts[0] - last[0]) as f64 / per_m / dt_s;
+            let raw_right = (counts[1] - last[1]) as f64 / per_m / dt_s;
+            m.v_left_mps += (raw_left - m.v_left_mps) * blend(self.speed_filter_s);
+            m.v_right_mps += (raw_right - m.v_right_mps) * blend(self.speed_filter_s);
+        }
+        m.speed_mps = 0.5 * (m.v_left_mps + m.v_right_mps);
+        m.distance_m += m.speed_mps.abs() * dt_s;
+
+        let pot_deg = (i.pot_v - self.robot.pot_centre_v) / self.robot.pot_v_per_deg;
+        let pot_ok = (self.pot_band_v.0..=self.pot_band_v.1).contains(&i.pot_v);
+        let encoder_deg = counts[2] as f64 / self.robot.steer_counts_per_deg;
+        if self.steer_zero_deg.is_none() && pot_ok {
+            // Average many noisy potentiometer readings into one offset, before any motion.
+            self.calib_sum_deg += pot_deg - encoder_deg;
+            self.calib_n += 1;
+            if self.calib_n >= self.calibration_samples {
+                self.steer_zero_deg = Some(self.calib_sum_deg / self.calib_n as f64);
+                m.pot_angle_filtered_rad = pot_deg.to_radians();
+            }
+        }
+        m.calibrated = self.steer_zero_deg.is_some();
+        m.pot_angle_filtered_rad +=
+            (pot_deg.to_radians() - m.pot_angle_filtered_rad) * blend(POT_FILTER_S);
+        m.wheel_angle_rad = match self.steer_zero_deg {
+            Some(zero) => (zero + encoder_deg).to_radians(),
+            None => m.pot_angle_filtered_rad,
+        };
+        m.yaw_rate_rps = m.speed_mps * m.wheel_angle_rad.tan() / self.robot.wheelbase_m;
+        *m
+    }
+}

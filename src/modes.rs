@@ -1,0 +1,92 @@
+//! The robot's modes, the requests other threads send to the supervisor, and why a
+//! request can be refused, in words an operator can act on.
+
+use std::fmt;
+
+use mechweed_hw::Outputs;
+
+use crate::faults::FaultCause;
+
+/// What the robot is doing. Halt at start; every fault latches Fault.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Mode {
+    /// Standing: amplifiers 0 V, brakes on, tool off (motor power may be on).
+    Halt,
+    /// Driven from the joystick, dead-man button held.
+    Joystick,
+    /// Following the crop row from the camera.
+    Autonomous,
+    /// Hardware test panel: outputs set by hand.
+    Test,
+    /// Latched after a fault: safe outputs until the operator powers up again.
+    Fault,
+}
+
+impl Mode {
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Halt => "halt",
+            Mode::Joystick => "joystick",
+            Mode::Autonomous => "autonomous",
+            Mode::Test => "test",
+            Mode::Fault => "fault",
+        }
+    }
+
+    /// The robot may move in this mode.
+    pub fn drives(self) -> bool {
+        matches!(self, Mode::Joystick | Mode::Autonomous)
+    }
+}
+
+impl fmt::Display for Mode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// What another thread (GUI, operator script, command line) asks of the supervisor.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Request {
+    /// Change mode (Halt is always accepted, except that a fault stays latched).
+    Mode(Mode),
+    /// Close the motor contactor; after a fault, also clears it if its cause is gone.
+    PowerUp,
+    /// Hardware test panel: the outputs to write while in Test.
+    TestOutputs(Outputs),
+}
+
+/// Why the supervisor said no.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Refusal {
+    FaultLatched(FaultCause),
+    CauseStillActive(FaultCause),
+    NotPowered,
+    NotCalibrated,
+    OnlyFromHalt(Mode),
+    NotStanding,
+    NotInTest,
+    FaultIsNotAMode,
+    AlreadyPowered,
+}
+
+impl fmt::Display for Refusal {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Refusal::FaultLatched(c) => write!(f, "a fault is latched ({c}): power up to clear it"),
+            Refusal::CauseStillActive(c) => write!(f, "cannot power up: {c}"),
+            Refusal::NotPowered => write!(f, "motor power is off: press Power up first"),
+            Refusal::NotCalibrated => write!(f, "the steering is still being calibrated"),
+            Refusal::OnlyFromHalt(m) => {
+                write!(f, "this mode can only be entered from halt (now {m})")
+            }
+            Refusal::NotStanding => write!(f, "the robot is still moving"),
+            Refusal::NotInTest => write!(f, "test outputs are only taken in test mode"),
+            Refusal::FaultIsNotAMode => {
+                write!(f, "fault is entered by the supervisor, not by request")
+            }
+            Refusal::AlreadyPowered => write!(f, "motor power is already on"),
+        }
+    }
+}

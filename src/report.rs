@@ -1,0 +1,144 @@
+//! The run report: a short summary for a person at exit, and JSON for scripts.
+
+use mechweed_hw::camproto::LinkCounters;
+use mechweed_hw::sim::{CrossTrackSummary, Side};
+use serde::Serialize;
+
+use crate::rt::LoopSummary;
+use crate::run::RunOutcome;
+use crate::supervisor::Notice;
+
+#[derive(Debug, Serialize)]
+pub struct FaultEntry {
+    pub t_s: f64,
+    pub cause: String,
+    /// Supervisor ticks from the first tick that saw the cause to the one that wrote
+    /// safe outputs.
+    pub safe_after_ticks: u64,
+}
+
+#[derive(Debug, Serialize)]
+pub struct NoticeEntry {
+    pub t_s: f64,
+    pub what: String,
+}
+
+#[derive(Debug, Serialize)]
+pub struct Loops {
+    pub supervisor: LoopSummary,
+    pub steer: LoopSummary,
+}
+
+#[derive(Debug, Serialize)]
+pub struct Report {
+    pub mode_final: String,
+    pub faults: Vec<FaultEntry>,
+    pub notices: Vec<NoticeEntry>,
+    pub distance_m: f64,
+    pub cross_track_cm: CrossTrackSummary,
+    pub loops: Loops,
+    pub link: LinkCounters,
+}
+
+pub fn notice_text(notice: &Notice) -> String {
+    match notice {
+        Notice::EndSwitchRecovered { side, .. } => {
+            let side = match side {
+                Side::Left => "left",
+                Side::Right => "right",
+            };
+            format!(
+                "the steering hit the {side} end switch: robot stopped, steering moved back off it, now in halt"
+            )
+        }
+    }
+}
+
+impl Report {
+    pub fn from_run(run: &RunOutcome) -> Report {
+        Report {
+            mode_final: run.final_status.mode.name().to_string(),
+            faults: run
+                .faults
+                .iter()
+                .map(|f| FaultEntry {
+                    t_s: f.t_s,
+                    cause: f.cause.to_string(),
+                    safe_after_ticks: f.tick_safe - f.tick_seen,
+                })
+                .collect(),
+            notices: run
+                .notices
+                .iter()
+                .map(|n| NoticeEntry {
+                    t_s: match n {
+                        Notice::EndSwitchRecovered { t_s, .. } => *t_s,
+                    },
+                    what: notice_text(n),
+                })
+                .collect(),
+            distance_m: run.final_status.measured.distance_m,
+            cross_track_cm: run.cross_track,
+            loops: Loops {
+                supervisor: run.supervisor_loop,
+                steer: run.steer_loop,
+            },
+            link: run.link.counters,
+        }
+    }
+
+    /// A few lines for the terminal.
+    pub fn human(&self) -> String {
+        let mut out = String::new();
+        let c = &self.cross_track_cm;
+        out += &format!(
+            "final mode: {}, distance {:.1} m\n",
+            self.mode_final, self.distance_m
+        );
+        if self.faults.is_empty() {
+            out += "faults: none\n";
+        }
+        for f in &self.faults {
+            out += &format!(
+                "fault at {:.2} s: {} (safe outputs after {} ticks)\n",
+                f.t_s, f.cause, f.safe_after_ticks
+            );
+        }
+        for n in &self.notices {
+            out += &format!("at {:.2} s: {}\n", n.t_s, n.what);
+        }
+        out += &format!(
+            "tool cross-track (after the first 5 m, over {:.1} m): mean {:.2} cm, s.d. {:.2} cm, RMS {:.2} cm, p95 {:.2} cm, max {:.2} cm, {:.1} % of distance over 2 cm\n",
+            c.distance_m,
+            c.mean_cm,
+            c.sd_cm,
+            c.rms_cm,
+            c.p95_cm,
+            c.max_cm,
+            c.share_over_2cm * 100.0
+        );
+        for (name, l) in [
+            ("supervisor", &self.loops.supervisor),
+            ("steer", &self.loops.steer),
+        ] {
+            out += &format!(
+                "{name} loop: {} ticks at {} Hz, {} overruns, late p50/p99/max {}/{}/{} us, exec p50/p99/max {}/{}/{} us\n",
+                l.ticks,
+                l.rate_hz,
+                l.overruns,
+                l.late_us.p50,
+                l.late_us.p99,
+                l.late_us.max,
+                l.exec_us.p50,
+                l.exec_us.p99,
+                l.exec_us.max
+            );
+        }
+        let k = &self.link;
+        out += &format!(
+            "camera link: {} frames, {} CRC errors, {} resyncs, {} sequence gaps, {} bad estimates\n",
+            k.frames_ok, k.crc_errors, k.resyncs, k.seq_gaps, k.bad_values
+        );
+        out
+    }
+}

@@ -1,0 +1,305 @@
+//! The product: the controller on real threads and real time. The supervisor thread
+//! owns the hardware; the steer thread and the camera-link thread each own their own
+//! state; they meet only through protected objects (state.rs) and bounded channels.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use crossbeam_channel::{Receiver, Sender, bounded, select};
+use mechweed_hw::sim::{CrossTrackSummary, PipeEnd, SimHw, SimRobot, byte_pipe};
+use mechweed_hw::{Hw, Outputs};
+
+use crate::camlink::{LinkCore, LinkStatus};
+use crate::config::Settings;
+use crate::console;
+use crate::modes::{Mode, Refusal, Request};
+use crate::rt::{LoopSummary, Periodic};
+use crate::state::{Reader, Writer, shared};
+use crate::steer::{SteerCommand, SteerCore};
+use crate::supervisor::{FaultRecord, Notice, Status, Supervisor};
+
+/// A request and where to send the supervisor's answer.
+type Envelope = (Request, Sender<Result<(), Refusal>>);
+
+/// How other threads (the operator script, later the GUI) talk to the supervisor.
+#[derive(Clone)]
+pub struct SupervisorHandle {
+    requests: Sender<Envelope>,
+    pub status: Reader<Status>,
+}
+
+impl SupervisorHandle {
+    /// Ask, and wait (at most a second) for the answer.
+    pub fn request(&self, request: Request) -> Result<(), String> {
+        let (reply_tx, reply_rx) = bounded(1);
+        self.requests
+            .send_timeout((request, reply_tx), Duration::from_secs(1))
+            .map_err(|_| "the supervisor is not taking requests".to_string())?;
+        match reply_rx.recv_timeout(Duration::from_secs(1)) {
+            Ok(answer) => answer.map_err(|refusal| refusal.to_string()),
+            Err(_) => Err("the supervisor did not answer".to_string()),
+        }
+    }
+}
+
+pub struct RunOptions {
+    pub settings: Settings,
+    pub start_mode: Mode,
+    pub duration_s: Option<f64>,
+    /// Print a status line this often, s (0 = never).
+    pub status_every_s: f64,
+}
+
+/// What a run leaves behind for the report.
+pub struct RunOutcome {
+    pub final_status: Status,
+    pub faults: Vec<FaultRecord>,
+    pub notices: Vec<Notice>,
+    pub supervisor_loop: LoopSummary,
+    pub steer_loop: LoopSummary,
+    pub link: LinkStatus,
+    pub cross_track: CrossTrackSummary,
+}
+
+/// Writes the safe outputs when dropped: at the end of the supervisor thread, and
+/// also if it unwinds from a panic, so that no exit leaves a frozen last command.
+struct SafeOnDrop(Box<dyn Hw>);
+
+impl Drop for SafeOnDrop {
+    fn drop(&mut self) {
+        if let Err(e) = self.0.write(&Outputs::SAFE) {
+            tracing::error!("could not write the safe outputs at exit: {e}");
+        }
+    }
+}
+
+/// What the supervisor thread owns: the hardware, the supervisor, its object's writer.
+struct SupervisorThread {
+    hw: Box<dyn Hw>,
+    core: Supervisor,
+    rate_hz: f64,
+    clock: Instant,
+    requests: Receiver<Envelope>,
+    status: Writer<Status>,
+    steer: Reader<SteerCommand>,
+    link: Reader<LinkStatus>,
+    stop: Arc<AtomicBool>,
+}
+
+impl SupervisorThread {
+    fn run(self) -> (Supervisor, LoopSummary) {
+        let SupervisorThread {
+            hw,
+            mut core,
+            rate_hz,
+            clock,
+            requests,
+            status,
+            steer,
+            link,
+            stop,
+        } = self;
+        let mut hw = SafeOnDrop(hw);
+        let mut periodic = Periodic::new(rate_hz);
+        while !stop.load(Ordering::Relaxed) {
+            periodic.wait();
+            let now_s = clock.elapsed().as_secs_f64();
+            while let Ok((request, reply)) = requests.try_recv() {
+                let _ = reply.try_send(core.handle(request));
+            }
+            let outputs = match hw.0.read() {
+                Ok(inputs) => core.tick(now_s, &inputs, &steer.snapshot(), &link.snapshot()),
+                Err(e) => {
+                    tracing::error!("{e}");
+                    core.hardware_failed(now_s)
+                }
+            };
+            if let Err(e) = hw.0.write(&outputs) {
+                tracing::error!("{e}");
+                core.hardware_failed(now_s);
+            }
+            status.publish(core.status());
+            periodic.done();
+        }
+        (core, periodic.stats.summary())
+    }
+}
+
+/// What the steer thread owns: the steering law's state and the command's writer.
+struct SteerThread {
+    core: SteerCore,
+    rate_hz: f64,
+    clock: Instant,
+    new_estimate: Receiver<()>,
+    command: Writer<SteerCommand>,
+    status: Reader<Status>,
+    link: Reader<LinkStatus>,
+    stop: Arc<AtomicBool>,
+}
+
+impl SteerThread {
+    /// Ticks at its rate, and also as soon as the camera link has a new estimate.
+    fn run(mut self) -> LoopSummary {
+        let mut periodic = Periodic::new(self.rate_hz);
+        while !self.stop.load(Ordering::Relaxed) {
+            let scheduled = select! {
+                recv(self.new_estimate) -> _ => false,
+                default(periodic.until_deadline()) => true,
+            };
+            if scheduled {
+                periodic.wait();
+            } else {
+                periodic.woke_now();
+            }
+            let now_s = self.clock.elapsed().as_secs_f64();
+            let command = self
+                .core
+                .tick(now_s, &self.status.snapshot(), &self.link.snapshot());
+            self.command.publish(&command);
+            if scheduled {
+                periodic.done();
+            } else {
+                periodic.done_unscheduled();
+            }
+        }
+        periodic.stats.summary()
+    }
+}
+
+/// What the camera-link thread owns: the byte transport, the decoder, its writer.
+struct LinkThread {
+    core: LinkCore,
+    pipe: PipeEnd,
+    clock: Instant,
+    new_estimate: Sender<()>,
+    status: Writer<LinkStatus>,
+    steer: Reader<SteerCommand>,
+    stop: Arc<AtomicBool>,
+}
+
+impl LinkThread {
+    fn run(mut self) {
+        use std::io::{Read, Write};
+        self.pipe.set_read_timeout(Duration::from_millis(10));
+        let mut buf = [0u8; 256];
+        while !self.stop.load(Ordering::Relaxed) {
+            let n = match self.pipe.read(&mut buf) {
+                Ok(n) => n,
+                Err(e) if e.kind() == std::io::ErrorKind::TimedOut => 0,
+                Err(e) => {
+                    tracing::warn!("camera link read failed: {e}");
+                    std::thread::sleep(Duration::from_millis(100));
+                    0
+                }
+            };
+            let now_s = self.clock.elapsed().as_secs_f64();
+            if self.core.receive(&buf[..n], now_s) {
+                let _ = self.new_estimate.try_send(());
+            }
+            if let Some(byte) = self.core.command(self.steer.snapshot().wants_rows, now_s)
+                && let Err(e) = self.pipe.write_all(&[byte])
+            {
+                tracing::warn!("camera link write failed: {e}");
+            }
+            self.status.publish(self.core.status());
+        }
+    }
+}
+
+fn spawn<T: Send + 'static>(name: &str, f: impl FnOnce() -> T + Send + 'static) -> JoinHandle<T> {
+    std::thread::Builder::new()
+        .name(name.to_string())
+        .spawn(f)
+        .unwrap_or_else(|e| panic!("cannot start the {name} thread: {e}"))
+}
+
+/// Run the controller on the simulated robot until `duration_s` or until `stop` is set.
+pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> RunOutcome {
+    let s = &opts.settings;
+    let (camera_end, robot_end) = byte_pipe(4096);
+    let sim = SimHw::new(SimRobot::new(&s.sim, camera_end));
+    let truth = sim.truth_handle();
+    let clock = Instant::now();
+
+    let (status_w, status_r) = shared(Status::default());
+    let (steer_w, steer_r) = shared(SteerCommand::default());
+    let (link_w, link_r) = shared(LinkStatus::default());
+    let (request_tx, request_rx) = bounded(16);
+    let (estimate_tx, estimate_rx) = bounded(1);
+    let handle = SupervisorHandle {
+        requests: request_tx,
+        status: status_r.clone(),
+    };
+
+    let supervisor = SupervisorThread {
+        hw: Box::new(sim),
+        core: Supervisor::new(s),
+        rate_hz: s.supervisor.rate_hz,
+        clock,
+        requests: request_rx,
+        status: status_w,
+        steer: steer_r.clone(),
+        link: link_r.clone(),
+        stop: stop.clone(),
+    };
+    let steer = SteerThread {
+        core: SteerCore::new(s),
+        rate_hz: s.steer.rate_hz,
+        clock,
+        new_estimate: estimate_rx,
+        command: steer_w,
+        status: status_r.clone(),
+        link: link_r.clone(),
+        stop: stop.clone(),
+    };
+    let link = LinkThread {
+        core: LinkCore::new(&s.camera),
+        pipe: robot_end,
+        clock,
+        new_estimate: estimate_tx,
+        status: link_w,
+        steer: steer_r,
+        stop: stop.clone(),
+    };
+    let supervisor = spawn("supervisor", move || supervisor.run());
+    let steer = spawn("steer", move || steer.run());
+    let link = spawn("camlink", move || link.run());
+
+    let any_thread_ended = || supervisor.is_finished() || steer.is_finished() || link.is_finished();
+    console::operate(
+        opts,
+        &handle,
+        &link_r,
+        &truth,
+        clock,
+        &stop,
+        any_thread_ended,
+    );
+    stop.store(true, Ordering::Relaxed);
+
+    let link_ok = link.join().is_ok();
+    let steer_loop = steer.join().unwrap_or_default();
+    let (supervisor, supervisor_loop) = match supervisor.join() {
+        Ok(result) => result,
+        Err(_) => {
+            tracing::error!(
+                "the supervisor thread panicked; safe outputs were written as it unwound"
+            );
+            (Supervisor::new(s), LoopSummary::default())
+        }
+    };
+    if !link_ok {
+        tracing::error!("the camera link thread panicked");
+    }
+    RunOutcome {
+        final_status: *supervisor.status(),
+        faults: supervisor.fault_log.clone(),
+        notices: supervisor.notice_log.clone(),
+        supervisor_loop,
+        steer_loop,
+        link: link_r.snapshot(),
+        cross_track: truth.cross_track().summary(),
+    }
+}

@@ -1,0 +1,121 @@
+//! The steer thread's work, as a plain tick function: in autonomous mode the steering
+//! law turns the camera's row estimate into a wheel angle; in joystick mode the
+//! joystick gives speed and angle; while driving, an end switch starts the end-switch
+//! procedure. It runs at [steer] rate_hz and on every new camera estimate.
+
+pub mod endswitch;
+pub mod joystick;
+pub mod law;
+
+use mechweed_hw::sim::Side;
+
+use crate::camlink::LinkStatus;
+use crate::config::Settings;
+use crate::modes::Mode;
+use crate::supervisor::Status;
+use endswitch::EndSwitchProcedure;
+pub use endswitch::EndSwitchState;
+use law::{LawOutput, Motion, RowFollower};
+
+/// What the steer thread asks of the supervisor, published after every tick.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SteerCommand {
+    /// When this command was made, s (the supervisor watches that it keeps coming).
+    pub t_s: f64,
+    pub speed_mps: f64,
+    pub wheel_angle_rad: f64,
+    /// The camera link should stream row frames: while driving, so that switching
+    /// from joystick to autonomous finds a fresh estimate at hand.
+    pub wants_rows: bool,
+    pub endswitch: EndSwitchState,
+    pub endswitch_done_count: u32,
+    pub endswitch_last_side: Option<Side>,
+    /// The steering law's workings, for plots (zero outside autonomous mode).
+    pub law: LawOutput,
+}
+
+pub struct SteerCore {
+    settings: Settings,
+    law: RowFollower,
+    endswitch: EndSwitchProcedure,
+    last_mode: Mode,
+}
+
+impl SteerCore {
+    pub fn new(settings: &Settings) -> SteerCore {
+        SteerCore {
+            settings: settings.clone(),
+            law: RowFollower::new(&settings.steer, &settings.robot),
+            endswitch: EndSwitchProcedure::default(),
+            last_mode: Mode::Halt,
+        }
+    }
+
+    /// One steer tick at `now_s`, from the supervisor's and the camera link's latest state.
+    pub fn tick(&mut self, now_s: f64, sup: &Status, link: &LinkStatus) -> SteerCommand {
+        let mode = sup.mode;
+        if mode != self.last_mode {
+            if mode == Mode::Autonomous {
+                self.law.reset();
+            }
+            if !mode.drives() {
+                self.endswitch.cancel();
+            }
+            self.last_mode = mode;
+        }
+        let m = &sup.measured;
+        let mut law_output = LawOutput::default();
+        let procedure = if mode.drives() {
+            self.endswitch.tick(
+                sup.endswitch_hit,
+                &sup.inputs,
+                m.speed_mps,
+                m.wheel_angle_rad,
+                self.settings.steer.endswitch_back_deg,
+                now_s,
+            )
+        } else {
+            None
+        };
+        let (speed_mps, wheel_angle_rad) = match (procedure, mode) {
+            (Some(command), _) => command,
+            (None, Mode::Joystick) => {
+                joystick::command(&sup.inputs, &self.settings.joystick, m.wheel_angle_rad)
+            }
+            (None, Mode::Autonomous) => match self.usable_estimate(now_s, link) {
+                Some((estimate, arrived_s)) => {
+                    let motion = Motion {
+                        speed_mps: m.speed_mps,
+                        yaw_rate_rps: m.yaw_rate_rps,
+                        wheel_angle_rad: m.wheel_angle_rad,
+                    };
+                    law_output = self.law.update(&estimate, arrived_s, now_s, &motion);
+                    (self.settings.steer.speed_mps, law_output.wheel_angle_rad)
+                }
+                // No fresh estimate yet (or any more): do not drive blind. The
+                // supervisor faults if this lasts beyond the camera's link time-out.
+                None => (0.0, m.wheel_angle_rad),
+            },
+            (None, _) => (0.0, m.wheel_angle_rad),
+        };
+        SteerCommand {
+            t_s: now_s,
+            speed_mps,
+            wheel_angle_rad,
+            wants_rows: mode.drives(),
+            endswitch: self.endswitch.state,
+            endswitch_done_count: self.endswitch.done_count,
+            endswitch_last_side: self.endswitch.last_side,
+            law: law_output,
+        }
+    }
+
+    fn usable_estimate(
+        &self,
+        now_s: f64,
+        link: &LinkStatus,
+    ) -> Option<(mechweed_hw::camproto::RowEstimate, f64)> {
+        let fresh = now_s - link.last_usable_s < self.settings.camera.link_timeout_s;
+        fresh.then_some((link.last_usable, link.last_usable_s))
+    }
+}

@@ -1,0 +1,424 @@
+//! The supervisor: once per tick (100 Hz) it takes every input, checks every fault,
+//! runs the three regulators and decides every output. It is a plain state machine:
+//! the real-time thread (run.rs) and the lockstep simulation (lockstep.rs) both call
+//! `tick`, so there is one copy of the control logic.
+//!
+//! Modes: Halt at start; Joystick, Autonomous and Test from Halt (and Joystick <->
+//! Autonomous directly, bumpless); any fault latches Fault with safe outputs in the
+//! same tick, until the cause is gone and the operator powers up again.
+
+use mechweed_hw::sim::Side;
+use mechweed_hw::{Inputs, Outputs};
+
+use crate::camlink::LinkStatus;
+use crate::config::Settings;
+use crate::faults::{CheckContext, FaultCause, FaultChecks, PowerState};
+use crate::measure::{Measured, Measurement};
+use crate::modes::{Mode, Refusal, Request};
+use crate::pid::{Pd, Pi};
+use crate::steer::SteerCommand;
+
+/// One fault, as the report lists it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FaultRecord {
+    pub cause: FaultCause,
+    pub t_s: f64,
+    /// Tick that first saw the cause.
+    pub tick_seen: u64,
+    /// Tick that wrote the safe outputs.
+    pub tick_safe: u64,
+}
+
+/// Something the operator should know that is not a fault.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Notice {
+    /// The end-switch procedure stopped the robot and steered back off this switch.
+    EndSwitchRecovered { side: Side, t_s: f64 },
+}
+
+/// What the supervisor publishes every tick for the other threads.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Status {
+    pub t_s: f64,
+    pub tick: u64,
+    pub mode: Mode,
+    pub fault: Option<FaultRecord>,
+    pub power: PowerState,
+    pub inputs: Inputs,
+    pub outputs: Outputs,
+    pub measured: Measured,
+    pub speed_ref_mps: f64,
+    pub v_left_ref_mps: f64,
+    pub v_right_ref_mps: f64,
+    pub wheel_angle_ref_rad: f64,
+    /// An end switch closed while driving: latched until the steer thread's
+    /// end-switch procedure reports done.
+    pub endswitch_hit: Option<Side>,
+    pub notice: Option<Notice>,
+}
+
+impl Default for Status {
+    fn default() -> Self {
+        Status {
+            t_s: 0.0,
+            tick: 0,
+            mode: Mode::Halt,
+            fault: None,
+            power: PowerState::Off,
+            inputs: Inputs::default(),
+            outputs: Outputs::SAFE,
+            measured: Measured::default(),
+            speed_ref_mps: 0.0,
+            v_left_ref_mps: 0.0,
+            v_right_ref_mps: 0.0,
+            wheel_angle_ref_rad: 0.0,
+            endswitch_hit: None,
+            notice: None,
+        }
+    }
+}
+
+/// Faults and notices kept for the report; fixed capacity so the tick never allocates.
+const LOG_CAPACITY: usize = 256;
+
+pub struct Supervisor {
+    settings: Settings,
+    period_s: f64,
+    measure: Measurement,
+    checks: FaultChecks,
+    left: Pi,
+    right: Pi,
+    steering: Pd,
+    mode_since_s: f64,
+    endswitch_hit_s: f64,
+    test_outputs: Outputs,
+    endswitch_done_seen: u32,
+    status: Status,
+    pub fault_log: Vec<FaultRecord>,
+    pub notice_log: Vec<Notice>,
+}
+
+/// Move `value` towards `target` by at most `step`.
+fn ramp(value: f64, target: f64, step: f64) -> f64 {
+    value + (target - value).clamp(-step, step)
+}
+
+impl Supervisor {
+    pub fn new(settings: &Settings) -> Supervisor {
+        let s = settings;
+        Supervisor {
+            settings: s.clone(),
+            period_s: 1.0 / s.supervisor.rate_hz,
+            measure: Measurement::new(&s.robot, &s.supervisor, &s.faults),
+            checks: FaultChecks::new(s.faults.clone(), s.camera, s.supervisor.power_up_timeout_s),
+            left: Pi::new(s.pid_left),
+            right: Pi::new(s.pid_right),
+            steering: Pd::new(s.pid_steer),
+            mode_since_s: 0.0,
+            endswitch_hit_s: 0.0,
+            test_outputs: Outputs::SAFE,
+            endswitch_done_seen: 0,
+            status: Status::default(),
+            fault_log: Vec::with_capacity(LOG_CAPACITY),
+            notice_log: Vec::with_capacity(LOG_CAPACITY),
+        }
+    }
+
+    pub fn status(&self) -> &Status {
+        &self.status
+    }
+
+    pub fn mode(&self) -> Mode {
+        self.status.mode
+    }
+
+    /// Act on a request from another thread; the answer says why not, if not.
+    pub fn handle(&mut self, request: Request) -> Result<(), Refusal> {
+        let st = &self.status;
+        match request {
+            Request::PowerUp => {
+                if let Some(cause) = self.checks.standing_cause(&st.inputs) {
+                    return Err(Refusal::CauseStillActive(cause));
+                }
+                if st.mode != Mode::Fault && st.power != PowerState::Off {
+                    return Err(Refusal::AlreadyPowered);
+                }
+                if st.mode == Mode::Fault {
+                    self.set_mode(Mode::Halt);
+                    self.status.fault = None;
+                }
+                self.status.power = PowerState::Closing {
+                    since_s: self.status.t_s,
+                };
+                Ok(())
+            }
+            Request::Mode(Mode::Fault) => Err(Refusal::FaultIsNotAMode),
+            Request::Mode(_) if st.mode == Mode::Fault => Err(Refusal::FaultLatched(
+                st.fault.map_or(FaultCause::Hardware, |f| f.cause),
+            )),
+            Request::Mode(Mode::Halt) => {
+                self.set_mode(Mode::Halt);
+                Ok(())
+            }
+            Request::Mode(Mode::Test) => {
+                if st.mode != Mode::Halt {
+                    return Err(Refusal::OnlyFromHalt(st.mode));
+                }
+                if st.measured.speed_mps.abs() > STANDING_MPS {
+                    return Err(Refusal::NotStanding);
+                }
+                self.test_outputs = Outputs::SAFE;
+                self.set_mode(Mode::Test);
+                Ok(())
+            }
+            Request::Mode(mode) => {
+                // Joystick or Autonomous: from Halt, or switching between the two.
+                if !(st.mode == Mode::Halt || st.mode.drives()) {
+                    return Err(Refusal::OnlyFromHalt(st.mode));
+                }
+                if st.power != PowerState::On {
+                    return Err(Refusal::NotPowered);
+                }
+                if !st.measured.calibrated {
+                    return Err(Refusal::NotCalibrated);
+                }
+                if st.mode == Mode::Halt {
+                    self.start_driving();
+                }
+                self.set_mode(mode);
+                Ok(())
+            }
+            Request::TestOutputs(outputs) => {
+                if st.mode != Mode::Test {
+                    return Err(Refusal::NotInTest);
+                }
+                self.test_outputs = outputs;
+                Ok(())
+            }
+        }
+    }
+
+    fn set_mode(&mut self, mode: Mode) {
+        if mode != self.status.mode {
+            self.status.mode = mode;
+            self.mode_since_s = self.status.t_s;
+        }
+    }
+
+    /// Leaving Halt: the robot stands, so the regulators start from rest and the
+    /// references from where the robot is. Between Joystick and Autonomous nothing is
+    /// reset: the references ramp on from their present values (bumpless transfer).
+    fn start_driving(&mut self) {
+        self.left.reset();
+        self.right.reset();
+        self.steering.reset();
+        self.status.speed_ref_mps = 0.0;
+        self.status.wheel_angle_ref_rad = self.status.measured.wheel_angle_rad;
+    }
+
+    fn enter_fault(&mut self, cause: FaultCause) {
+        let record = FaultRecord {
+            cause,
+            t_s: self.status.t_s,
+            tick_seen: self.status.tick,
+            tick_safe: self.status.tick,
+        };
+        if self.fault_log.len() < LOG_CAPACITY {
+            self.fault_log.push(record);
+        }
+        self.status.fault = Some(record);
+        self.status.power = PowerState::Off;
+        self.set_mode(Mode::Fault);
+    }
+
+    /// The hardware could not be read or written: fault now, safe outputs.
+    pub fn hardware_failed(&mut self, now_s: f64) -> Outputs {
+        self.status.t_s = now_s;
+        self.status.tick += 1;
+        if self.status.mode != Mode::Fault {
+            self.enter_fault(FaultCause::Hardware);
+        }
+        self.status.outputs = Outputs::SAFE;
+        Outputs::SAFE
+    }
+
+    /// One supervisor tick at `now_s`: inputs in, outputs out.
+    pub fn tick(
+        &mut self,
+        now_s: f64,
+        inputs: &Inputs,
+        steer: &SteerCommand,
+        link: &LinkStatus,
+    ) -> Outputs {
+        let dt_s = if self.status.tick == 0 {
+            self.period_s
+        } else {
+            now_s - self.status.t_s
+        };
+        self.status.t_s = now_s;
+        self.status.tick += 1;
+        self.status.inputs = *inputs;
+        let measured = self.measure.update(inputs, dt_s);
+        self.status.measured = measured;
+
+        if let PowerState::Closing { .. } = self.status.power
+            && inputs.motor_power_present
+        {
+            self.status.power = PowerState::On;
+        }
+
+        // A finished end-switch procedure first, so the latch it clears is not checked.
+        self.follow_endswitch_procedure(steer, now_s);
+        self.latch_endswitch(inputs, now_s);
+        let last = self.status.outputs;
+        let context = CheckContext {
+            now_s,
+            mode: self.status.mode,
+            mode_since_s: self.mode_since_s,
+            power: self.status.power,
+            inputs,
+            measured: &measured,
+            driven_v: [last.amp_left_v, last.amp_right_v, last.amp_steer_v],
+            counts_moved: self.measure.counts_moved,
+            endswitch_hit: self
+                .status
+                .endswitch_hit
+                .map(|side| (side, self.endswitch_hit_s)),
+            steer,
+            link,
+        };
+        if let Some(cause) = self.checks.check(&context)
+            && self.status.mode != Mode::Fault
+        {
+            self.enter_fault(cause);
+        }
+
+        let outputs = match self.status.mode {
+            Mode::Fault => Outputs::SAFE,
+            Mode::Halt => self.standing_outputs(),
+            Mode::Test => self.guard_steering(self.test_outputs, inputs),
+            Mode::Joystick | Mode::Autonomous => self.drive(steer, inputs, dt_s),
+        };
+        if !self.status.mode.drives() {
+            self.status.speed_ref_mps = 0.0;
+            self.status.wheel_angle_ref_rad = measured.wheel_angle_rad;
+        }
+        self.status.outputs = outputs;
+        outputs
+    }
+
+    /// Remember an end switch that closed while driving, however briefly.
+    fn latch_endswitch(&mut self, inputs: &Inputs, now_s: f64) {
+        if !self.status.mode.drives() {
+            self.status.endswitch_hit = None;
+            return;
+        }
+        if self.status.endswitch_hit.is_none() {
+            let side = if inputs.end_switch_left {
+                Some(Side::Left)
+            } else if inputs.end_switch_right {
+                Some(Side::Right)
+            } else {
+                None
+            };
+            if side.is_some() {
+                self.status.endswitch_hit = side;
+                self.endswitch_hit_s = now_s;
+            }
+        }
+    }
+
+    /// The steer thread finished an end-switch procedure: stop in Halt and say so.
+    fn follow_endswitch_procedure(&mut self, steer: &SteerCommand, now_s: f64) {
+        if steer.endswitch_done_count == self.endswitch_done_seen {
+            return;
+        }
+        self.endswitch_done_seen = steer.endswitch_done_count;
+        self.status.endswitch_hit = None;
+        if self.status.mode.drives()
+            && let Some(side) = steer.endswitch_last_side
+        {
+            let notice = Notice::EndSwitchRecovered { side, t_s: now_s };
+            self.status.notice = Some(notice);
+            if self.notice_log.len() < LOG_CAPACITY {
+                self.notice_log.push(notice);
+            }
+            self.set_mode(Mode::Halt);
+        }
+    }
+
+    fn standing_outputs(&self) -> Outputs {
+        Outputs {
+            main_power_on: self.status.power != PowerState::Off,
+            ..Outputs::SAFE
+        }
+    }
+
+    /// Never drive the steering further into a closed end switch.
+    fn guard_steering(&self, mut outputs: Outputs, inputs: &Inputs) -> Outputs {
+        if inputs.end_switch_left {
+            outputs.amp_steer_v = outputs.amp_steer_v.min(0.0);
+        }
+        if inputs.end_switch_right {
+            outputs.amp_steer_v = outputs.amp_steer_v.max(0.0);
+        }
+        outputs
+    }
+
+    /// Joystick and Autonomous: references from the steer thread, ramped; the
+    /// regulators turn them into amplifier voltages.
+    fn drive(&mut self, steer: &SteerCommand, inputs: &Inputs, dt_s: f64) -> Outputs {
+        let s = &self.settings;
+        let m = self.status.measured;
+        let end_switch = inputs.end_switch_left
+            || inputs.end_switch_right
+            || self.status.endswitch_hit.is_some();
+        let max_speed = s.supervisor.max_speed_mps;
+        let target_speed = if end_switch {
+            0.0
+        } else {
+            steer.speed_mps.clamp(-max_speed, max_speed)
+        };
+        let max_angle = s
+            .robot
+            .max_wheel_angle_deg
+            .to_radians()
+            .max(s.steer.endswitch_back_deg.to_radians());
+        let target_angle = steer.wheel_angle_rad.clamp(-max_angle, max_angle);
+
+        let st = &mut self.status;
+        st.speed_ref_mps = ramp(
+            st.speed_ref_mps,
+            target_speed,
+            s.supervisor.accel_mps2 * dt_s,
+        );
+        st.wheel_angle_ref_rad = ramp(
+            st.wheel_angle_ref_rad,
+            target_angle,
+            s.supervisor.wheel_angle_rate_dps.to_radians() * dt_s,
+        );
+        // Ackermann: on a turn the inner rear wheel runs slower than the outer one.
+        let half_track_curvature =
+            0.5 * s.robot.track_m * m.wheel_angle_rad.tan() / s.robot.wheelbase_m;
+        st.v_left_ref_mps = st.speed_ref_mps * (1.0 - half_track_curvature);
+        st.v_right_ref_mps = st.speed_ref_mps * (1.0 + half_track_curvature);
+
+        let outputs = Outputs {
+            amp_left_v: self.left.update(st.v_left_ref_mps, m.v_left_mps, dt_s),
+            amp_right_v: self.right.update(st.v_right_ref_mps, m.v_right_mps, dt_s),
+            amp_steer_v: self
+                .steering
+                .update(st.wheel_angle_ref_rad, m.wheel_angle_rad, dt_s),
+            main_power_on: true,
+            brake_release_left: true,
+            brake_release_right: true,
+            tool_on: st.mode == Mode::Autonomous && st.speed_ref_mps > TOOL_MIN_SPEED_MPS,
+        };
+        self.guard_steering(outputs, inputs)
+    }
+}
+
+/// Below this the robot counts as standing, m/s.
+const STANDING_MPS: f64 = 0.01;
+/// The weeding tool runs only while the robot moves along the row, m/s.
+const TOOL_MIN_SPEED_MPS: f64 = 0.05;

@@ -1,0 +1,130 @@
+//! The real program, from outside: a short real-time run, and check-config.
+
+use std::process::Command;
+
+fn mechweed() -> Command {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_mechweed"));
+    cmd.current_dir(env!("CARGO_MANIFEST_DIR"));
+    cmd
+}
+
+#[test]
+fn a_short_autonomous_run_on_real_threads_writes_its_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let report_path = dir.path().join("report.json");
+    let out = mechweed()
+        .args([
+            "run",
+            "--headless",
+            "--mode",
+            "autonomous",
+            "--duration",
+            "4",
+            "--seed",
+            "3",
+            "--report",
+        ])
+        .arg(&report_path)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("tool cross-track"), "{stdout}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report_path).unwrap()).unwrap();
+    assert_eq!(report["mode_final"], "autonomous", "{report:#}");
+    assert_eq!(report["faults"].as_array().unwrap().len(), 0, "{report:#}");
+    assert!(report["distance_m"].as_f64().unwrap() > 0.5, "{report:#}");
+    let sup = &report["loops"]["supervisor"];
+    assert!(sup["ticks"].as_u64().unwrap() > 300, "{report:#}");
+    for key in ["p50", "p99", "max"] {
+        assert!(sup["late_us"][key].is_u64() && sup["exec_us"][key].is_u64());
+    }
+    assert!(report["loops"]["steer"]["ticks"].as_u64().unwrap() > 30);
+    assert!(
+        report["link"]["frames_ok"].as_u64().unwrap() > 20,
+        "{report:#}"
+    );
+    for key in ["crc_errors", "resyncs", "seq_gaps"] {
+        assert!(report["link"][key].is_u64());
+    }
+    for key in ["mean_cm", "sd_cm", "rms_cm", "p95_cm", "max_cm"] {
+        assert!(report["cross_track_cm"][key].is_f64(), "{key}");
+    }
+}
+
+#[test]
+fn a_scripted_estop_shows_in_the_report_with_its_cause() {
+    let dir = tempfile::tempdir().unwrap();
+    let report_path = dir.path().join("report.json");
+    let out = mechweed()
+        .args([
+            "run",
+            "--headless",
+            "--mode",
+            "autonomous",
+            "--duration",
+            "3",
+        ])
+        .args(["--set", "sim.events=2 estop_front", "--report"])
+        .arg(&report_path)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report_path).unwrap()).unwrap();
+    assert_eq!(report["mode_final"], "fault");
+    let fault = &report["faults"][0];
+    assert!(
+        fault["cause"]
+            .as_str()
+            .unwrap()
+            .contains("front emergency stop"),
+        "{report:#}"
+    );
+    assert_eq!(fault["safe_after_ticks"], 0);
+    assert!((fault["t_s"].as_f64().unwrap() - 2.0).abs() < 0.1);
+}
+
+#[test]
+fn check_config_says_ok_or_lists_every_error() {
+    let out = mechweed()
+        .args(["check-config", "config/robot.ini"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert_eq!(String::from_utf8_lossy(&out.stdout).trim(), "ok");
+
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.ini");
+    let text = std::fs::read_to_string("config/robot.ini").unwrap();
+    std::fs::write(
+        &bad,
+        text.replacen("kd = 2.0", "kd = fast", 1)
+            .replacen("rate_hz = 10\n", "rate_hz = -1\n", 1),
+    )
+    .unwrap();
+    let out = mechweed().arg("check-config").arg(&bad).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("[pid.steer] kd = 'fast' is not a number"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("[steer] rate_hz = -1 is out of range"),
+        "{stderr}"
+    );
+    assert!(stderr.contains(&bad.display().to_string()), "{stderr}");
+
+    let out = mechweed()
+        .args(["check-config", "/nonexistent/robot.ini"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("cannot read the settings file"));
+}

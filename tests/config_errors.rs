@@ -1,0 +1,137 @@
+//! Broken settings files each give an error naming the file, line, section and key.
+
+use mechweed::config::Settings;
+
+const SHIPPED: &str = include_str!("../config/robot.ini");
+
+/// The shipped file with one line replaced; returns the 1-based line number too.
+fn with_line(find: &str, replace: &str) -> (String, usize) {
+    let line = SHIPPED.lines().position(|l| l.trim() == find).expect(find) + 1;
+    (SHIPPED.replacen(find, replace, 1), line)
+}
+
+fn errors(text: &str, overrides: &[&str]) -> Vec<String> {
+    let set: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    match Settings::parse("robot.ini", text, &set) {
+        Ok(_) => Vec::new(),
+        Err(e) => e.iter().map(|e| e.to_string()).collect(),
+    }
+}
+
+#[test]
+fn the_shipped_file_is_valid() {
+    assert_eq!(errors(SHIPPED, &[]), Vec::<String>::new());
+}
+
+#[test]
+fn not_a_number_names_line_section_and_key() {
+    let (text, line) = with_line("kd = 2.0", "kd = abc");
+    assert_eq!(
+        errors(&text, &[]),
+        vec![format!(
+            "robot.ini line {line}: [pid.steer] kd = 'abc' is not a number"
+        )]
+    );
+}
+
+#[test]
+fn out_of_range() {
+    let (text, line) = with_line("rate_hz = 100", "rate_hz = 5");
+    assert_eq!(
+        errors(&text, &[]),
+        vec![format!(
+            "robot.ini line {line}: [supervisor] rate_hz = 5 is out of range (10 to 2000)"
+        )]
+    );
+}
+
+#[test]
+fn unknown_key() {
+    let (text, line) = with_line("speed_mps = 0.5", "speed_mps = 0.5\nspeeed_mps = 0.4");
+    assert_eq!(
+        errors(&text, &[]),
+        vec![format!(
+            "robot.ini line {}: [steer] speeed_mps is not a known setting",
+            line + 1
+        )]
+    );
+}
+
+#[test]
+fn missing_section_and_unknown_section() {
+    let text = SHIPPED.replace("[joystick]", "[joystik]");
+    let errs = errors(&text, &[]);
+    assert!(
+        errs.contains(&"robot.ini: missing section [joystick]".to_string()),
+        "{errs:?}"
+    );
+    assert!(
+        errs.iter()
+            .any(|e| e.ends_with("unknown section [joystik]")),
+        "{errs:?}"
+    );
+}
+
+#[test]
+fn missing_key_names_its_section_line() {
+    let (text, _) = with_line("link_timeout_s = 0.5", "");
+    let section_line = SHIPPED.lines().position(|l| l == "[camera]").unwrap() + 1;
+    assert_eq!(
+        errors(&text, &[]),
+        vec![format!(
+            "robot.ini line {section_line}: [camera] link_timeout_s is missing"
+        )]
+    );
+}
+
+#[test]
+fn duplicate_key() {
+    let (text, _) = with_line("seed = 1", "seed = 1\nseed = 2");
+    let errs = errors(&text, &[]);
+    assert!(
+        errs.iter()
+            .any(|e| e.contains("[sim] seed is set more than once")),
+        "{errs:?}"
+    );
+}
+
+#[test]
+fn bad_event_script_names_the_item() {
+    let errs = errors(SHIPPED, &["sim.events=1 mode autonomous, 2 estop_middle"]);
+    assert_eq!(errs.len(), 1, "{errs:?}");
+    assert!(
+        errs[0].starts_with("--set sim.events=1 mode autonomous, 2 estop_middle: [sim] events:"),
+        "{errs:?}"
+    );
+    assert!(errs[0].contains("estop_middle"), "{errs:?}");
+}
+
+#[test]
+fn overrides_apply_and_bad_ones_are_named() {
+    let s = Settings::parse(
+        "robot.ini",
+        SHIPPED,
+        &["steer.speed_mps=0.3".into(), "pid.left.kp=20".into()],
+    )
+    .unwrap();
+    assert_eq!(s.steer.speed_mps, 0.3);
+    assert_eq!(s.pid_left.kp, 20.0);
+    assert_eq!(
+        errors(SHIPPED, &["pid.left.kp=abc"]),
+        vec!["--set pid.left.kp=abc: [pid.left] kp = 'abc' is not a number".to_string()]
+    );
+    assert_eq!(
+        errors(SHIPPED, &["steer.nope=1"]),
+        vec!["--set steer.nope=1: [steer] nope is not a setting in robot.ini".to_string()]
+    );
+    assert_eq!(errors(SHIPPED, &["speed"]).len(), 1);
+}
+
+#[test]
+fn every_error_is_reported_at_once() {
+    let (text, _) = with_line("kd = 2.0", "kd = abc");
+    let text = text
+        .replacen("rate_hz = 100", "rate_hz = x", 1)
+        .replace("[hw]", "[hardware]");
+    assert!(errors(&text, &[]).len() >= 4, "{:?}", errors(&text, &[]));
+}

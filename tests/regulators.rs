@@ -1,0 +1,95 @@
+//! The regulators on the simulated robot: bumpless switching between joystick and
+//! autonomous, wheel speeds that follow Ackermann geometry, calibration before motion.
+
+mod common;
+
+use common::{record, settings_with};
+use mechweed::lockstep::Lockstep;
+use mechweed::modes::{Mode, Refusal, Request};
+
+/// Joystick speed-axis voltage that asks for `speed_mps`.
+fn joystick_volts(s: &mechweed::config::Settings, speed_mps: f64) -> f64 {
+    let j = &s.joystick;
+    j.deadband_v + speed_mps / j.max_speed_mps * (j.full_scale_v - j.deadband_v)
+}
+
+#[test]
+fn switching_joystick_to_autonomous_is_bumpless() {
+    let s = settings_with("", &["steer.speed_mps=0.5"]);
+    let mut sim = Lockstep::new(&s, Mode::Joystick);
+    sim.robot.set_joystick(0.0, joystick_volts(&s, 0.5), true);
+    let before = record(&mut sim, 6.0);
+    let last = before.last().unwrap();
+    assert_eq!(last.mode, Mode::Joystick);
+    assert!((sim.supervisor.status().measured.speed_mps - 0.5).abs() < 0.02);
+    sim.request(Request::Mode(Mode::Autonomous))
+        .expect("switch while driving");
+    let after = record(&mut sim, 1.0);
+    let jump = |k: usize| (after[k].outputs.amp_left_v - last.outputs.amp_left_v).abs();
+    // No reset of the integrators and no step in the reference: the voltage moves
+    // smoothly.
+    assert!(jump(0) < 0.3, "left amplifier jumped by {:.2} V", jump(0));
+    for pair in after.windows(2) {
+        let step = (pair[1].outputs.amp_left_v - pair[0].outputs.amp_left_v).abs();
+        assert!(step < 1.0, "step of {step:.2} V at {}", pair[1].t_s);
+    }
+    assert_eq!(sim.supervisor.mode(), Mode::Autonomous);
+}
+
+#[test]
+fn wheel_speed_references_follow_ackermann_geometry() {
+    let s = settings_with("", &[]);
+    let mut sim = Lockstep::new(&s, Mode::Joystick);
+    // Full left at a steady speed.
+    sim.robot.set_joystick(-4.0, joystick_volts(&s, 0.4), true);
+    record(&mut sim, 5.0);
+    let st = sim.supervisor.status();
+    let k = st.measured.wheel_angle_rad.tan() / s.robot.wheelbase_m;
+    assert!(
+        st.measured.wheel_angle_rad.to_degrees() > 20.0,
+        "not steering left"
+    );
+    let expected_ratio = (1.0 + 0.5 * s.robot.track_m * k) / (1.0 - 0.5 * s.robot.track_m * k);
+    let ratio = st.v_right_ref_mps / st.v_left_ref_mps;
+    assert!(
+        (ratio - expected_ratio).abs() < 1e-9,
+        "outer/inner {ratio} vs {expected_ratio}"
+    );
+    // And the wheels follow their references.
+    assert!((st.measured.v_left_mps - st.v_left_ref_mps).abs() < 0.02);
+    assert!((st.measured.v_right_mps - st.v_right_ref_mps).abs() < 0.02);
+}
+
+#[test]
+fn steering_is_calibrated_before_any_motion() {
+    // The wheel stands at 10 deg at power-up, where the relative encoder reads 0.
+    let s = settings_with("", &["sim.initial_wheel_angle_deg=10"]);
+    let mut sim = Lockstep::new(&s, Mode::Halt);
+    sim.tick();
+    sim.request(Request::PowerUp).unwrap();
+    sim.tick();
+    sim.tick();
+    assert_eq!(
+        sim.supervisor.status().power,
+        mechweed::faults::PowerState::On
+    );
+    assert_eq!(
+        sim.request(Request::Mode(Mode::Joystick)),
+        Err(Refusal::NotCalibrated)
+    );
+    let ticks = record(&mut sim, 1.0);
+    assert!(
+        ticks
+            .iter()
+            .all(|t| t.outputs.amp_steer_v == 0.0 && t.outputs.amp_left_v == 0.0)
+    );
+    let m = sim.supervisor.status().measured;
+    assert!(m.calibrated);
+    assert!(
+        (m.wheel_angle_rad.to_degrees() - 10.0).abs() < 0.3,
+        "calibrated to {}",
+        m.wheel_angle_rad.to_degrees()
+    );
+    sim.request(Request::Mode(Mode::Joystick))
+        .expect("calibrated now");
+}
