@@ -5,7 +5,16 @@ use std::fmt;
 
 use mechweed_hw::Outputs;
 
+use crate::config::{PdSettings, PiSettings};
 use crate::faults::FaultCause;
+
+/// The three regulators' gains, as one request.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Gains {
+    pub left: PiSettings,
+    pub right: PiSettings,
+    pub steer: PdSettings,
+}
 
 /// What the robot is doing. Halt at start; every fault latches Fault.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -55,6 +64,8 @@ pub enum Request {
     PowerUp,
     /// Hardware test panel: the outputs to write while in Test.
     TestOutputs(Outputs),
+    /// New regulator gains; taken only in Halt, so that nothing jumps while moving.
+    Gains(Gains),
 }
 
 /// Why the supervisor said no.
@@ -69,6 +80,7 @@ pub enum Refusal {
     NotInTest,
     FaultIsNotAMode,
     AlreadyPowered,
+    OnlyInHalt,
 }
 
 impl fmt::Display for Refusal {
@@ -87,6 +99,10 @@ impl fmt::Display for Refusal {
                 write!(f, "fault is entered by the supervisor, not by request")
             }
             Refusal::AlreadyPowered => write!(f, "motor power is already on"),
+            Refusal::OnlyInHalt => write!(
+                f,
+                "gains are changed only in halt, so that nothing jumps while moving"
+            ),
         }
     }
 }

@@ -14,7 +14,7 @@ use crate::camlink::LinkStatus;
 use crate::config::Settings;
 use crate::faults::{CheckContext, FaultCause, FaultChecks, PowerState};
 use crate::measure::{Measured, Measurement};
-use crate::modes::{Mode, Refusal, Request};
+use crate::modes::{Gains, Mode, Refusal, Request};
 use crate::pid::{Pd, Pi};
 use crate::steer::SteerCommand;
 
@@ -132,6 +132,15 @@ impl Supervisor {
         self.status.mode
     }
 
+    /// The regulator gains in use.
+    pub fn gains(&self) -> Gains {
+        Gains {
+            left: self.left.gains,
+            right: self.right.gains,
+            steer: self.steering.gains,
+        }
+    }
+
     /// Act on a request from another thread; the answer says why not, if not.
     pub fn handle(&mut self, request: Request) -> Result<(), Refusal> {
         let st = &self.status;
@@ -186,6 +195,15 @@ impl Supervisor {
                     self.start_driving();
                 }
                 self.set_mode(mode);
+                Ok(())
+            }
+            Request::Gains(gains) => {
+                if st.mode != Mode::Halt {
+                    return Err(Refusal::OnlyInHalt);
+                }
+                self.left.gains = gains.left;
+                self.right.gains = gains.right;
+                self.steering.gains = gains.steer;
                 Ok(())
             }
             Request::TestOutputs(outputs) => {

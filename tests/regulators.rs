@@ -93,3 +93,17 @@ fn steering_is_calibrated_before_any_motion() {
     sim.request(Request::Mode(Mode::Joystick))
         .expect("calibrated now");
 }
+
+#[test]
+fn gains_change_only_in_halt() {
+    let s = settings_with("", &[]);
+    let mut sim = Lockstep::new(&s, Mode::Autonomous);
+    record(&mut sim, 3.0);
+    let mut gains = sim.supervisor.gains();
+    gains.left.kp *= 2.0;
+    assert_eq!(sim.request(Request::Gains(gains)), Err(Refusal::OnlyInHalt));
+    assert_eq!(sim.supervisor.gains().left.kp, s.pid_left.kp);
+    sim.request(Request::Mode(Mode::Halt)).unwrap();
+    sim.request(Request::Gains(gains)).expect("halted");
+    assert_eq!(sim.supervisor.gains(), gains);
+}

@@ -153,8 +153,7 @@ fn steering_stops_at_30_deg_and_the_end_switch_closes_beyond_28() {
 
 #[test]
 fn plant_events_change_the_sensors() {
-    let text =
-        "1 encoder_stuck left, 1 pot_broken, 1 battery 21.5, 1 endswitch right, 1 mode test";
+    let text = "1 encoder_stuck left, 1 pot_broken, 1 battery 21.5, 1 endswitch right, 1 mode test";
     let params = SimParams {
         events: parse_events(text).unwrap(),
         ..SimParams::default()
