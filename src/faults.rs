@@ -237,7 +237,7 @@ impl FaultChecks {
         // ... and once calibrated it must agree with the steering encoder.
         let m = c.measured;
         let pot_deg = m.pot_angle_filtered_rad.to_degrees();
-        let encoder_deg = m.wheel_angle_rad.to_degrees();
+        let encoder_deg = m.wheel_angle_filtered_rad.to_degrees();
         let disagree = m.calibrated && (pot_deg - encoder_deg).abs() > self.s.pot_disagree_deg;
         if held_for(&mut self.pot_disagree_since_s, disagree, now) >= self.s.pot_disagree_s
             && disagree

@@ -18,6 +18,9 @@ pub struct Measured {
     pub wheel_angle_rad: f64,
     /// Wheel angle from the potentiometer, low-pass filtered, rad.
     pub pot_angle_filtered_rad: f64,
+    /// Wheel angle from the encoder through the same filter, so that the two can be
+    /// compared while the wheel turns fast without the filter's lag looking like a fault.
+    pub wheel_angle_filtered_rad: f64,
     /// Heading rate from the bicycle model, rad/s (positive = turning left).
     pub yaw_rate_rps: f64,
     /// Distance driven by the rear axle centre, m.
@@ -98,6 +101,7 @@ impl Measurement {
             if self.calib_n >= self.calibration_samples {
                 self.steer_zero_deg = Some(self.calib_sum_deg / self.calib_n as f64);
                 m.pot_angle_filtered_rad = pot_deg.to_radians();
+                m.wheel_angle_filtered_rad = pot_deg.to_radians();
             }
         }
         m.calibrated = self.steer_zero_deg.is_some();
@@ -107,6 +111,8 @@ impl Measurement {
             Some(zero) => (zero + encoder_deg).to_radians(),
             None => m.pot_angle_filtered_rad,
         };
+        m.wheel_angle_filtered_rad +=
+            (m.wheel_angle_rad - m.wheel_angle_filtered_rad) * blend(POT_FILTER_S);
         m.yaw_rate_rps = m.speed_mps * m.wheel_angle_rad.tan() / self.robot.wheelbase_m;
         *m
     }

@@ -107,3 +107,31 @@ fn gains_change_only_in_halt() {
     sim.request(Request::Gains(gains)).expect("halted");
     assert_eq!(sim.supervisor.gains(), gains);
 }
+
+#[test]
+fn steering_lock_to_lock_does_not_trip_the_potentiometer_check() {
+    // The steering at its fastest; the potentiometer is filtered against its noise,
+    // and that filter's lag must not look like a disagreement with the encoder.
+    let s = settings_with(
+        "",
+        &["supervisor.wheel_angle_rate_dps=200", "pid.steer.kp=300"],
+    );
+    let mut sim = Lockstep::new(&s, Mode::Joystick);
+    record(&mut sim, 1.0);
+    let mut widest_deg: f64 = 0.0;
+    for k in 0..6 {
+        let steer_v = if k % 2 == 0 { 4.0 } else { -4.0 };
+        sim.robot.set_joystick(steer_v, 0.0, true);
+        record(&mut sim, 1.0);
+        widest_deg = widest_deg.max(sim.robot.truth().wheel_angle_rad.to_degrees().abs());
+    }
+    assert!(
+        widest_deg > 24.0,
+        "the steering only reached {widest_deg} deg"
+    );
+    assert!(
+        sim.supervisor.fault_log.is_empty(),
+        "{:?}",
+        sim.supervisor.fault_log
+    );
+}

@@ -164,54 +164,30 @@ impl Reader {
 
     /// A number within `min..=max` (the unit is part of the key's name).
     pub fn f64(&mut self, section: &str, key: &str, min: f64, max: f64) -> f64 {
-        let Some(text) = self.raw(section, key) else {
-            return min;
-        };
-        match text.parse::<f64>() {
-            Ok(v) if v.is_finite() && (min..=max).contains(&v) => v,
-            Ok(_) => {
-                let place = self.place_of(section, key);
-                self.push(
-                    place,
-                    format!("[{section}] {key} = {text} is out of range ({min} to {max})"),
-                );
-                min
-            }
-            Err(_) => {
-                let place = self.place_of(section, key);
-                self.push(
-                    place,
-                    format!("[{section}] {key} = '{text}' is not a number"),
-                );
-                min
-            }
-        }
+        self.number(section, key, min, max, "a number")
     }
 
     /// A whole number within `min..=max`.
     pub fn u64(&mut self, section: &str, key: &str, min: u64, max: u64) -> u64 {
+        self.number(section, key, min, max, "a whole number")
+    }
+
+    /// Parse a value and check its range; NaN and infinities fail the range check.
+    fn number<T>(&mut self, section: &str, key: &str, min: T, max: T, kind: &str) -> T
+    where
+        T: std::str::FromStr + PartialOrd + fmt::Display + Copy,
+    {
         let Some(text) = self.raw(section, key) else {
             return min;
         };
-        match text.parse::<u64>() {
-            Ok(v) if (min..=max).contains(&v) => v,
-            Ok(_) => {
-                let place = self.place_of(section, key);
-                self.push(
-                    place,
-                    format!("[{section}] {key} = {text} is out of range ({min} to {max})"),
-                );
-                min
-            }
-            Err(_) => {
-                let place = self.place_of(section, key);
-                self.push(
-                    place,
-                    format!("[{section}] {key} = '{text}' is not a whole number"),
-                );
-                min
-            }
-        }
+        let what = match text.parse::<T>() {
+            Ok(v) if (min..=max).contains(&v) => return v,
+            Ok(_) => format!("[{section}] {key} = {text} is out of range ({min} to {max})"),
+            Err(_) => format!("[{section}] {key} = '{text}' is not {kind}"),
+        };
+        let place = self.place_of(section, key);
+        self.push(place, what);
+        min
     }
 
     /// One of a fixed list of words; returns its index in `choices`.
