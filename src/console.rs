@@ -66,13 +66,18 @@ pub fn operate(
             let rate = (frames - frames_at_last_line) as f64 / opts.status_every_s;
             frames_at_last_line = frames;
             let t = truth.truth();
+            let c = &l.counters;
+            let errors = c.crc_errors + c.bad_values + c.unknown_kinds;
+            let link_state = match l.problem {
+                Some(problem) => format!("DOWN: {problem}"),
+                None => format!("{rate:4.1} frames/s, {errors} errors, {} gaps", c.seq_gaps),
+            };
             println!(
-                "{now_s:7.2} s  {:<10} speed {:5.2} m/s  wheel {:5.1} deg  tool off row {:5.1} cm  camera {rate:4.1} frames/s, {} CRC errors",
+                "{now_s:7.2} s  {:<10} speed {:5.2} m/s  wheel {:5.1} deg  tool off row {:5.1} cm  camera {link_state}",
                 status.mode.name(),
                 status.measured.speed_mps,
                 status.measured.wheel_angle_rad.to_degrees(),
                 t.tool_cross_track_m * 100.0,
-                l.counters.crc_errors,
             );
             next_line_s += opts.status_every_s;
         }

@@ -6,6 +6,8 @@
 
 pub mod bench_rows;
 pub mod camlink;
+pub mod camsim;
+pub mod camsim_main;
 pub mod config;
 pub mod console;
 pub mod faults;

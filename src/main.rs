@@ -8,6 +8,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use clap::{Parser, Subcommand, ValueEnum};
 
 use mechweed::bench_rows;
+use mechweed::camlink::transport::BAUD_RATES;
+use mechweed::camsim::Pattern;
 use mechweed::config::{ConfigError, DEFAULT_INI, Settings};
 use mechweed::modes::Mode;
 use mechweed::report::Report;
@@ -37,6 +39,51 @@ enum Command {
     /// Benchmarks on the simulated robot.
     #[command(subcommand)]
     Bench(BenchCommand),
+    /// A stand-alone simulated camera computer, for bench tests of a link.
+    Camsim(CamsimArgs),
+}
+
+#[derive(clap::Args)]
+#[command(group(clap::ArgGroup::new("where").required(true).args(["port", "listen"])))]
+struct CamsimArgs {
+    /// Serial device to speak on, or "pty" to make a pseudo-terminal and print its path.
+    #[arg(long, value_name = "DEVICE")]
+    port: Option<String>,
+    /// TCP address to listen on, one robot computer at a time: ADDR:PORT, or PORT alone
+    /// for 127.0.0.1:PORT.
+    #[arg(long, value_name = "ADDR:PORT")]
+    listen: Option<String>,
+    /// Serial line speed.
+    #[arg(long, default_value_t = 115200, value_parser = parse_baud)]
+    baud: u32,
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    #[arg(long, value_enum, default_value = "straight")]
+    pattern: Pattern,
+    /// Share of frames not sent (0..1).
+    #[arg(long, default_value_t = 0.0, value_parser = parse_share)]
+    drop: f64,
+    /// Probability that a byte is damaged (0..1).
+    #[arg(long, default_value_t = 0.0, value_parser = parse_share)]
+    corrupt: f64,
+}
+
+fn parse_baud(text: &str) -> Result<u32, String> {
+    let baud: u32 = text
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number"))?;
+    if BAUD_RATES.contains(&baud) {
+        Ok(baud)
+    } else {
+        Err(format!("the camera computer speaks at {BAUD_RATES:?} baud"))
+    }
+}
+
+fn parse_share(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(p) if (0.0..=1.0).contains(&p) => Ok(p),
+        _ => Err(format!("'{text}' is not a number from 0 to 1")),
+    }
 }
 
 #[derive(clap::Args, Default)]
@@ -143,7 +190,13 @@ fn run_command(args: RunArgs) -> ExitCode {
         duration_s: args.duration,
         status_every_s: 5.0,
     };
-    let outcome = run(&options, stop);
+    let outcome = match run(&options, stop) {
+        Ok(outcome) => outcome,
+        Err(why) => {
+            eprintln!("{why}");
+            return ExitCode::FAILURE;
+        }
+    };
     let report = Report::from_run(&outcome);
     print!("{}", report.human());
     if let Some(path) = args.report {
@@ -200,6 +253,27 @@ fn bench(command: BenchCommand) -> ExitCode {
     ExitCode::SUCCESS
 }
 
+fn camsim(args: CamsimArgs) -> ExitCode {
+    let options = mechweed::camsim::CamSimOptions {
+        pattern: args.pattern,
+        seed: args.seed,
+        drop: args.drop,
+        corrupt: args.corrupt,
+    };
+    let result = match (args.port, args.listen) {
+        (Some(device), _) => mechweed::camsim_main::on_serial(&device, args.baud, options),
+        (None, Some(address)) => mechweed::camsim_main::on_tcp(&address, options),
+        (None, None) => unreachable!("clap requires --port or --listen"),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(why) => {
+            eprintln!("{why}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
 fn main() -> ExitCode {
     tracing_subscriber::fmt()
         .with_writer(std::io::stderr)
@@ -211,5 +285,6 @@ fn main() -> ExitCode {
         Some(Command::Run(args)) => run_command(args),
         Some(Command::CheckConfig { file }) => check_config(file),
         Some(Command::Bench(b)) => bench(b),
+        Some(Command::Camsim(args)) => camsim(args),
     }
 }

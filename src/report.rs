@@ -29,6 +29,19 @@ pub struct Loops {
     pub steer: LoopSummary,
 }
 
+/// The camera link's figures: every decoder counter and the link's own.
+#[derive(Debug, Serialize)]
+pub struct LinkReport {
+    #[serde(flatten)]
+    pub counters: LinkCounters,
+    pub starts_sent: u64,
+    pub stops_sent: u64,
+    pub reconnects: u64,
+    pub pings_sent: u64,
+    /// Round trip of the last PING, ms (null if no PONG came back).
+    pub ping_rtt_ms: Option<f64>,
+}
+
 #[derive(Debug, Serialize)]
 pub struct Report {
     pub mode_final: String,
@@ -37,7 +50,7 @@ pub struct Report {
     pub distance_m: f64,
     pub cross_track_cm: CrossTrackSummary,
     pub loops: Loops,
-    pub link: LinkCounters,
+    pub link: LinkReport,
 }
 
 pub fn notice_text(notice: &Notice) -> String {
@@ -83,7 +96,14 @@ impl Report {
                 supervisor: run.supervisor_loop,
                 steer: run.steer_loop,
             },
-            link: run.link.counters,
+            link: LinkReport {
+                counters: run.link.counters,
+                starts_sent: run.link.starts_sent,
+                stops_sent: run.link.stops_sent,
+                reconnects: run.link.reconnects,
+                pings_sent: run.link.pings_sent,
+                ping_rtt_ms: (!run.link.ping_rtt_ms.is_nan()).then_some(run.link.ping_rtt_ms),
+            },
         }
     }
 
@@ -134,10 +154,19 @@ impl Report {
                 l.exec_us.max
             );
         }
-        let k = &self.link;
+        let k = &self.link.counters;
         out += &format!(
-            "camera link: {} frames, {} CRC errors, {} resyncs, {} sequence gaps, {} bad estimates\n",
-            k.frames_ok, k.crc_errors, k.resyncs, k.seq_gaps, k.bad_values
+            "camera link: {} frames, {} CRC errors, {} resyncs, {} sequence gaps, {} bytes skipped, {} bad estimates, {} reconnects, ping {}\n",
+            k.frames_ok,
+            k.crc_errors,
+            k.resyncs,
+            k.seq_gaps,
+            k.bytes_skipped,
+            k.bad_values,
+            self.link.reconnects,
+            self.link
+                .ping_rtt_ms
+                .map_or("-".to_string(), |ms| format!("{ms:.1} ms")),
         );
         out
     }

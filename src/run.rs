@@ -8,10 +8,12 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use crossbeam_channel::{Receiver, Sender, bounded, select};
-use mechweed_hw::sim::{CrossTrackSummary, PipeEnd, SimHw, SimRobot, byte_pipe};
+use mechweed_hw::sim::{CrossTrackSummary, SimHw, SimRobot, byte_pipe};
 use mechweed_hw::{Hw, Outputs};
 
-use crate::camlink::{LinkCore, LinkStatus};
+use crate::camlink::thread::LinkThread;
+use crate::camlink::transport::CameraPort;
+use crate::camlink::{LinkCore, LinkStatus, simwire};
 use crate::config::Settings;
 use crate::console;
 use crate::modes::{Mode, Refusal, Request};
@@ -168,46 +170,6 @@ impl SteerThread {
     }
 }
 
-/// What the camera-link thread owns: the byte transport, the decoder, its writer.
-struct LinkThread {
-    core: LinkCore,
-    pipe: PipeEnd,
-    clock: Instant,
-    new_estimate: Sender<()>,
-    status: Writer<LinkStatus>,
-    steer: Reader<SteerCommand>,
-    stop: Arc<AtomicBool>,
-}
-
-impl LinkThread {
-    fn run(mut self) {
-        use std::io::{Read, Write};
-        self.pipe.set_read_timeout(Duration::from_millis(10));
-        let mut buf = [0u8; 256];
-        while !self.stop.load(Ordering::Relaxed) {
-            let n = match self.pipe.read(&mut buf) {
-                Ok(n) => n,
-                Err(e) if e.kind() == std::io::ErrorKind::TimedOut => 0,
-                Err(e) => {
-                    tracing::warn!("camera link read failed: {e}");
-                    std::thread::sleep(Duration::from_millis(100));
-                    0
-                }
-            };
-            let now_s = self.clock.elapsed().as_secs_f64();
-            if self.core.receive(&buf[..n], now_s) {
-                let _ = self.new_estimate.try_send(());
-            }
-            if let Some(byte) = self.core.command(self.steer.snapshot().wants_rows, now_s)
-                && let Err(e) = self.pipe.write_all(&[byte])
-            {
-                tracing::warn!("camera link write failed: {e}");
-            }
-            self.status.publish(self.core.status());
-        }
-    }
-}
-
 fn spawn<T: Send + 'static>(name: &str, f: impl FnOnce() -> T + Send + 'static) -> JoinHandle<T> {
     std::thread::Builder::new()
         .name(name.to_string())
@@ -216,11 +178,22 @@ fn spawn<T: Send + 'static>(name: &str, f: impl FnOnce() -> T + Send + 'static) 
 }
 
 /// Run the controller on the simulated robot until `duration_s` or until `stop` is set.
-pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> RunOutcome {
+pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, String> {
     let s = &opts.settings;
     let (camera_end, robot_end) = byte_pipe(4096);
     let sim = SimHw::new(SimRobot::new(&s.sim, camera_end));
     let truth = sim.truth_handle();
+    // The simulated camera computer speaks through a pseudo-terminal, unless robot.ini
+    // names a real port: then it stays unplugged and the port's camera computer is used.
+    let (camera_port, cable) = match &s.camera_port {
+        CameraPort::Sim => {
+            let (path, cable) = simwire::start(robot_end, stop.clone()).map_err(|e| {
+                format!("cannot make a pseudo-terminal for the simulated camera computer: {e}")
+            })?;
+            (CameraPort::Serial { path, baud: 115200 }, Some(cable))
+        }
+        port => (port.clone(), None),
+    };
     let clock = Instant::now();
 
     let (status_w, status_r) = shared(Status::default());
@@ -228,6 +201,7 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> RunOutcome {
     let (link_w, link_r) = shared(LinkStatus::default());
     let (request_tx, request_rx) = bounded(16);
     let (estimate_tx, estimate_rx) = bounded(1);
+    let (_ping_tx, ping_rx) = bounded(1);
     let handle = SupervisorHandle {
         requests: request_tx,
         status: status_r.clone(),
@@ -256,9 +230,10 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> RunOutcome {
     };
     let link = LinkThread {
         core: LinkCore::new(&s.camera),
-        pipe: robot_end,
+        port: camera_port,
         clock,
         new_estimate: estimate_tx,
+        ping_requests: ping_rx,
         status: link_w,
         steer: steer_r,
         stop: stop.clone(),
@@ -293,7 +268,10 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> RunOutcome {
     if !link_ok {
         tracing::error!("the camera link thread panicked");
     }
-    RunOutcome {
+    if let Some(cable) = cable {
+        let _ = cable.join();
+    }
+    Ok(RunOutcome {
         final_status: *supervisor.status(),
         faults: supervisor.fault_log.clone(),
         notices: supervisor.notice_log.clone(),
@@ -301,5 +279,5 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> RunOutcome {
         steer_loop,
         link: link_r.snapshot(),
         cross_track: truth.cross_track().summary(),
-    }
+    })
 }

@@ -128,3 +128,62 @@ fn check_config_says_ok_or_lists_every_error() {
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("cannot read the settings file"));
 }
+
+#[test]
+fn camsim_serves_a_robot_computer_over_tcp() {
+    use mechweed_hw::camproto::{CMD_PING, CMD_START, CMD_STOP, Decoder, Frame};
+    use std::io::{BufRead, BufReader, Read, Write};
+
+    let mut child = mechweed()
+        .args(["camsim", "--listen", "127.0.0.1:0", "--pattern", "sway"])
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+    let first = lines.next().unwrap().unwrap();
+    let address = first.rsplit(' ').next().unwrap().to_string();
+    assert!(address.starts_with("127.0.0.1:"), "{first}");
+
+    let mut stream = std::net::TcpStream::connect(&address).unwrap();
+    stream
+        .set_read_timeout(Some(std::time::Duration::from_millis(50)))
+        .unwrap();
+    let read_for = |stream: &mut std::net::TcpStream, seconds: f64| {
+        let (mut dec, mut frames, mut buf) = (Decoder::new(), Vec::new(), [0u8; 256]);
+        let end = std::time::Instant::now() + std::time::Duration::from_secs_f64(seconds);
+        while std::time::Instant::now() < end {
+            if let Ok(n) = stream.read(&mut buf) {
+                frames.extend(buf[..n].iter().filter_map(|&b| dec.push(b)));
+            }
+        }
+        frames
+    };
+    assert!(read_for(&mut stream, 0.3).is_empty(), "frames before START");
+    stream.write_all(&[CMD_START, CMD_PING]).unwrap();
+    let frames = read_for(&mut stream, 1.0);
+    let rows = frames.iter().filter(|f| matches!(f, Frame::Row(_))).count();
+    assert!((8..=12).contains(&rows), "{rows} frames in 1 s");
+    assert_eq!(
+        frames
+            .iter()
+            .filter(|f| matches!(f, Frame::Pong { .. }))
+            .count(),
+        1
+    );
+    stream.write_all(&[CMD_STOP]).unwrap();
+    read_for(&mut stream, 0.2);
+    assert!(read_for(&mut stream, 0.5).is_empty(), "frames after STOP");
+    drop(stream);
+    let printed: Vec<String> = lines.by_ref().take(4).map(|l| l.unwrap()).collect();
+    child.kill().unwrap();
+    let _ = child.wait();
+    let printed = printed.join("\n");
+    for expected in [
+        "connected from",
+        "received START",
+        "received PING",
+        "received STOP",
+    ] {
+        assert!(printed.contains(expected), "{printed}");
+    }
+}

@@ -1,11 +1,43 @@
 //! The camera link, program side: bytes from the camera computer in, decoded row
-//! estimates out, and the commands (START / STOP) that keep it streaming while the
-//! steer side wants rows. Transport-free: the link thread (run.rs) and the lockstep
-//! simulation feed it bytes and send the command bytes it asks for.
+//! estimates out, and the commands (START / STOP / PING) that keep it streaming while
+//! the steer side wants rows. `LinkCore` is transport-free: the link thread
+//! (thread.rs, over a serial port or TCP) and the lockstep simulation feed it bytes
+//! and send the command bytes it asks for.
 
-use mechweed_hw::camproto::{CMD_START, CMD_STOP, Decoder, Frame, LinkCounters, RowEstimate};
+pub mod simwire;
+pub mod thread;
+pub mod transport;
+
+use std::fmt;
+
+use mechweed_hw::camproto::{
+    CMD_PING, CMD_START, CMD_STOP, Decoder, Frame, LinkCounters, RowEstimate,
+};
 
 use crate::config::CameraSettings;
+
+/// What went wrong with the transport, kept for the status (the thread logs details).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LinkProblem {
+    /// The device or address could not be opened (missing, no permission, refused).
+    OpenFailed(std::io::ErrorKind),
+    /// Reading or writing failed: the device vanished (USB adapter unplugged?).
+    Vanished(std::io::ErrorKind),
+    /// The TCP peer closed the connection.
+    PeerClosed,
+}
+
+impl fmt::Display for LinkProblem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            LinkProblem::OpenFailed(kind) => write!(f, "cannot open the camera port ({kind})"),
+            LinkProblem::Vanished(kind) => {
+                write!(f, "the camera port stopped working ({kind}): unplugged?")
+            }
+            LinkProblem::PeerClosed => write!(f, "the camera computer closed the connection"),
+        }
+    }
+}
 
 /// The link as the other threads see it. Times are s since start; -inf = never.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -21,6 +53,15 @@ pub struct LinkStatus {
     pub streaming: bool,
     pub starts_sent: u64,
     pub stops_sent: u64,
+    /// The transport is open.
+    pub connected: bool,
+    /// Times the transport was opened again after a problem.
+    pub reconnects: u64,
+    /// The latest transport problem, if the link is not connected.
+    pub problem: Option<LinkProblem>,
+    pub pings_sent: u64,
+    /// Round trip of the last PING, ms (NaN until a PONG has come back).
+    pub ping_rtt_ms: f64,
 }
 
 impl Default for LinkStatus {
@@ -34,6 +75,11 @@ impl Default for LinkStatus {
             streaming: false,
             starts_sent: 0,
             stops_sent: 0,
+            connected: false,
+            reconnects: 0,
+            problem: None,
+            pings_sent: 0,
+            ping_rtt_ms: f64::NAN,
         }
     }
 }
@@ -43,6 +89,7 @@ pub struct LinkCore {
     decoder: Decoder,
     status: LinkStatus,
     last_start_s: f64,
+    ping_sent_s: Option<f64>,
 }
 
 impl LinkCore {
@@ -52,6 +99,7 @@ impl LinkCore {
             decoder: Decoder::new(),
             status: LinkStatus::default(),
             last_start_s: f64::NEG_INFINITY,
+            ping_sent_s: None,
         }
     }
 
@@ -63,18 +111,51 @@ impl LinkCore {
     pub fn receive(&mut self, bytes: &[u8], now_s: f64) -> bool {
         let mut usable = false;
         for &byte in bytes {
-            if let Some(Frame::Row(estimate)) = self.decoder.push(byte) {
-                self.status.last_row = estimate;
-                self.status.last_row_s = now_s;
-                if estimate.quality >= self.settings.min_quality {
-                    self.status.last_usable = estimate;
-                    self.status.last_usable_s = now_s;
-                    usable = true;
+            match self.decoder.push(byte) {
+                Some(Frame::Row(estimate)) => {
+                    self.status.last_row = estimate;
+                    self.status.last_row_s = now_s;
+                    if estimate.quality >= self.settings.min_quality {
+                        self.status.last_usable = estimate;
+                        self.status.last_usable_s = now_s;
+                        usable = true;
+                    }
                 }
+                Some(Frame::Pong { .. }) => {
+                    if let Some(sent_s) = self.ping_sent_s.take() {
+                        self.status.ping_rtt_ms = (now_s - sent_s) * 1e3;
+                    }
+                }
+                None => {}
             }
         }
         self.status.counters = self.decoder.counters;
         usable
+    }
+
+    /// The transport opened (again): the camera computer has not heard START on it.
+    pub fn connected(&mut self) {
+        if self.status.problem.is_some() {
+            self.status.reconnects += 1;
+        }
+        self.status.connected = true;
+        self.status.problem = None;
+        self.status.streaming = false;
+    }
+
+    /// The transport failed; the link thread will try to open it again.
+    pub fn disconnected(&mut self, problem: LinkProblem) {
+        self.status.connected = false;
+        self.status.problem = Some(problem);
+        self.status.streaming = false;
+        self.ping_sent_s = None;
+    }
+
+    /// A link test: the PING byte to send; the round trip shows in the status.
+    pub fn ping(&mut self, now_s: f64) -> u8 {
+        self.ping_sent_s = Some(now_s);
+        self.status.pings_sent += 1;
+        CMD_PING
     }
 
     /// The command byte to send now, if any: START when rows are wanted (again after
@@ -122,6 +203,22 @@ mod tests {
         assert_eq!(link.command(true, 0.2 + 0.31), Some(CMD_START));
         assert_eq!(link.command(false, 0.6), Some(CMD_STOP));
         assert_eq!(link.command(false, 0.7), None);
+    }
+
+    #[test]
+    fn ping_round_trip_and_restart_after_reconnect() {
+        let mut link = LinkCore::new(&Settings::shipped().camera);
+        link.connected();
+        assert_eq!(link.ping(1.0), CMD_PING);
+        assert!(link.status().ping_rtt_ms.is_nan());
+        link.receive(&mechweed_hw::camproto::encode_pong(0), 1.004);
+        assert!((link.status().ping_rtt_ms - 4.0).abs() < 1e-9);
+        assert_eq!(link.command(true, 2.0), Some(CMD_START));
+        link.disconnected(LinkProblem::PeerClosed);
+        link.connected();
+        assert_eq!(link.status().reconnects, 1);
+        // A new connection has not heard START.
+        assert_eq!(link.command(true, 2.1), Some(CMD_START));
     }
 
     #[test]

@@ -8,6 +8,8 @@ mod sim;
 use std::path::Path;
 
 pub use reader::ConfigError;
+
+use crate::camlink::transport::{BAUD_RATES, CameraPort};
 use reader::Reader;
 
 /// The settings file shipped with the program, used when no file is given and
@@ -138,6 +140,8 @@ pub struct Settings {
     pub steer: SteerSettings,
     pub joystick: JoystickSettings,
     pub camera: CameraSettings,
+    /// Where the camera computer is: [camera] port and baud.
+    pub camera_port: CameraPort,
     pub backend: Backend,
     pub sim: mechweed_hw::sim::SimParams,
 }
@@ -178,6 +182,7 @@ impl Settings {
             steer: steer(&mut r),
             joystick: joystick(&mut r),
             camera: camera(&mut r),
+            camera_port: camera_port(&mut r),
             backend: [Backend::Sim][r.choice("hw", "backend", &["sim"])],
             sim: sim::load(&mut r),
         };
@@ -275,6 +280,14 @@ fn joystick(r: &mut Reader) -> JoystickSettings {
         max_speed_mps: r.f64(s, "max_speed_mps", 0.0, 3.0),
         max_angle_deg: r.f64(s, "max_angle_deg", 0.0, 45.0),
     }
+}
+
+fn camera_port(r: &mut Reader) -> CameraPort {
+    let names = BAUD_RATES.map(|b| b.to_string());
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    let baud = BAUD_RATES[r.choice("camera", "baud", &names)];
+    r.parsed("camera", "port", |text| CameraPort::parse(text, baud))
+        .unwrap_or(CameraPort::Sim)
 }
 
 fn camera(r: &mut Reader) -> CameraSettings {

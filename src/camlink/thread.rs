@@ -1,0 +1,128 @@
+//! The camera-link thread: opens the transport, feeds every byte that arrives to the
+//! decoder, publishes the link's state, wakes the steer thread on each usable row
+//! estimate, and sends the command bytes the link asks for. A transport that fails is
+//! opened again with back-off; whether the robot faults is the supervisor's decision
+//! (only when it relies on the camera, in autonomous mode).
+
+use std::io::{ErrorKind, Read, Write};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use crossbeam_channel::{Receiver, Sender};
+
+use super::transport::{ByteStream, CameraPort, open};
+use super::{LinkCore, LinkProblem, LinkStatus};
+use crate::state::{Reader, Writer};
+use crate::steer::SteerCommand;
+
+/// A read waits at most this long for a byte, so commands go out without delay.
+const READ_TIMEOUT: Duration = Duration::from_millis(10);
+/// Opening again after a failure waits this long at first, doubling up to the maximum.
+const BACKOFF_MIN: Duration = Duration::from_millis(100);
+const BACKOFF_MAX: Duration = Duration::from_secs(2);
+
+pub struct LinkThread {
+    pub core: LinkCore,
+    pub port: CameraPort,
+    pub clock: Instant,
+    pub new_estimate: Sender<()>,
+    /// Link tests asked for (the GUI's "Test link" button).
+    pub ping_requests: Receiver<()>,
+    pub status: Writer<LinkStatus>,
+    pub steer: Reader<SteerCommand>,
+    pub stop: Arc<AtomicBool>,
+}
+
+impl LinkThread {
+    fn now_s(&self) -> f64 {
+        self.clock.elapsed().as_secs_f64()
+    }
+
+    pub fn run(mut self) {
+        let mut backoff = BACKOFF_MIN;
+        let mut last_problem = None;
+        while !self.stop.load(Ordering::Relaxed) {
+            match open(&self.port, READ_TIMEOUT) {
+                Ok(stream) => {
+                    tracing::info!("camera link open on {}", self.port.describe());
+                    self.core.connected();
+                    backoff = BACKOFF_MIN;
+                    last_problem = None;
+                    if let Some(problem) = self.serve(stream) {
+                        if self.stop.load(Ordering::Relaxed) {
+                            break; // the cable went down because the program is stopping
+                        }
+                        tracing::warn!(
+                            "camera link on {}: {problem}; opening it again",
+                            self.port.describe()
+                        );
+                        self.core.disconnected(problem);
+                        last_problem = Some(problem);
+                    }
+                }
+                Err(e) => {
+                    let problem = LinkProblem::OpenFailed(e.kind());
+                    if last_problem != Some(problem) {
+                        tracing::warn!(
+                            "camera link: cannot open {}: {e}; trying again every {} s at most",
+                            self.port.describe(),
+                            BACKOFF_MAX.as_secs()
+                        );
+                    }
+                    last_problem = Some(problem);
+                    self.core.disconnected(problem);
+                }
+            }
+            self.status.publish(self.core.status());
+            self.sleep(backoff);
+            backoff = (backoff * 2).min(BACKOFF_MAX);
+        }
+    }
+
+    /// Sleep, but wake at once when the program stops.
+    fn sleep(&self, total: Duration) {
+        let end = Instant::now() + total;
+        while !self.stop.load(Ordering::Relaxed) && Instant::now() < end {
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }
+
+    /// Carry bytes until the transport fails (returns why) or the program stops.
+    fn serve(&mut self, mut stream: Box<dyn ByteStream>) -> Option<LinkProblem> {
+        let mut buf = [0u8; 256];
+        // A link test at every connection: the round trip shows in the status.
+        let mut ping_due = true;
+        while !self.stop.load(Ordering::Relaxed) {
+            // Commands first, so each goes out the moment it is stamped.
+            let now_s = self.now_s();
+            ping_due |= self.ping_requests.try_recv().is_ok();
+            let ping = ping_due.then(|| self.core.ping(now_s));
+            ping_due = false;
+            let command = self.core.command(self.steer.snapshot().wants_rows, now_s);
+            for byte in [ping, command].into_iter().flatten() {
+                if let Err(e) = stream.write_all(&[byte]) {
+                    return Some(LinkProblem::Vanished(e.kind()));
+                }
+            }
+            let n = match stream.read(&mut buf) {
+                Ok(0) => return Some(LinkProblem::PeerClosed),
+                Ok(n) => n,
+                Err(e)
+                    if matches!(
+                        e.kind(),
+                        ErrorKind::TimedOut | ErrorKind::WouldBlock | ErrorKind::Interrupted
+                    ) =>
+                {
+                    0
+                }
+                Err(e) => return Some(LinkProblem::Vanished(e.kind())),
+            };
+            if self.core.receive(&buf[..n], self.now_s()) {
+                let _ = self.new_estimate.try_send(());
+            }
+            self.status.publish(self.core.status());
+        }
+        None
+    }
+}

@@ -1,0 +1,84 @@
+//! Where `mechweed camsim` speaks: a serial device (or a new pseudo-terminal), or a TCP
+//! port that takes one robot computer at a time. It prints every command it receives.
+
+use std::net::TcpListener;
+use std::sync::atomic::AtomicBool;
+use std::time::{Duration, Instant};
+
+use serialport::{SerialPort, TTYPort};
+
+use crate::camsim::{CamSim, CamSimOptions, serve};
+
+/// A read waits at most this long, so frames go out on time.
+const POLL: Duration = Duration::from_millis(5);
+
+fn print_command(t_s: f64, name: &'static str) {
+    println!("{t_s:8.3} s  received {name}");
+}
+
+/// Serve on a serial device, or on a new pseudo-terminal for DEVICE = "pty".
+pub fn on_serial(device: &str, baud: u32, options: CamSimOptions) -> Result<(), String> {
+    let mut port: Box<dyn SerialPort> = if device == "pty" {
+        let (master, slave) =
+            TTYPort::pair().map_err(|e| format!("cannot make a pseudo-terminal: {e}"))?;
+        let path = slave.name().unwrap_or_default();
+        println!("simulated camera computer on {path}: try  mechweed run --set camera.port={path}");
+        // The far end stays open here so the robot computer may open and close it.
+        std::mem::forget(slave);
+        Box::new(master)
+    } else {
+        serialport::new(device, baud)
+            .open()
+            .map_err(|e| format!("cannot open {device}: {e}"))?
+    };
+    port.set_timeout(POLL).map_err(|e| e.to_string())?;
+    println!("simulated camera computer on {device}, waiting for START");
+    let mut sim = CamSim::new(options);
+    let stop = AtomicBool::new(false);
+    serve(
+        &mut sim,
+        &mut port,
+        Instant::now(),
+        &stop,
+        &mut print_command,
+    )
+    .map_err(|e| format!("{device}: {e}"))
+}
+
+/// Serve robot computers on a TCP port, one at a time. "PORT" alone means 127.0.0.1:PORT.
+pub fn on_tcp(address: &str, options: CamSimOptions) -> Result<(), String> {
+    let address = if address.contains(':') {
+        address.to_string()
+    } else {
+        format!("127.0.0.1:{address}")
+    };
+    let listener =
+        TcpListener::bind(&address).map_err(|e| format!("cannot listen on {address}: {e}"))?;
+    let local = listener.local_addr().map_err(|e| e.to_string())?;
+    println!("simulated camera computer listening on {local}");
+    let clock = Instant::now();
+    let stop = AtomicBool::new(false);
+    for client in listener.incoming() {
+        let mut stream = match client {
+            Ok(stream) => stream,
+            Err(e) => {
+                eprintln!("a connection failed: {e}");
+                continue;
+            }
+        };
+        let peer = stream
+            .peer_addr()
+            .map(|a| a.to_string())
+            .unwrap_or_default();
+        println!("robot computer connected from {peer}");
+        let _ = stream.set_read_timeout(Some(POLL));
+        let _ = stream.set_nodelay(true);
+        // A new connection is a new conversation: the camera waits for START again.
+        let mut sim = CamSim::new(options);
+        match serve(&mut sim, &mut stream, clock, &stop, &mut print_command) {
+            Ok(()) => println!("robot computer at {peer} closed the connection"),
+            Err(e) => println!("robot computer at {peer}: {e}"),
+        }
+    }
+    Ok(())
+}
