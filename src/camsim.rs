@@ -211,7 +211,11 @@ mod tests {
         assert!(out.is_empty(), "frames before START");
         assert_eq!(sim.receive(CMD_START, 1.0), Some("START"));
         sim.poll(2.05, &mut out);
-        assert_eq!(frames(&out).len(), 10, "one frame every 0.1 s from 1.1 s to 2.0 s");
+        assert_eq!(
+            frames(&out).len(),
+            10,
+            "one frame every 0.1 s from 1.1 s to 2.0 s"
+        );
         sim.receive(CMD_PING, 2.0);
         sim.receive(CMD_STOP, 2.0);
         out.clear();

@@ -1,0 +1,82 @@
+//! Time from a frame's last byte on the serial line to the steer thread having it:
+//! a frame is written into one end of a pseudo-terminal; the real camera-link thread
+//! reads the other end through serialport, decodes it, publishes it and wakes the steer
+//! side through the same channel the steer thread waits on.
+//!
+//! cargo bench --bench link_latency
+
+use std::io::Write;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use crossbeam_channel::bounded;
+use mechweed::camlink::thread::LinkThread;
+use mechweed::camlink::transport::CameraPort;
+use mechweed::camlink::{LinkCore, LinkStatus};
+use mechweed::config::Settings;
+use mechweed::state::shared;
+use mechweed::steer::SteerCommand;
+use mechweed_hw::camproto::{RowEstimate, encode_row};
+use serialport::{SerialPort, TTYPort};
+
+const FRAMES: usize = 500;
+
+fn main() {
+    let (mut master, slave) = TTYPort::pair().expect("a pseudo-terminal");
+    master.set_timeout(Duration::from_millis(5)).unwrap();
+    let (status_w, status_r) = shared(LinkStatus::default());
+    let (_steer_w, steer_r) = shared(SteerCommand::default());
+    let (estimate_tx, estimate_rx) = bounded(1);
+    let (_ping_tx, ping_rx) = bounded(1);
+    let stop = Arc::new(AtomicBool::new(false));
+    let link = LinkThread {
+        core: LinkCore::new(&Settings::shipped().camera),
+        port: CameraPort::Serial {
+            path: slave.name().unwrap(),
+            baud: 115200,
+        },
+        clock: Instant::now(),
+        new_estimate: estimate_tx,
+        ping_requests: ping_rx,
+        status: status_w,
+        steer: steer_r,
+        stop: stop.clone(),
+    };
+    let thread = std::thread::spawn(move || link.run());
+    while !status_r.snapshot().connected {
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    std::thread::sleep(Duration::from_millis(50));
+
+    let mut latencies_us = Vec::with_capacity(FRAMES);
+    for k in 0..FRAMES {
+        let est = RowEstimate {
+            seq: k as u8,
+            angle_rad: 0.0,
+            offset_m: 0.0,
+            quality: 90,
+        };
+        let frame = encode_row(&est);
+        master.write_all(&frame).unwrap();
+        let last_byte_out = Instant::now();
+        estimate_rx
+            .recv_timeout(Duration::from_secs(1))
+            .expect("the frame reached the steer side");
+        latencies_us.push(last_byte_out.elapsed().as_secs_f64() * 1e6);
+        // Frames come at the camera's pace; the link thread is idle in between.
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    stop.store(true, Ordering::Relaxed);
+    let _ = thread.join();
+    drop(slave);
+
+    latencies_us.sort_by(f64::total_cmp);
+    let at = |q: f64| latencies_us[((latencies_us.len() - 1) as f64 * q).round() as usize];
+    println!(
+        "frame's last byte -> steer side woken, {FRAMES} frames over a pseudo-terminal: p50 {:.0} us, p99 {:.0} us, max {:.0} us",
+        at(0.5),
+        at(0.99),
+        at(1.0)
+    );
+}
