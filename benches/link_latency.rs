@@ -41,6 +41,9 @@ fn main() {
         ping_requests: ping_rx,
         status: status_w,
         steer: steer_r,
+        panics: Default::default(),
+        priority: 0,
+        inject: None,
         stop: stop.clone(),
     };
     let thread = std::thread::spawn(move || link.run());

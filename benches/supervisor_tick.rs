@@ -26,10 +26,13 @@ fn supervisor_tick(c: &mut Criterion) {
     c.bench_function("supervisor tick (controller only)", |b| {
         b.iter(|| {
             now_s += 0.01;
-            black_box(
-                sim.supervisor
-                    .tick(now_s, black_box(&inputs), &steer, &link),
-            )
+            black_box(sim.supervisor.tick(
+                now_s,
+                black_box(&inputs),
+                &steer,
+                &link,
+                &Default::default(),
+            ))
         })
     });
     let mut sim = driving();

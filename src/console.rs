@@ -4,26 +4,28 @@
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-use mechweed_hw::sim::TruthHandle;
-
-use crate::camlink::LinkStatus;
 use crate::operator::OperatorScript;
-use crate::run::{RunOptions, SupervisorHandle};
+use crate::rt::liu_layland;
+use crate::run::{Handles, RunOptions};
 use crate::state::Reader;
 
 const POLL: Duration = Duration::from_millis(10);
 
 pub fn operate(
     opts: &RunOptions,
-    supervisor: &SupervisorHandle,
-    link: &Reader<LinkStatus>,
-    truth: &TruthHandle,
-    clock: Instant,
+    handles: &Handles,
     stop: &Arc<AtomicBool>,
     any_thread_ended: impl Fn() -> bool,
 ) {
+    let Handles {
+        supervisor,
+        link,
+        loops,
+        truth,
+        clock,
+    } = handles;
     let mut script = OperatorScript::new(&opts.settings.sim.events, opts.start_mode);
     let mut last_refusal = String::new();
     let mut faults_seen = None;
@@ -78,6 +80,18 @@ pub fn operate(
                 status.measured.speed_mps,
                 status.measured.wheel_angle_rad.to_degrees(),
                 t.tool_cross_track_m * 100.0,
+            );
+            let [supervisor_loop, steer_loop] = loops.each_ref().map(Reader::snapshot);
+            let check = liu_layland(&[supervisor_loop, steer_loop]);
+            println!(
+                "           supervisor late p99 {} us, max {} us, exec max {} us, {} overruns; steer exec max {} us; Liu-Layland load {:.3} of {:.3}",
+                supervisor_loop.late_us.p99,
+                supervisor_loop.late_us.max,
+                supervisor_loop.exec_us.max,
+                supervisor_loop.overruns,
+                steer_loop.exec_us.max,
+                check.utilisation,
+                check.bound,
             );
             next_line_s += opts.status_every_s;
         }

@@ -11,7 +11,8 @@ use mechweed_hw::Inputs;
 use mechweed_hw::sim::{EncoderId, Side};
 
 use crate::camlink::LinkStatus;
-use crate::config::{CameraSettings, FaultSettings};
+use crate::config::{CameraSettings, FaultSettings, RtSettings};
+use crate::health::{ThreadHealth, ThreadName};
 use crate::measure::Measured;
 use crate::modes::Mode;
 use crate::steer::{EndSwitchState, SteerCommand};
@@ -32,7 +33,9 @@ pub enum FaultCause {
     EncoderStuck(EncoderId),
     CameraLinkLost { silent_s: f64 },
     CameraSeesNoRow { for_s: f64 },
-    SteerThreadSilent { for_s: f64 },
+    ThreadStopped { thread: ThreadName, for_s: f64 },
+    ThreadPanicked { thread: ThreadName },
+    Overruns { count: u32, window_s: f64 },
     Hardware,
 }
 
@@ -103,9 +106,24 @@ impl fmt::Display for FaultCause {
             FaultCause::CameraSeesNoRow { for_s } => {
                 write!(f, "camera sees no row: no usable estimate for {for_s:.2} s")
             }
-            FaultCause::SteerThreadSilent { for_s } => {
-                write!(f, "steer thread stopped: no command for {for_s:.2} s")
+            FaultCause::ThreadStopped { thread, for_s } => {
+                write!(
+                    f,
+                    "the {} thread stopped: no sign of life for {for_s:.2} s",
+                    thread.label()
+                )
             }
+            FaultCause::ThreadPanicked { thread } => {
+                write!(
+                    f,
+                    "the {} thread failed (a program error): see the log",
+                    thread.label()
+                )
+            }
+            FaultCause::Overruns { count, window_s } => write!(
+                f,
+                "the supervisor missed {count} deadlines within {window_s:.0} s: the computer is overloaded"
+            ),
             FaultCause::Hardware => write!(f, "hardware stopped answering"),
         }
     }
@@ -139,13 +157,18 @@ pub struct CheckContext<'a> {
     pub endswitch_hit: Option<(Side, f64)>,
     pub steer: &'a SteerCommand,
     pub link: &'a LinkStatus,
+    pub health: &'a ThreadHealth,
 }
 
 /// Settings and the timers of the checks that need time to decide.
 pub struct FaultChecks {
     s: FaultSettings,
     camera: CameraSettings,
+    rt: RtSettings,
     power_up_timeout_s: f64,
+    /// Times of the most recent supervisor overruns (at most max_overruns + 1).
+    overrun_times_s: std::collections::VecDeque<f64>,
+    overruns_seen: u64,
     battery_low_since_s: Option<f64>,
     pot_disagree_since_s: Option<f64>,
     encoder_idle_since_s: [Option<f64>; 3],
@@ -163,11 +186,21 @@ fn held_for(timer: &mut Option<f64>, condition: bool, now_s: f64) -> f64 {
 const ENCODERS: [EncoderId; 3] = [EncoderId::Left, EncoderId::Right, EncoderId::Steer];
 
 impl FaultChecks {
-    pub fn new(s: FaultSettings, camera: CameraSettings, power_up_timeout_s: f64) -> FaultChecks {
+    pub fn new(
+        s: FaultSettings,
+        camera: CameraSettings,
+        rt: RtSettings,
+        power_up_timeout_s: f64,
+    ) -> FaultChecks {
         FaultChecks {
             s,
             camera,
+            rt,
             power_up_timeout_s,
+            overrun_times_s: std::collections::VecDeque::with_capacity(
+                rt.max_overruns as usize + 1,
+            ),
+            overruns_seen: 0,
             battery_low_since_s: None,
             pot_disagree_since_s: None,
             encoder_idle_since_s: [None; 3],
@@ -286,12 +319,45 @@ impl FaultChecks {
             }
         }
 
-        // The steer thread beats with every command it publishes.
-        if c.mode.drives() {
-            let for_s = now - c.steer.t_s.max(c.mode_since_s);
-            if for_s > self.s.steer_silent_s {
-                report(FaultCause::SteerThreadSilent { for_s });
+        // Threads: a panic anywhere, or a thread that stops beating, is a fault; the
+        // steer thread beats with each command, the camera link with each status.
+        if let Some(thread) = c.health.panicked {
+            report(FaultCause::ThreadPanicked { thread });
+        }
+        let beats = [
+            (ThreadName::Steer, Some(c.steer.t_s)),
+            (ThreadName::CameraLink, Some(c.link.beat_s)),
+            (ThreadName::Gui, c.health.gui_beat_s),
+        ];
+        for (thread, beat_s) in beats {
+            if let Some(beat_s) = beat_s {
+                let for_s = now - beat_s;
+                if for_s > self.rt.heartbeat_timeout_s {
+                    report(FaultCause::ThreadStopped { thread, for_s });
+                }
             }
+        }
+
+        // Deadline overruns: a few are tolerated, a burst means an overloaded computer.
+        let new_overruns = c
+            .health
+            .supervisor_overruns
+            .saturating_sub(self.overruns_seen);
+        self.overruns_seen = c.health.supervisor_overruns;
+        for _ in 0..new_overruns.min(self.rt.max_overruns as u64 + 1) {
+            if self.overrun_times_s.len() > self.rt.max_overruns as usize {
+                self.overrun_times_s.pop_front();
+            }
+            self.overrun_times_s.push_back(now);
+        }
+        if self.overrun_times_s.len() > self.rt.max_overruns as usize
+            && let Some(&oldest) = self.overrun_times_s.front()
+            && now - oldest <= self.rt.overrun_window_s
+        {
+            report(FaultCause::Overruns {
+                count: self.overrun_times_s.len() as u32,
+                window_s: self.rt.overrun_window_s,
+            });
         }
         found
     }

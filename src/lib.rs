@@ -4,6 +4,7 @@
 //! the steer thread (steer/), the camera link (camlink/); run.rs starts them on real
 //! time, lockstep.rs runs the same tick functions on simulated time.
 
+pub mod bench_loop;
 pub mod bench_rows;
 pub mod camlink;
 pub mod camsim;
@@ -11,6 +12,7 @@ pub mod camsim_main;
 pub mod config;
 pub mod console;
 pub mod faults;
+pub mod health;
 pub mod lockstep;
 pub mod measure;
 pub mod modes;

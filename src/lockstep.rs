@@ -12,6 +12,7 @@ use mechweed_hw::sim::{PipeEnd, SimRobot, byte_pipe};
 
 use crate::camlink::LinkCore;
 use crate::config::Settings;
+use crate::health::ThreadHealth;
 use crate::modes::{Mode, Refusal, Request};
 use crate::operator::OperatorScript;
 use crate::steer::{SteerCommand, SteerCore};
@@ -86,6 +87,7 @@ impl Lockstep {
             self.robot.advance_to(now);
             let n = self.pipe.try_read(&mut self.buf);
             let new_estimate = self.link.receive(&self.buf[..n], now);
+            self.link.beat(now);
             if new_estimate || self.t_us >= self.next_steer_us {
                 if self.t_us >= self.next_steer_us {
                     self.next_steer_us += self.steer_period_us;
@@ -104,9 +106,15 @@ impl Lockstep {
             let _ = self.supervisor.handle(request);
         }
         let inputs = self.robot.inputs();
-        let outputs = self
-            .supervisor
-            .tick(now, &inputs, &self.steer_command, self.link.status());
+        // In lockstep every "thread" is a function call: none can stall or panic unseen.
+        let health = ThreadHealth::default();
+        let outputs = self.supervisor.tick(
+            now,
+            &inputs,
+            &self.steer_command,
+            self.link.status(),
+            &health,
+        );
         self.robot.set_outputs(&outputs);
         outputs
     }

@@ -121,6 +121,20 @@ enum StartMode {
 
 #[derive(Subcommand)]
 enum BenchCommand {
+    /// The real threads on the simulated robot: loop lateness and execution time.
+    Loop {
+        /// Supervisor rate.
+        #[arg(long, default_value_t = 100.0, value_name = "HZ")]
+        rate: f64,
+        #[arg(long, default_value_t = 10.0, value_name = "N")]
+        seconds: f64,
+        /// With the operator GUI open (not built yet).
+        #[arg(long)]
+        gui: bool,
+        /// Also write the figures as JSON to this file.
+        #[arg(long, value_name = "FILE")]
+        json: Option<PathBuf>,
+    },
     /// The row-following benchmark of shared/plant.md: 3 rows x 3 speeds, lockstep.
     Rows {
         /// Seed of the simulation.
@@ -189,6 +203,7 @@ fn run_command(args: RunArgs) -> ExitCode {
         start_mode,
         duration_s: args.duration,
         status_every_s: 5.0,
+        inject: None,
     };
     let outcome = match run(&options, stop) {
         Ok(outcome) => outcome,
@@ -223,13 +238,51 @@ fn check_config(file: Option<PathBuf>) -> ExitCode {
     }
 }
 
+fn write_json(path: Option<PathBuf>, value: &impl serde::Serialize) -> ExitCode {
+    if let Some(path) = path {
+        let text = serde_json::to_string_pretty(value).expect("plain data");
+        if let Err(e) = std::fs::write(&path, text) {
+            eprintln!("cannot write {}: {e}", path.display());
+            return ExitCode::FAILURE;
+        }
+    }
+    ExitCode::SUCCESS
+}
+
 fn bench(command: BenchCommand) -> ExitCode {
-    let BenchCommand::Rows { seed, json } = command;
     let settings = match load_settings(None, &[]) {
         Ok(s) => s,
         Err(errors) => {
             print_errors(&errors);
             return ExitCode::FAILURE;
+        }
+    };
+    let (seed, json) = match command {
+        BenchCommand::Rows { seed, json } => (seed, json),
+        BenchCommand::Loop { gui: true, .. } => {
+            eprintln!("the operator GUI is not built yet: run bench loop without --gui");
+            return ExitCode::FAILURE;
+        }
+        BenchCommand::Loop {
+            rate,
+            seconds,
+            gui: false,
+            json,
+        } => {
+            if !(1.0..=10_000.0).contains(&rate) || !(0.001..=86_400.0).contains(&seconds) {
+                eprintln!("--rate must be 1 to 10000 Hz and --seconds 0.001 to 86400");
+                return ExitCode::FAILURE;
+            }
+            return match mechweed::bench_loop::bench_loop(&settings, rate, seconds) {
+                Ok(figures) => {
+                    print!("{}", figures.text());
+                    write_json(json, &figures)
+                }
+                Err(why) => {
+                    eprintln!("{why}");
+                    ExitCode::FAILURE
+                }
+            };
         }
     };
     let mut runs = Vec::new();
@@ -243,14 +296,7 @@ fn bench(command: BenchCommand) -> ExitCode {
         }
     }
     print!("{}", bench_rows::table(&runs));
-    if let Some(path) = json {
-        let text = serde_json::to_string_pretty(&runs).expect("plain data");
-        if let Err(e) = std::fs::write(&path, text) {
-            eprintln!("cannot write {}: {e}", path.display());
-            return ExitCode::FAILURE;
-        }
-    }
-    ExitCode::SUCCESS
+    write_json(json, &runs)
 }
 
 fn camsim(args: CamsimArgs) -> ExitCode {

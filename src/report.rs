@@ -4,7 +4,7 @@ use mechweed_hw::camproto::LinkCounters;
 use mechweed_hw::sim::{CrossTrackSummary, Side};
 use serde::Serialize;
 
-use crate::rt::LoopSummary;
+use crate::rt::{LiuLayland, LoopSummary, liu_layland};
 use crate::run::RunOutcome;
 use crate::supervisor::Notice;
 
@@ -27,6 +27,8 @@ pub struct NoticeEntry {
 pub struct Loops {
     pub supervisor: LoopSummary,
     pub steer: LoopSummary,
+    /// Liu and Layland's check of the two periodic loops' measured worst cases.
+    pub liu_layland: LiuLayland,
 }
 
 /// The camera link's figures: every decoder counter and the link's own.
@@ -51,6 +53,8 @@ pub struct Report {
     pub cross_track_cm: CrossTrackSummary,
     pub loops: Loops,
     pub link: LinkReport,
+    /// Real-time settings the system refused (the run went on without them).
+    pub rt_warnings: Vec<String>,
 }
 
 pub fn notice_text(notice: &Notice) -> String {
@@ -65,6 +69,26 @@ pub fn notice_text(notice: &Notice) -> String {
             )
         }
     }
+}
+
+/// One loop's figures on one line.
+pub fn loop_line(name: &str, l: &LoopSummary) -> String {
+    let (late, exec) = (&l.late_us, &l.exec_us);
+    format!(
+        "{name} loop: {} ticks at {} Hz, {} overruns, late p50/p99/p99.9/max {}/{}/{}/{} us, exec p50/p99/p99.9/max {}/{}/{}/{} us, worst lock {} us",
+        l.ticks,
+        l.rate_hz,
+        l.overruns,
+        late.p50,
+        late.p99,
+        late.p999,
+        late.max,
+        exec.p50,
+        exec.p99,
+        exec.p999,
+        exec.max,
+        l.worst_lock_us
+    )
 }
 
 impl Report {
@@ -95,7 +119,9 @@ impl Report {
             loops: Loops {
                 supervisor: run.supervisor_loop,
                 steer: run.steer_loop,
+                liu_layland: liu_layland(&[run.supervisor_loop, run.steer_loop]),
             },
+            rt_warnings: run.rt_warnings.clone(),
             link: LinkReport {
                 counters: run.link.counters,
                 starts_sent: run.link.starts_sent,
@@ -141,18 +167,22 @@ impl Report {
             ("supervisor", &self.loops.supervisor),
             ("steer", &self.loops.steer),
         ] {
-            out += &format!(
-                "{name} loop: {} ticks at {} Hz, {} overruns, late p50/p99/max {}/{}/{} us, exec p50/p99/max {}/{}/{} us\n",
-                l.ticks,
-                l.rate_hz,
-                l.overruns,
-                l.late_us.p50,
-                l.late_us.p99,
-                l.late_us.max,
-                l.exec_us.p50,
-                l.exec_us.p99,
-                l.exec_us.max
-            );
+            out += &loop_line(name, l);
+            out += "\n";
+        }
+        let ll = &self.loops.liu_layland;
+        out += &format!(
+            "Liu-Layland: worst-case load {:.3} of bound {:.3}: {}\n",
+            ll.utilisation,
+            ll.bound,
+            if ll.schedulable {
+                "schedulable"
+            } else {
+                "NOT guaranteed schedulable"
+            }
+        );
+        for warning in &self.rt_warnings {
+            out += &format!("real-time: {warning}\n");
         }
         let k = &self.link.counters;
         out += &format!(

@@ -1,19 +1,59 @@
-//! Periodic timing on absolute deadlines, and the loop statistics every periodic
-//! thread keeps about itself (wake-up lateness, execution time, overruns).
+//! Real-time behaviour of the periodic threads: sleeping to absolute deadlines,
+//! scheduling priorities, locked memory, and the figures each loop keeps about itself.
 //!
-//! A thread wakes at start + k * period. If a tick runs past the next deadline, the
-//! missed periods are counted as overruns and skipped, so that a late loop never
-//! bursts to catch up.
-
-use std::time::{Duration, Instant};
+//! A periodic thread wakes at start + k * period on CLOCK_MONOTONIC (clock_nanosleep
+//! with TIMER_ABSTIME), so its period does not drift with its own execution time. If a
+//! tick runs past the next deadline, the missed periods are counted as overruns and
+//! skipped: a late loop never bursts to catch up.
 
 use hdrhistogram::Histogram;
+use thread_priority::{
+    RealtimeThreadSchedulePolicy, ThreadPriority, ThreadPriorityValue, ThreadSchedulePolicy,
+    set_thread_priority_and_policy, thread_native_id,
+};
+
+use crate::config::RtSettings;
+
+/// Nanoseconds on CLOCK_MONOTONIC.
+pub fn monotonic_ns() -> u64 {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: clock_gettime writes into the timespec we own; CLOCK_MONOTONIC always exists.
+    unsafe { libc::clock_gettime(libc::CLOCK_MONOTONIC, &mut ts) };
+    ts.tv_sec as u64 * 1_000_000_000 + ts.tv_nsec as u64
+}
+
+/// Sleep until `deadline_ns` on CLOCK_MONOTONIC.
+fn sleep_until_ns(deadline_ns: u64) {
+    let ts = libc::timespec {
+        tv_sec: (deadline_ns / 1_000_000_000) as libc::time_t,
+        tv_nsec: (deadline_ns % 1_000_000_000) as libc::c_long,
+    };
+    loop {
+        // SAFETY: plain system call on a timespec we own; no remaining-time pointer is
+        // needed with TIMER_ABSTIME.
+        let rc = unsafe {
+            libc::clock_nanosleep(
+                libc::CLOCK_MONOTONIC,
+                libc::TIMER_ABSTIME,
+                &ts,
+                std::ptr::null_mut(),
+            )
+        };
+        if rc != libc::EINTR {
+            return;
+        }
+    }
+}
 
 /// Percentiles of one measured quantity, in microseconds.
 #[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
 pub struct Percentiles {
     pub p50: u64,
     pub p99: u64,
+    pub p999: u64,
     pub max: u64,
 }
 
@@ -25,6 +65,8 @@ pub struct LoopSummary {
     pub overruns: u64,
     pub late_us: Percentiles,
     pub exec_us: Percentiles,
+    /// Longest the loop waited for or held a protected object's lock, us.
+    pub worst_lock_us: u64,
 }
 
 /// Histograms of lateness and execution time; recording never allocates.
@@ -34,6 +76,7 @@ pub struct LoopStats {
     exec_us: Histogram<u64>,
     pub ticks: u64,
     pub overruns: u64,
+    pub worst_lock_us: u64,
 }
 
 fn histogram() -> Histogram<u64> {
@@ -45,6 +88,7 @@ fn percentiles(h: &Histogram<u64>) -> Percentiles {
     Percentiles {
         p50: h.value_at_quantile(0.5),
         p99: h.value_at_quantile(0.99),
+        p999: h.value_at_quantile(0.999),
         max: h.max(),
     }
 }
@@ -57,13 +101,18 @@ impl LoopStats {
             exec_us: histogram(),
             ticks: 0,
             overruns: 0,
+            worst_lock_us: 0,
         }
     }
 
-    pub fn record(&mut self, late: Duration, exec: Duration) {
+    pub fn record(&mut self, late_ns: u64, exec_ns: u64) {
         self.ticks += 1;
-        self.late_us.saturating_record(late.as_micros() as u64);
-        self.exec_us.saturating_record(exec.as_micros() as u64);
+        self.late_us.saturating_record(late_ns / 1000);
+        self.exec_us.saturating_record(exec_ns / 1000);
+    }
+
+    pub fn rate_hz(&self) -> f64 {
+        self.rate_hz
     }
 
     pub fn summary(&self) -> LoopSummary {
@@ -73,73 +122,193 @@ impl LoopStats {
             overruns: self.overruns,
             late_us: percentiles(&self.late_us),
             exec_us: percentiles(&self.exec_us),
+            worst_lock_us: self.worst_lock_us,
         }
     }
 }
 
-/// Wakes a thread at absolute deadlines.
+/// Wakes a thread at absolute deadlines and measures each tick.
 pub struct Periodic {
-    period: Duration,
-    next: Instant,
-    woke: Instant,
-    late: Duration,
+    period_ns: u64,
+    next_ns: u64,
+    woke_ns: u64,
+    late_ns: u64,
     pub stats: LoopStats,
 }
 
 impl Periodic {
     pub fn new(rate_hz: f64) -> Periodic {
-        let now = Instant::now();
-        let period = Duration::from_secs_f64(1.0 / rate_hz);
+        let now = monotonic_ns();
+        let period_ns = (1e9 / rate_hz).round() as u64;
         Periodic {
-            period,
-            next: now + period,
-            woke: now,
-            late: Duration::ZERO,
+            period_ns,
+            next_ns: now + period_ns,
+            woke_ns: now,
+            late_ns: 0,
             stats: LoopStats::new(rate_hz),
         }
     }
 
     /// Sleep until the next deadline.
     pub fn wait(&mut self) {
-        let now = Instant::now();
-        if self.next > now {
-            std::thread::sleep(self.next - now);
-        }
-        self.woke = Instant::now();
-        self.late = self.woke.saturating_duration_since(self.next);
+        sleep_until_ns(self.next_ns);
+        self.woke_ns = monotonic_ns();
+        self.late_ns = self.woke_ns.saturating_sub(self.next_ns);
     }
 
     /// The time until the next deadline (for threads that also wait on a channel).
-    pub fn until_deadline(&self) -> Duration {
-        self.next.saturating_duration_since(Instant::now())
-    }
-
-    /// Whether the next deadline has passed.
-    pub fn due(&self) -> bool {
-        Instant::now() >= self.next
+    pub fn until_deadline(&self) -> std::time::Duration {
+        std::time::Duration::from_nanos(self.next_ns.saturating_sub(monotonic_ns()))
     }
 
     /// Mark the start of an unscheduled tick (woken early by an event).
     pub fn woke_now(&mut self) {
-        self.woke = Instant::now();
-        self.late = Duration::ZERO;
+        self.woke_ns = monotonic_ns();
+        self.late_ns = 0;
     }
 
     /// The tick's work is done: record its figures and set the next deadline,
     /// skipping (and counting) any periods the work ran into.
     pub fn done(&mut self) {
-        let now = Instant::now();
-        self.stats.record(self.late, now - self.woke);
-        self.next += self.period;
-        while self.next <= now {
-            self.next += self.period;
-            self.stats.overruns += 1;
+        let now = monotonic_ns();
+        self.stats.record(self.late_ns, now - self.woke_ns);
+        self.next_ns += self.period_ns;
+        if self.next_ns <= now {
+            let missed = (now - self.next_ns) / self.period_ns + 1;
+            self.next_ns += missed * self.period_ns;
+            self.stats.overruns += missed;
         }
     }
 
-    /// Done with an unscheduled tick: record it but keep the deadline.
+    /// Done with an unscheduled tick: record its execution but keep the deadline.
     pub fn done_unscheduled(&mut self) {
-        let now = Instant::now();
-        self.stats.record(Duration::ZERO, now - self.woke);
+        let now = monotonic_ns();
+        self.stats.record(0, now - self.woke_ns);
+    }
+}
+
+/// The Liu and Layland check: is the measured worst-case load of the periodic threads
+/// schedulable by fixed priorities? U = sum(C_i / T_i) <= n (2^(1/n) - 1).
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+pub struct LiuLayland {
+    pub utilisation: f64,
+    pub bound: f64,
+    pub schedulable: bool,
+}
+
+pub fn liu_layland(loops: &[LoopSummary]) -> LiuLayland {
+    let n = loops.len() as f64;
+    let utilisation = loops
+        .iter()
+        .map(|l| l.exec_us.max as f64 * 1e-6 * l.rate_hz)
+        .sum();
+    let bound = if n > 0.0 {
+        n * (2f64.powf(1.0 / n) - 1.0)
+    } else {
+        1.0
+    };
+    LiuLayland {
+        utilisation,
+        bound,
+        schedulable: utilisation <= bound,
+    }
+}
+
+/// Lock the process's memory, so that no page fault delays a tick. Returns a warning
+/// saying what to change when the system refuses.
+pub fn lock_memory() -> Option<String> {
+    // SAFETY: mlockall takes flags only.
+    let rc = unsafe { libc::mlockall(libc::MCL_CURRENT | libc::MCL_FUTURE) };
+    (rc != 0).then(|| {
+        format!(
+            "memory not locked ({}): allow it with 'ulimit -l unlimited', a memlock line in /etc/security/limits.conf, or LimitMEMLOCK=infinity in the systemd unit",
+            std::io::Error::last_os_error()
+        )
+    })
+}
+
+/// Give the calling thread SCHED_FIFO `priority` (0 = leave it normal) and pin it to
+/// `cpu` (-1 = any). Returns a warning saying what to change when refused.
+pub fn set_this_thread(priority: u8, cpu: i32) -> Option<String> {
+    let mut problems = Vec::new();
+    if priority > 0 {
+        let result = ThreadPriorityValue::try_from(priority)
+            .map_err(|e| e.to_string())
+            .and_then(|value| {
+                set_thread_priority_and_policy(
+                    thread_native_id(),
+                    ThreadPriority::Crossplatform(value),
+                    ThreadSchedulePolicy::Realtime(RealtimeThreadSchedulePolicy::Fifo),
+                )
+                .map_err(|e| format!("{e:?}"))
+            });
+        if let Err(e) = result {
+            problems.push(format!(
+                "real-time priority {priority} refused ({e}): give the program CAP_SYS_NICE (setcap cap_sys_nice+ep), an rtprio line in /etc/security/limits.conf, or set [rt] priorities to 0"
+            ));
+        }
+    }
+    if cpu >= 0 {
+        // SAFETY: cpu_set_t is plain data; CPU_SET bounds are checked by the caller's range.
+        let rc = unsafe {
+            let mut set: libc::cpu_set_t = std::mem::zeroed();
+            libc::CPU_SET(cpu as usize, &mut set);
+            libc::sched_setaffinity(0, std::mem::size_of::<libc::cpu_set_t>(), &set)
+        };
+        if rc != 0 {
+            problems.push(format!(
+                "cannot pin to CPU {cpu} ({})",
+                std::io::Error::last_os_error()
+            ));
+        }
+    }
+    (!problems.is_empty()).then(|| problems.join("; "))
+}
+
+/// Ask once, on a throw-away thread, whether the system grants `priority`.
+pub fn priorities_allowed(rt: &RtSettings) -> Option<String> {
+    let highest = rt
+        .supervisor_priority
+        .max(rt.steer_priority)
+        .max(rt.camlink_priority);
+    if highest == 0 {
+        return None;
+    }
+    std::thread::spawn(move || set_this_thread(highest, -1))
+        .join()
+        .unwrap_or(None)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn liu_layland_bound_for_two_threads() {
+        let l = |rate_hz: f64, max_us: u64| LoopSummary {
+            rate_hz,
+            exec_us: Percentiles {
+                max: max_us,
+                ..Percentiles::default()
+            },
+            ..LoopSummary::default()
+        };
+        let check = liu_layland(&[l(100.0, 1000), l(10.0, 5000)]);
+        assert!((check.utilisation - 0.15).abs() < 1e-9);
+        assert!((check.bound - 2.0 * (2f64.sqrt() - 1.0)).abs() < 1e-12);
+        assert!(check.schedulable);
+        assert!(!liu_layland(&[l(100.0, 6000), l(10.0, 40000)]).schedulable);
+    }
+
+    #[test]
+    fn overruns_are_counted_and_skipped_not_burst() {
+        let mut p = Periodic::new(1000.0);
+        p.wait();
+        std::thread::sleep(std::time::Duration::from_millis(5));
+        let before_done = monotonic_ns();
+        p.done();
+        assert!(p.stats.overruns >= 4, "{}", p.stats.overruns);
+        // The next deadline lies ahead: no burst of ticks to catch up.
+        assert!(p.next_ns > before_done);
     }
 }

@@ -8,16 +8,17 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use crossbeam_channel::{Receiver, Sender, bounded, select};
-use mechweed_hw::sim::{CrossTrackSummary, SimHw, SimRobot, byte_pipe};
+use mechweed_hw::sim::{CrossTrackSummary, SimHw, SimRobot, TruthHandle, byte_pipe};
 use mechweed_hw::{Hw, Outputs};
 
 use crate::camlink::thread::LinkThread;
 use crate::camlink::transport::CameraPort;
 use crate::camlink::{LinkCore, LinkStatus, simwire};
-use crate::config::Settings;
+use crate::config::{RtSettings, Settings};
 use crate::console;
+use crate::health::{self, PanicFlag, ThreadHealth, ThreadName};
 use crate::modes::{Mode, Refusal, Request};
-use crate::rt::{LoopSummary, Periodic};
+use crate::rt::{self, LoopSummary, Periodic};
 use crate::state::{Reader, Writer, shared};
 use crate::steer::{SteerCommand, SteerCore};
 use crate::supervisor::{FaultRecord, Notice, Status, Supervisor};
@@ -46,12 +47,58 @@ impl SupervisorHandle {
     }
 }
 
+/// What an operator interface (the console, later the GUI) reads and sends.
+pub struct Handles {
+    pub supervisor: SupervisorHandle,
+    pub link: Reader<LinkStatus>,
+    /// Loop figures of the supervisor and the steer thread, about once a second.
+    pub loops: [Reader<LoopSummary>; 2],
+    pub truth: TruthHandle,
+    pub clock: Instant,
+}
+
 pub struct RunOptions {
     pub settings: Settings,
     pub start_mode: Mode,
     pub duration_s: Option<f64>,
     /// Print a status line this often, s (0 = never).
     pub status_every_s: f64,
+    /// For tests: make one thread fail on purpose.
+    pub inject: Option<Injection>,
+}
+
+/// A deliberate failure, to test that the supervisor catches it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Injection {
+    pub thread: ThreadName,
+    pub at_s: f64,
+    pub action: Fail,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Fail {
+    Panic,
+    /// Stop beating (hang) until the run ends.
+    Stall,
+    /// Make every tick this much longer (supervisor only).
+    Slow {
+        ms: u64,
+    },
+}
+
+impl Injection {
+    /// Fail now, from the thread named.
+    pub fn strike(&self, stop: &AtomicBool) {
+        match self.action {
+            Fail::Panic => panic!("injected failure of the {} thread", self.thread.label()),
+            Fail::Stall => {
+                while !stop.load(Ordering::Relaxed) {
+                    std::thread::sleep(Duration::from_millis(10));
+                }
+            }
+            Fail::Slow { ms } => std::thread::sleep(Duration::from_millis(ms)),
+        }
+    }
 }
 
 /// What a run leaves behind for the report.
@@ -62,6 +109,8 @@ pub struct RunOutcome {
     pub supervisor_loop: LoopSummary,
     pub steer_loop: LoopSummary,
     pub link: LinkStatus,
+    /// Warnings about real-time settings the system refused.
+    pub rt_warnings: Vec<String>,
     pub cross_track: CrossTrackSummary,
 }
 
@@ -87,6 +136,11 @@ struct SupervisorThread {
     status: Writer<Status>,
     steer: Reader<SteerCommand>,
     link: Reader<LinkStatus>,
+    panics: Arc<PanicFlag>,
+    priority: u8,
+    cpu: i32,
+    inject: Option<Injection>,
+    figures: Writer<LoopSummary>,
     stop: Arc<AtomicBool>,
 }
 
@@ -101,8 +155,17 @@ impl SupervisorThread {
             status,
             steer,
             link,
+            panics,
+            priority,
+            cpu,
+            inject,
+            figures,
             stop,
         } = self;
+        health::watch_this_thread(&panics, ThreadName::Supervisor);
+        if let Some(warning) = rt::set_this_thread(priority, cpu) {
+            tracing::warn!("supervisor thread: {warning}");
+        }
         let mut hw = SafeOnDrop(hw);
         let mut periodic = Periodic::new(rate_hz);
         while !stop.load(Ordering::Relaxed) {
@@ -111,8 +174,17 @@ impl SupervisorThread {
             while let Ok((request, reply)) = requests.try_recv() {
                 let _ = reply.try_send(core.handle(request));
             }
+            // The only waits on other threads: copying their objects in and ours out.
+            let lock_start = rt::monotonic_ns();
+            let (steer_now, link_now) = (steer.snapshot(), link.snapshot());
+            let mut lock_ns = rt::monotonic_ns() - lock_start;
+            let health = ThreadHealth {
+                gui_beat_s: None,
+                panicked: panics.panicked(),
+                supervisor_overruns: periodic.stats.overruns,
+            };
             let outputs = match hw.0.read() {
-                Ok(inputs) => core.tick(now_s, &inputs, &steer.snapshot(), &link.snapshot()),
+                Ok(inputs) => core.tick(now_s, &inputs, &steer_now, &link_now, &health),
                 Err(e) => {
                     tracing::error!("{e}");
                     core.hardware_failed(now_s)
@@ -121,9 +193,26 @@ impl SupervisorThread {
             if let Err(e) = hw.0.write(&outputs) {
                 tracing::error!("{e}");
                 core.hardware_failed(now_s);
+                let _ = hw.0.write(&Outputs::SAFE);
             }
+            if health.panicked.is_some() && core.status().outputs.is_safe() {
+                panics.safe_outputs_written();
+            }
+            let publish_start = rt::monotonic_ns();
             status.publish(core.status());
+            lock_ns = lock_ns.max(rt::monotonic_ns() - publish_start);
+            periodic.stats.worst_lock_us = periodic.stats.worst_lock_us.max(lock_ns / 1000);
+            if let Some(Injection {
+                thread: ThreadName::Supervisor,
+                at_s,
+                action: Fail::Slow { ms },
+            }) = inject
+                && now_s >= at_s
+            {
+                std::thread::sleep(Duration::from_millis(ms));
+            }
             periodic.done();
+            publish_figures_now_and_then(&periodic, &figures);
         }
         (core, periodic.stats.summary())
     }
@@ -138,12 +227,20 @@ struct SteerThread {
     command: Writer<SteerCommand>,
     status: Reader<Status>,
     link: Reader<LinkStatus>,
+    panics: Arc<PanicFlag>,
+    priority: u8,
+    inject: Option<Injection>,
+    figures: Writer<LoopSummary>,
     stop: Arc<AtomicBool>,
 }
 
 impl SteerThread {
     /// Ticks at its rate, and also as soon as the camera link has a new estimate.
     fn run(mut self) -> LoopSummary {
+        health::watch_this_thread(&self.panics, ThreadName::Steer);
+        if let Some(warning) = rt::set_this_thread(self.priority, -1) {
+            tracing::warn!("steer thread: {warning}");
+        }
         let mut periodic = Periodic::new(self.rate_hz);
         while !self.stop.load(Ordering::Relaxed) {
             let scheduled = select! {
@@ -156,18 +253,49 @@ impl SteerThread {
                 periodic.woke_now();
             }
             let now_s = self.clock.elapsed().as_secs_f64();
+            if let Some(injection) = self.inject
+                && injection.thread == ThreadName::Steer
+                && now_s >= injection.at_s
+            {
+                injection.strike(&self.stop);
+            }
             let command = self
                 .core
                 .tick(now_s, &self.status.snapshot(), &self.link.snapshot());
             self.command.publish(&command);
             if scheduled {
                 periodic.done();
+                publish_figures_now_and_then(&periodic, &self.figures);
             } else {
                 periodic.done_unscheduled();
             }
         }
         periodic.stats.summary()
     }
+}
+
+/// Publish a loop's figures about once a second (percentiles cost a few microseconds).
+fn publish_figures_now_and_then(periodic: &Periodic, figures: &Writer<LoopSummary>) {
+    let ticks_per_second = periodic.stats.rate_hz().round().max(1.0) as u64;
+    if periodic.stats.ticks.is_multiple_of(ticks_per_second) {
+        figures.publish(&periodic.stats.summary());
+    }
+}
+
+/// Lock memory and find out whether real-time priorities are granted: one warning for
+/// each thing the system refuses, printed once, and the program runs on.
+fn rt_setup(rt: &RtSettings) -> Vec<String> {
+    let warnings: Vec<String> = [
+        rt.lock_memory.then(rt::lock_memory).flatten(),
+        rt::priorities_allowed(rt),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    for warning in &warnings {
+        tracing::warn!("{warning}");
+    }
+    warnings
 }
 
 fn spawn<T: Send + 'static>(name: &str, f: impl FnOnce() -> T + Send + 'static) -> JoinHandle<T> {
@@ -195,6 +323,16 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
         port => (port.clone(), None),
     };
     let clock = Instant::now();
+    let rt_warnings = rt_setup(&s.rt);
+    let priority = |p: u8| {
+        if rt_warnings.iter().any(|w| w.contains("priority")) {
+            0
+        } else {
+            p
+        }
+    };
+    let panics = Arc::new(PanicFlag::default());
+    health::watch_this_thread(&panics, ThreadName::Console);
 
     let (status_w, status_r) = shared(Status::default());
     let (steer_w, steer_r) = shared(SteerCommand::default());
@@ -202,6 +340,8 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
     let (request_tx, request_rx) = bounded(16);
     let (estimate_tx, estimate_rx) = bounded(1);
     let (_ping_tx, ping_rx) = bounded(1);
+    let (supervisor_figures_w, supervisor_figures) = shared(LoopSummary::default());
+    let (steer_figures_w, steer_figures) = shared(LoopSummary::default());
     let handle = SupervisorHandle {
         requests: request_tx,
         status: status_r.clone(),
@@ -216,6 +356,11 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
         status: status_w,
         steer: steer_r.clone(),
         link: link_r.clone(),
+        panics: panics.clone(),
+        priority: priority(s.rt.supervisor_priority),
+        cpu: s.rt.supervisor_cpu,
+        inject: opts.inject,
+        figures: supervisor_figures_w,
         stop: stop.clone(),
     };
     let steer = SteerThread {
@@ -226,6 +371,10 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
         command: steer_w,
         status: status_r.clone(),
         link: link_r.clone(),
+        panics: panics.clone(),
+        priority: priority(s.rt.steer_priority),
+        inject: opts.inject,
+        figures: steer_figures_w,
         stop: stop.clone(),
     };
     let link = LinkThread {
@@ -236,6 +385,9 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
         ping_requests: ping_rx,
         status: link_w,
         steer: steer_r,
+        panics: panics.clone(),
+        priority: priority(s.rt.camlink_priority),
+        inject: opts.inject,
         stop: stop.clone(),
     };
     let supervisor = spawn("supervisor", move || supervisor.run());
@@ -243,15 +395,14 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
     let link = spawn("camlink", move || link.run());
 
     let any_thread_ended = || supervisor.is_finished() || steer.is_finished() || link.is_finished();
-    console::operate(
-        opts,
-        &handle,
-        &link_r,
-        &truth,
+    let handles = Handles {
+        supervisor: handle,
+        link: link_r.clone(),
+        loops: [supervisor_figures, steer_figures],
+        truth: truth.clone(),
         clock,
-        &stop,
-        any_thread_ended,
-    );
+    };
+    console::operate(opts, &handles, &stop, any_thread_ended);
     stop.store(true, Ordering::Relaxed);
 
     let link_ok = link.join().is_ok();
@@ -278,6 +429,7 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
         supervisor_loop,
         steer_loop,
         link: link_r.snapshot(),
+        rt_warnings,
         cross_track: truth.cross_track().summary(),
     })
 }

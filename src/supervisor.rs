@@ -13,6 +13,7 @@ use mechweed_hw::{Inputs, Outputs};
 use crate::camlink::LinkStatus;
 use crate::config::Settings;
 use crate::faults::{CheckContext, FaultCause, FaultChecks, PowerState};
+use crate::health::ThreadHealth;
 use crate::measure::{Measured, Measurement};
 use crate::modes::{Gains, Mode, Refusal, Request};
 use crate::pid::{Pd, Pi};
@@ -110,7 +111,12 @@ impl Supervisor {
             settings: s.clone(),
             period_s: 1.0 / s.supervisor.rate_hz,
             measure: Measurement::new(&s.robot, &s.supervisor, &s.faults),
-            checks: FaultChecks::new(s.faults.clone(), s.camera, s.supervisor.power_up_timeout_s),
+            checks: FaultChecks::new(
+                s.faults.clone(),
+                s.camera,
+                s.rt,
+                s.supervisor.power_up_timeout_s,
+            ),
             left: Pi::new(s.pid_left),
             right: Pi::new(s.pid_right),
             steering: Pd::new(s.pid_steer),
@@ -267,6 +273,7 @@ impl Supervisor {
         inputs: &Inputs,
         steer: &SteerCommand,
         link: &LinkStatus,
+        health: &ThreadHealth,
     ) -> Outputs {
         let dt_s = if self.status.tick == 0 {
             self.period_s
@@ -304,6 +311,7 @@ impl Supervisor {
                 .map(|side| (side, self.endswitch_hit_s)),
             steer,
             link,
+            health,
         };
         if let Some(cause) = self.checks.check(&context)
             && self.status.mode != Mode::Fault

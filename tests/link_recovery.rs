@@ -37,6 +37,9 @@ fn start_link(port: CameraPort) -> (Reader<LinkStatus>, Arc<AtomicBool>) {
         ping_requests: ping_rx,
         status: status_w,
         steer: steer_r,
+        panics: Default::default(),
+        priority: 0,
+        inject: None,
         stop: stop.clone(),
     };
     std::thread::spawn(move || {

@@ -62,6 +62,8 @@ pub struct LinkStatus {
     pub pings_sent: u64,
     /// Round trip of the last PING, ms (NaN until a PONG has come back).
     pub ping_rtt_ms: f64,
+    /// When the link thread last showed a sign of life, s (its heartbeat).
+    pub beat_s: f64,
 }
 
 impl Default for LinkStatus {
@@ -80,6 +82,7 @@ impl Default for LinkStatus {
             problem: None,
             pings_sent: 0,
             ping_rtt_ms: f64::NAN,
+            beat_s: 0.0,
         }
     }
 }
@@ -131,6 +134,11 @@ impl LinkCore {
         }
         self.status.counters = self.decoder.counters;
         usable
+    }
+
+    /// The link thread is alive at `now_s` (the supervisor watches this).
+    pub fn beat(&mut self, now_s: f64) {
+        self.status.beat_s = now_s;
     }
 
     /// The transport opened (again): the camera computer has not heard START on it.

@@ -13,6 +13,9 @@ use crossbeam_channel::{Receiver, Sender};
 
 use super::transport::{ByteStream, CameraPort, open};
 use super::{LinkCore, LinkProblem, LinkStatus};
+use crate::health::{self, PanicFlag, ThreadName};
+use crate::rt;
+use crate::run::Injection;
 use crate::state::{Reader, Writer};
 use crate::steer::SteerCommand;
 
@@ -31,6 +34,11 @@ pub struct LinkThread {
     pub ping_requests: Receiver<()>,
     pub status: Writer<LinkStatus>,
     pub steer: Reader<SteerCommand>,
+    pub panics: Arc<PanicFlag>,
+    /// SCHED_FIFO priority (0 = normal).
+    pub priority: u8,
+    /// For tests: fail on purpose.
+    pub inject: Option<Injection>,
     pub stop: Arc<AtomicBool>,
 }
 
@@ -40,6 +48,12 @@ impl LinkThread {
     }
 
     pub fn run(mut self) {
+        health::watch_this_thread(&self.panics, ThreadName::CameraLink);
+        if let Some(warning) = rt::set_this_thread(self.priority, -1) {
+            tracing::warn!("camera link thread: {warning}");
+        }
+        self.core.beat(self.now_s());
+        self.status.publish(self.core.status());
         let mut backoff = BACKOFF_MIN;
         let mut last_problem = None;
         while !self.stop.load(Ordering::Relaxed) {
@@ -80,11 +94,13 @@ impl LinkThread {
         }
     }
 
-    /// Sleep, but wake at once when the program stops.
-    fn sleep(&self, total: Duration) {
+    /// Sleep, beating, and wake at once when the program stops.
+    fn sleep(&mut self, total: Duration) {
         let end = Instant::now() + total;
         while !self.stop.load(Ordering::Relaxed) && Instant::now() < end {
             std::thread::sleep(Duration::from_millis(10));
+            self.core.beat(self.now_s());
+            self.status.publish(self.core.status());
         }
     }
 
@@ -96,6 +112,12 @@ impl LinkThread {
         while !self.stop.load(Ordering::Relaxed) {
             // Commands first, so each goes out the moment it is stamped.
             let now_s = self.now_s();
+            if let Some(injection) = self.inject
+                && injection.thread == ThreadName::CameraLink
+                && now_s >= injection.at_s
+            {
+                injection.strike(&self.stop);
+            }
             ping_due |= self.ping_requests.try_recv().is_ok();
             let ping = ping_due.then(|| self.core.ping(now_s));
             ping_due = false;
@@ -118,9 +140,11 @@ impl LinkThread {
                 }
                 Err(e) => return Some(LinkProblem::Vanished(e.kind())),
             };
-            if self.core.receive(&buf[..n], self.now_s()) {
+            let now_s = self.now_s();
+            if self.core.receive(&buf[..n], now_s) {
                 let _ = self.new_estimate.try_send(());
             }
+            self.core.beat(now_s);
             self.status.publish(self.core.status());
         }
         None

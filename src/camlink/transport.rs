@@ -82,7 +82,8 @@ pub fn open(port: &CameraPort, read_timeout: Duration) -> io::Result<Box<dyn Byt
             let target = address.to_socket_addrs()?.next().ok_or_else(|| {
                 io::Error::new(io::ErrorKind::NotFound, "the address resolves to nothing")
             })?;
-            let stream = TcpStream::connect_timeout(&target, Duration::from_secs(1))?;
+            // Short, so the link thread keeps beating while a camera computer is away.
+            let stream = TcpStream::connect_timeout(&target, Duration::from_millis(250))?;
             stream.set_read_timeout(Some(read_timeout))?;
             stream.set_nodelay(true)?;
             Ok(Box::new(stream))

@@ -28,6 +28,7 @@ const SECTIONS: &[&str] = &[
     "joystick",
     "camera",
     "hw",
+    "rt",
     "sim",
 ];
 
@@ -68,7 +69,6 @@ pub struct FaultSettings {
     pub encoder_stuck_s: f64,
     pub endswitch_unhandled_s: f64,
     pub endswitch_timeout_s: f64,
-    pub steer_silent_s: f64,
 }
 
 /// PI speed regulator of one drive wheel, with feed-forward.
@@ -123,6 +123,19 @@ pub struct CameraSettings {
     pub min_quality: u8,
 }
 
+/// Real-time scheduling and the supervisor's watch over the other threads.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RtSettings {
+    pub supervisor_priority: u8,
+    pub steer_priority: u8,
+    pub camlink_priority: u8,
+    pub lock_memory: bool,
+    pub supervisor_cpu: i32,
+    pub heartbeat_timeout_s: f64,
+    pub max_overruns: u32,
+    pub overrun_window_s: f64,
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Backend {
     Sim,
@@ -142,6 +155,7 @@ pub struct Settings {
     pub camera: CameraSettings,
     /// Where the camera computer is: [camera] port and baud.
     pub camera_port: CameraPort,
+    pub rt: RtSettings,
     pub backend: Backend,
     pub sim: mechweed_hw::sim::SimParams,
 }
@@ -183,6 +197,7 @@ impl Settings {
             joystick: joystick(&mut r),
             camera: camera(&mut r),
             camera_port: camera_port(&mut r),
+            rt: rt(&mut r),
             backend: [Backend::Sim][r.choice("hw", "backend", &["sim"])],
             sim: sim::load(&mut r),
         };
@@ -236,7 +251,6 @@ fn faults(r: &mut Reader) -> FaultSettings {
         encoder_stuck_s: r.f64(s, "encoder_stuck_s", 0.05, 10.0),
         endswitch_unhandled_s: r.f64(s, "endswitch_unhandled_s", 0.01, 5.0),
         endswitch_timeout_s: r.f64(s, "endswitch_timeout_s", 0.1, 60.0),
-        steer_silent_s: r.f64(s, "steer_silent_s", 0.05, 10.0),
     }
 }
 
@@ -279,6 +293,20 @@ fn joystick(r: &mut Reader) -> JoystickSettings {
         deadband_v: r.f64(s, "deadband_v", 0.0, 5.0),
         max_speed_mps: r.f64(s, "max_speed_mps", 0.0, 3.0),
         max_angle_deg: r.f64(s, "max_angle_deg", 0.0, 45.0),
+    }
+}
+
+fn rt(r: &mut Reader) -> RtSettings {
+    let s = "rt";
+    RtSettings {
+        supervisor_priority: r.u64(s, "supervisor_priority", 0, 99) as u8,
+        steer_priority: r.u64(s, "steer_priority", 0, 99) as u8,
+        camlink_priority: r.u64(s, "camlink_priority", 0, 99) as u8,
+        lock_memory: r.choice(s, "lock_memory", &["no", "yes"]) == 1,
+        supervisor_cpu: r.f64(s, "supervisor_cpu", -1.0, 1023.0) as i32,
+        heartbeat_timeout_s: r.f64(s, "heartbeat_timeout_s", 0.05, 60.0),
+        max_overruns: r.u64(s, "max_overruns", 0, 1_000_000) as u32,
+        overrun_window_s: r.f64(s, "overrun_window_s", 0.1, 3600.0),
     }
 }
 

@@ -1,0 +1,77 @@
+//! `mechweed bench loop`: the real threads on the simulated robot, driving along the
+//! row, for a set time at a set supervisor rate; prints each loop's wake-up lateness and
+//! execution time. Run cyclictest beside it to compare with what the machine itself
+//! can do (README).
+
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+
+use serde::Serialize;
+
+use crate::config::Settings;
+use crate::modes::Mode;
+use crate::report::loop_line;
+use crate::rt::{LiuLayland, LoopSummary, liu_layland};
+use crate::run::{RunOptions, run};
+
+#[derive(Debug, Serialize)]
+pub struct LoopBench {
+    pub rate_hz: f64,
+    pub seconds: f64,
+    pub supervisor: LoopSummary,
+    pub steer: LoopSummary,
+    pub liu_layland: LiuLayland,
+    pub faults: Vec<String>,
+    pub rt_warnings: Vec<String>,
+}
+
+pub fn bench_loop(settings: &Settings, rate_hz: f64, seconds: f64) -> Result<LoopBench, String> {
+    let mut settings = settings.clone();
+    settings.supervisor.rate_hz = rate_hz;
+    let options = RunOptions {
+        settings,
+        start_mode: Mode::Autonomous,
+        duration_s: Some(seconds),
+        status_every_s: 0.0,
+        inject: None,
+    };
+    let outcome = run(&options, Arc::new(AtomicBool::new(false)))?;
+    Ok(LoopBench {
+        rate_hz,
+        seconds,
+        supervisor: outcome.supervisor_loop,
+        steer: outcome.steer_loop,
+        liu_layland: liu_layland(&[outcome.supervisor_loop, outcome.steer_loop]),
+        faults: outcome
+            .faults
+            .iter()
+            .map(|f| format!("{:.2} s: {}", f.t_s, f.cause))
+            .collect(),
+        rt_warnings: outcome.rt_warnings,
+    })
+}
+
+impl LoopBench {
+    pub fn text(&self) -> String {
+        let mut out = format!(
+            "{} s at {} Hz, driving autonomously on the simulated robot\n",
+            self.seconds, self.rate_hz
+        );
+        out += &loop_line("supervisor", &self.supervisor);
+        out += "\n";
+        out += &loop_line("steer", &self.steer);
+        out += "\n";
+        let ll = &self.liu_layland;
+        out += &format!(
+            "Liu-Layland: worst-case load {:.4} of bound {:.3}\n",
+            ll.utilisation, ll.bound
+        );
+        for fault in &self.faults {
+            out += &format!("fault: {fault}\n");
+        }
+        for warning in &self.rt_warnings {
+            out += &format!("real-time: {warning}\n");
+        }
+        out
+    }
+}

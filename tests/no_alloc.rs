@@ -1,0 +1,84 @@
+//! The supervisor tick does no heap allocation after start: a counting allocator
+//! watches this thread while the simulated robot drives along the row, the camera
+//! link decodes and the steer thread's tick runs, and sees none.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use mechweed::config::Settings;
+use mechweed::lockstep::Lockstep;
+use mechweed::modes::{Mode, Request};
+
+struct Counting;
+
+static ALLOCATIONS: AtomicU64 = AtomicU64::new(0);
+thread_local! {
+    static WATCHING: Cell<bool> = const { Cell::new(false) };
+}
+
+// SAFETY: forwards to the system allocator; only counts on the watched thread.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if WATCHING.try_with(Cell::get).unwrap_or(false) {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        if WATCHING.try_with(Cell::get).unwrap_or(false) {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// Allocations made by `f` on this thread.
+fn allocations_in(f: impl FnOnce()) -> u64 {
+    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    WATCHING.with(|w| w.set(true));
+    f();
+    WATCHING.with(|w| w.set(false));
+    ALLOCATIONS.load(Ordering::Relaxed) - before
+}
+
+#[test]
+fn no_allocation_per_tick_while_driving_or_faulting() {
+    let settings = Settings::shipped();
+    let mut sim = Lockstep::new(&settings, Mode::Autonomous);
+    sim.run_for(3.0);
+    assert_eq!(sim.supervisor.mode(), Mode::Autonomous);
+    let driving = allocations_in(|| {
+        for _ in 0..2000 {
+            sim.tick();
+        }
+    });
+    assert_eq!(
+        driving, 0,
+        "allocations in 2000 ticks of autonomous driving"
+    );
+
+    // Joystick, halt and a fault take other paths through the tick.
+    sim.request(Request::Mode(Mode::Joystick)).unwrap();
+    sim.robot.set_joystick(2.0, 3.0, true);
+    let other_modes = allocations_in(|| {
+        for _ in 0..300 {
+            sim.tick();
+        }
+        sim.robot.apply(&mechweed_hw::sim::EventAction::EstopFront);
+        for _ in 0..300 {
+            sim.tick();
+        }
+    });
+    assert_eq!(sim.supervisor.mode(), Mode::Fault);
+    assert_eq!(
+        other_modes, 0,
+        "allocations in joystick mode and in a fault"
+    );
+}

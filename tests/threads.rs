@@ -1,0 +1,104 @@
+//! The real threads, made to fail on purpose: a thread that panics, a thread that
+//! stalls, and a supervisor that overruns its deadlines each end in a fault naming it,
+//! with safe outputs.
+
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+
+use mechweed::config::Settings;
+use mechweed::faults::FaultCause;
+use mechweed::health::ThreadName;
+use mechweed::modes::Mode;
+use mechweed::run::{Fail, Injection, RunOptions, RunOutcome, run};
+use mechweed_hw::Outputs;
+
+/// Drive autonomously for `seconds` with one failure injected at 1.5 s.
+fn run_with(thread: ThreadName, action: Fail, seconds: f64) -> RunOutcome {
+    let options = RunOptions {
+        settings: Settings::shipped(),
+        start_mode: Mode::Autonomous,
+        duration_s: Some(seconds),
+        status_every_s: 0.0,
+        inject: Some(Injection {
+            thread,
+            at_s: 1.5,
+            action,
+        }),
+    };
+    run(&options, Arc::new(AtomicBool::new(false))).expect("the run starts")
+}
+
+fn first_fault(outcome: &RunOutcome) -> (FaultCause, f64) {
+    assert_eq!(
+        outcome.final_status.mode,
+        Mode::Fault,
+        "no fault: {:?}",
+        outcome.faults
+    );
+    assert_eq!(outcome.final_status.outputs, Outputs::SAFE);
+    let f = outcome.faults[0];
+    (f.cause, f.t_s)
+}
+
+#[test]
+fn a_panicking_steer_thread_is_a_fault_naming_it() {
+    let outcome = run_with(ThreadName::Steer, Fail::Panic, 3.0);
+    let (cause, t_s) = first_fault(&outcome);
+    assert_eq!(
+        cause,
+        FaultCause::ThreadPanicked {
+            thread: ThreadName::Steer
+        }
+    );
+    assert!((1.5..1.6).contains(&t_s), "fault at {t_s}");
+}
+
+#[test]
+fn a_panicking_camera_link_thread_is_a_fault_naming_it() {
+    let outcome = run_with(ThreadName::CameraLink, Fail::Panic, 3.0);
+    let (cause, t_s) = first_fault(&outcome);
+    assert_eq!(
+        cause,
+        FaultCause::ThreadPanicked {
+            thread: ThreadName::CameraLink
+        }
+    );
+    assert!((1.5..1.6).contains(&t_s), "fault at {t_s}");
+}
+
+#[test]
+fn a_stalled_steer_thread_is_found_within_its_heartbeat_time() {
+    let timeout = Settings::shipped().rt.heartbeat_timeout_s;
+    let outcome = run_with(ThreadName::Steer, Fail::Stall, 3.5);
+    let (cause, t_s) = first_fault(&outcome);
+    assert!(
+        matches!(
+            cause,
+            FaultCause::ThreadStopped {
+                thread: ThreadName::Steer,
+                ..
+            }
+        ),
+        "{cause:?}"
+    );
+    // Its last beat came at most one steer period (0.1 s) before the stall.
+    assert!(
+        t_s > 1.5 + timeout - 0.1 && t_s < 1.5 + timeout + 0.05,
+        "fault at {t_s}"
+    );
+}
+
+#[test]
+fn overruns_past_the_limit_are_a_fault() {
+    let rt = Settings::shipped().rt;
+    // Every supervisor tick now takes 15 ms of a 10 ms period.
+    let outcome = run_with(ThreadName::Supervisor, Fail::Slow { ms: 15 }, 3.0);
+    let (cause, t_s) = first_fault(&outcome);
+    assert!(matches!(cause, FaultCause::Overruns { .. }), "{cause:?}");
+    // max_overruns are tolerated; one more within the window is not.
+    let ticks_to_fault = rt.max_overruns as f64 + 1.0;
+    assert!(
+        t_s > 1.5 && t_s < 1.5 + 0.02 * (ticks_to_fault + 2.0),
+        "fault at {t_s}"
+    );
+}
