@@ -8,50 +8,55 @@ fn mechweed() -> Command {
     cmd
 }
 
-#[test]
-fn a_short_autonomous_run_on_real_threads_writes_its_report() {
+/// `mechweed run --headless ARGS --report FILE`: its standard output and its report.
+fn run_with_report(args: &[&str]) -> (String, serde_json::Value) {
     let dir = tempfile::tempdir().unwrap();
     let report_path = dir.path().join("report.json");
     let out = mechweed()
-        .args([
-            "run",
-            "--headless",
-            "--mode",
-            "autonomous",
-            "--duration",
-            "4",
-            "--seed",
-            "3",
-            "--report",
-        ])
+        .args(["run", "--headless"])
+        .args(args)
+        .arg("--report")
         .arg(&report_path)
         .output()
         .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    let report = serde_json::from_str(&std::fs::read_to_string(&report_path).unwrap()).unwrap();
+    (stdout, report)
+}
+
+#[test]
+fn a_short_autonomous_run_on_real_threads_writes_its_report() {
+    let (stdout, report) =
+        run_with_report(&["--mode", "autonomous", "--duration", "4", "--seed", "3"]);
     assert!(stdout.contains("tool cross-track"), "{stdout}");
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&report_path).unwrap()).unwrap();
     assert_eq!(report["mode_final"], "autonomous", "{report:#}");
     assert_eq!(report["faults"].as_array().unwrap().len(), 0, "{report:#}");
     assert!(report["distance_m"].as_f64().unwrap() > 0.5, "{report:#}");
     let sup = &report["loops"]["supervisor"];
     assert!(sup["ticks"].as_u64().unwrap() > 300, "{report:#}");
-    for key in ["p50", "p99", "max"] {
+    for key in ["p50", "p99", "p999", "max"] {
         assert!(sup["late_us"][key].is_u64() && sup["exec_us"][key].is_u64());
     }
+    assert!(sup["worst_lock_us"].is_u64() && sup["overruns"].is_u64());
     assert!(report["loops"]["steer"]["ticks"].as_u64().unwrap() > 30);
-    assert!(
-        report["link"]["frames_ok"].as_u64().unwrap() > 20,
-        "{report:#}"
-    );
-    for key in ["crc_errors", "resyncs", "seq_gaps"] {
-        assert!(report["link"][key].is_u64());
+    assert!(report["loops"]["liu_layland"]["schedulable"].is_boolean());
+    let link = &report["link"];
+    assert!(link["frames_ok"].as_u64().unwrap() > 20, "{report:#}");
+    for key in [
+        "crc_errors",
+        "resyncs",
+        "seq_gaps",
+        "bytes_skipped",
+        "pongs",
+    ] {
+        assert!(link[key].is_u64(), "{key}");
     }
+    assert!(
+        link["ping_rtt_ms"].is_f64(),
+        "the link test at start got no answer"
+    );
     for key in ["mean_cm", "sd_cm", "rms_cm", "p95_cm", "max_cm"] {
         assert!(report["cross_track_cm"][key].is_f64(), "{key}");
     }
@@ -59,33 +64,19 @@ fn a_short_autonomous_run_on_real_threads_writes_its_report() {
 
 #[test]
 fn a_scripted_estop_shows_in_the_report_with_its_cause() {
-    let dir = tempfile::tempdir().unwrap();
-    let report_path = dir.path().join("report.json");
-    let out = mechweed()
-        .args([
-            "run",
-            "--headless",
-            "--mode",
-            "autonomous",
-            "--duration",
-            "3",
-        ])
-        .args(["--set", "sim.events=2 estop_front", "--report"])
-        .arg(&report_path)
-        .output()
-        .unwrap();
-    assert!(out.status.success());
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&report_path).unwrap()).unwrap();
+    let (stdout, report) = run_with_report(&[
+        "--mode",
+        "autonomous",
+        "--duration",
+        "3",
+        "--set",
+        "sim.events=2 estop_front",
+    ]);
+    assert!(stdout.contains("FAULT: front emergency stop"), "{stdout}");
     assert_eq!(report["mode_final"], "fault");
     let fault = &report["faults"][0];
-    assert!(
-        fault["cause"]
-            .as_str()
-            .unwrap()
-            .contains("front emergency stop"),
-        "{report:#}"
-    );
+    let cause = fault["cause"].as_str().unwrap();
+    assert!(cause.contains("front emergency stop"), "{report:#}");
     assert_eq!(fault["safe_after_ticks"], 0);
     assert!((fault["t_s"].as_f64().unwrap() - 2.0).abs() < 0.1);
 }
