@@ -214,9 +214,39 @@ pub fn liu_layland(loops: &[LoopSummary]) -> LiuLayland {
     }
 }
 
+/// Below this memlock limit the program does not lock its memory: with MCL_FUTURE,
+/// every later allocation beyond the limit would fail and stop the program.
+const MEMLOCK_NEEDED_BYTES: u64 = 1 << 30;
+
+/// Capability bit that lifts the memlock limit (linux/capability.h).
+const CAP_IPC_LOCK: u32 = 14;
+
+/// Whether the process holds a capability, from /proc/self/status (root holds all).
+fn has_capability(bit: u32) -> bool {
+    capability_in(&std::fs::read_to_string("/proc/self/status").unwrap_or_default(), bit)
+}
+
+/// Whether the effective capability set in a /proc/PID/status text has `bit`.
+fn capability_in(status: &str, bit: u32) -> bool {
+    status
+        .lines()
+        .find_map(|line| line.strip_prefix("CapEff:"))
+        .and_then(|hex| u64::from_str_radix(hex.trim(), 16).ok())
+        .is_some_and(|caps| caps & (1 << bit) != 0)
+}
+
 /// Lock the process's memory, so that no page fault delays a tick. Returns a warning
 /// saying what to change when the system refuses.
 pub fn lock_memory() -> Option<String> {
+    let mut limit = libc::rlimit { rlim_cur: 0, rlim_max: 0 };
+    // SAFETY: getrlimit writes into the struct we own.
+    let known = unsafe { libc::getrlimit(libc::RLIMIT_MEMLOCK, &mut limit) } == 0;
+    if known && !has_capability(CAP_IPC_LOCK) && limit.rlim_cur != libc::RLIM_INFINITY && limit.rlim_cur < MEMLOCK_NEEDED_BYTES {
+        return Some(format!(
+            "memory not locked: the memlock limit is {} MiB, too small to lock safely; raise it with 'ulimit -l unlimited', a memlock line in /etc/security/limits.conf, or LimitMEMLOCK=infinity in the systemd unit",
+            limit.rlim_cur >> 20
+        ));
+    }
     // SAFETY: mlockall takes flags only.
     let rc = unsafe { libc::mlockall(libc::MCL_CURRENT | libc::MCL_FUTURE) };
     (rc != 0).then(|| {
@@ -282,6 +312,18 @@ pub fn priorities_allowed(rt: &RtSettings) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn effective_capabilities_are_parsed() {
+        let root = "Name:\tmechweed\nCapInh:\t0000000000000000\nCapEff:\t000001ffffffffff\n";
+        let user = "Name:\tmechweed\nCapEff:\t0000000000000000\n";
+        let ipc_lock_only = "CapEff:\t0000000000004000\n";
+        assert!(capability_in(root, CAP_IPC_LOCK));
+        assert!(!capability_in(user, CAP_IPC_LOCK));
+        assert!(capability_in(ipc_lock_only, CAP_IPC_LOCK));
+        assert!(!capability_in(ipc_lock_only, 13));
+        assert!(!capability_in("garbage", CAP_IPC_LOCK));
+    }
 
     #[test]
     fn liu_layland_bound_for_two_threads() {
