@@ -23,6 +23,11 @@ use serialport::{SerialPort, TTYPort};
 const FRAMES: usize = 500;
 
 fn main() {
+    // This thread plays the steer thread: give it the steer thread's priority.
+    if let Some(warning) = mechweed::rt::set_this_thread(Settings::shipped().rt.steer_priority, -1)
+    {
+        eprintln!("{warning}");
+    }
     let (mut master, slave) = TTYPort::pair().expect("a pseudo-terminal");
     master.set_timeout(Duration::from_millis(5)).unwrap();
     let (status_w, status_r) = shared(LinkStatus::default());
@@ -42,7 +47,8 @@ fn main() {
         status: status_w,
         steer: steer_r,
         panics: Default::default(),
-        priority: 0,
+        // As in the program (where the system grants it; it runs on without).
+        priority: Settings::shipped().rt.camlink_priority,
         inject: None,
         stop: stop.clone(),
     };

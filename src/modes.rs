@@ -81,6 +81,7 @@ pub enum Refusal {
     FaultIsNotAMode,
     AlreadyPowered,
     OnlyInHalt,
+    NotStarted,
 }
 
 impl fmt::Display for Refusal {
@@ -99,6 +100,7 @@ impl fmt::Display for Refusal {
                 write!(f, "fault is entered by the supervisor, not by request")
             }
             Refusal::AlreadyPowered => write!(f, "motor power is already on"),
+            Refusal::NotStarted => write!(f, "the robot's inputs have not been read yet"),
             Refusal::OnlyInHalt => write!(
                 f,
                 "gains are changed only in halt, so that nothing jumps while moving"

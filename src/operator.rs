@@ -39,6 +39,9 @@ impl OperatorScript {
 
     /// The request to send now, if any.
     pub fn due(&mut self, now_s: f64, status: &Status) -> Option<Request> {
+        if status.tick == 0 {
+            return None; // nothing is known about the robot before the supervisor's first tick
+        }
         if let Some(event) = self.events.get(self.next)
             && event.t_s <= now_s
         {

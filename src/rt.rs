@@ -223,7 +223,10 @@ const CAP_IPC_LOCK: u32 = 14;
 
 /// Whether the process holds a capability, from /proc/self/status (root holds all).
 fn has_capability(bit: u32) -> bool {
-    capability_in(&std::fs::read_to_string("/proc/self/status").unwrap_or_default(), bit)
+    capability_in(
+        &std::fs::read_to_string("/proc/self/status").unwrap_or_default(),
+        bit,
+    )
 }
 
 /// Whether the effective capability set in a /proc/PID/status text has `bit`.
@@ -238,10 +241,17 @@ fn capability_in(status: &str, bit: u32) -> bool {
 /// Lock the process's memory, so that no page fault delays a tick. Returns a warning
 /// saying what to change when the system refuses.
 pub fn lock_memory() -> Option<String> {
-    let mut limit = libc::rlimit { rlim_cur: 0, rlim_max: 0 };
+    let mut limit = libc::rlimit {
+        rlim_cur: 0,
+        rlim_max: 0,
+    };
     // SAFETY: getrlimit writes into the struct we own.
     let known = unsafe { libc::getrlimit(libc::RLIMIT_MEMLOCK, &mut limit) } == 0;
-    if known && !has_capability(CAP_IPC_LOCK) && limit.rlim_cur != libc::RLIM_INFINITY && limit.rlim_cur < MEMLOCK_NEEDED_BYTES {
+    if known
+        && !has_capability(CAP_IPC_LOCK)
+        && limit.rlim_cur != libc::RLIM_INFINITY
+        && limit.rlim_cur < MEMLOCK_NEEDED_BYTES
+    {
         return Some(format!(
             "memory not locked: the memlock limit is {} MiB, too small to lock safely; raise it with 'ulimit -l unlimited', a memlock line in /etc/security/limits.conf, or LimitMEMLOCK=infinity in the systemd unit",
             limit.rlim_cur >> 20

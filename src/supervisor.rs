@@ -150,6 +150,9 @@ impl Supervisor {
     /// Act on a request from another thread; the answer says why not, if not.
     pub fn handle(&mut self, request: Request) -> Result<(), Refusal> {
         let st = &self.status;
+        if st.tick == 0 {
+            return Err(Refusal::NotStarted);
+        }
         match request {
             Request::PowerUp => {
                 if let Some(cause) = self.checks.standing_cause(&st.inputs) {
