@@ -8,6 +8,8 @@
 //! checked with a voltmeter on the real robot.
 
 pub mod camproto;
+pub mod pci;
+pub mod port;
 pub mod sim;
 
 /// Every input of the robot, read once per supervisor tick.
