@@ -8,8 +8,12 @@
 //! checked with a voltmeter on the real robot.
 
 pub mod camproto;
+pub mod das08;
+pub mod dda06;
+pub mod emulated;
 pub mod pci;
 pub mod port;
+pub mod quad04;
 pub mod sim;
 
 /// Every input of the robot, read once per supervisor tick.
