@@ -8,6 +8,7 @@
 //! checked with a voltmeter on the real robot.
 
 pub mod camproto;
+pub mod cards;
 pub mod das08;
 pub mod dda06;
 pub mod emulated;

@@ -15,6 +15,7 @@
 mod das08;
 mod dda06;
 mod quad04;
+mod rig;
 
 use std::io;
 use std::sync::{Mutex, MutexGuard};
@@ -22,6 +23,7 @@ use std::sync::{Mutex, MutexGuard};
 pub use das08::EmulatedDas08;
 pub use dda06::EmulatedDda06;
 pub use quad04::EmulatedQuad04;
+pub use rig::CardRig;
 
 /// Lock a card's registers. A panic elsewhere cannot leave plain register values
 /// half-written in a harmful way, so a poisoned lock is taken as it is.
