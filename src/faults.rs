@@ -33,7 +33,7 @@ pub enum FaultCause {
     CameraLinkLost { silent_s: f64 },
     CameraSeesNoRow { for_s: f64 },
     SteerThreadSilent { for_s: f64 },
-    Hardware,
+    Hardware { card: &'static str },
 }
 
 fn side_name(side: Side) -> &'static str {
@@ -106,7 +106,7 @@ impl fmt::Display for FaultCause {
             FaultCause::SteerThreadSilent { for_s } => {
                 write!(f, "steer thread stopped: no command for {for_s:.2} s")
             }
-            FaultCause::Hardware => write!(f, "hardware stopped answering"),
+            FaultCause::Hardware { card } => write!(f, "I/O card {card} stopped answering"),
         }
     }
 }

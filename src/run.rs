@@ -113,12 +113,12 @@ impl SupervisorThread {
                 Ok(inputs) => core.tick(now_s, &inputs, &steer.snapshot(), &link.snapshot()),
                 Err(e) => {
                     tracing::error!("{e}");
-                    core.hardware_failed(now_s)
+                    core.hardware_failed(now_s, e.card())
                 }
             };
             if let Err(e) = hw.0.write(&outputs) {
                 tracing::error!("{e}");
-                core.hardware_failed(now_s);
+                core.hardware_failed(now_s, e.card());
             }
             status.publish(core.status());
             periodic.done();

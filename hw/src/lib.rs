@@ -105,10 +105,21 @@ pub enum HwError {
     Open(String),
 }
 
+impl HwError {
+    /// The part that failed, for the fault's cause.
+    pub fn card(&self) -> &'static str {
+        match self {
+            HwError::CardNotAnswering { card, .. } => card,
+            HwError::Open(_) => "hardware",
+        }
+    }
+}
+
 /// The robot's inputs and outputs, as the supervisor thread sees them.
 ///
 /// Implementations do no heap allocation in `read` and `write` after start, so that
-/// the supervisor tick stays allocation-free.
+/// the supervisor tick stays allocation-free. A `write` that fails leaves the safe
+/// outputs on whatever still answers.
 pub trait Hw: Send {
     /// Read every input once.
     fn read(&mut self) -> Result<Inputs, HwError>;
