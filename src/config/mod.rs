@@ -2,6 +2,7 @@
 //! and its unit; there are no hidden defaults in the code, so what the file says is
 //! what the robot does. Errors name the file, line, section and key.
 
+mod io;
 mod reader;
 mod sim;
 
@@ -26,6 +27,7 @@ const SECTIONS: &[&str] = &[
     "joystick",
     "camera",
     "hw",
+    "io",
     "sim",
 ];
 
@@ -124,6 +126,8 @@ pub struct CameraSettings {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Backend {
     Sim,
+    /// The robot's three I/O cards, wired as [io] says.
+    Cards,
 }
 
 /// Everything in robot.ini, typed.
@@ -139,6 +143,10 @@ pub struct Settings {
     pub joystick: JoystickSettings,
     pub camera: CameraSettings,
     pub backend: Backend,
+    /// Where the I/O cards are and how they are set ([hw]).
+    pub cards: mechweed_hw::cards::CardsSettings,
+    /// How the robot is wired to the cards ([io]).
+    pub io: mechweed_hw::wiring::Wiring,
     pub sim: mechweed_hw::sim::SimParams,
 }
 
@@ -178,7 +186,9 @@ impl Settings {
             steer: steer(&mut r),
             joystick: joystick(&mut r),
             camera: camera(&mut r),
-            backend: [Backend::Sim][r.choice("hw", "backend", &["sim"])],
+            backend: [Backend::Sim, Backend::Cards][r.choice("hw", "backend", &["sim", "cards"])],
+            cards: io::cards(&mut r),
+            io: io::wiring(&mut r),
             sim: sim::load(&mut r),
         };
         let errors = r.finish(SECTIONS);
