@@ -24,6 +24,10 @@ const MUX_BITS: u8 = 0x07;
 const VOLTS_PER_CODE: f64 = 10.0 / 4096.0;
 /// The code of 0 V (offset binary: 0 is -5 V).
 const ZERO_CODE: f64 = 2048.0;
+/// Status reads before a conversion may be declared stuck, whatever the clock says: a
+/// thread preempted while it waits must not blame the card. A read takes about 1 us,
+/// so on a running thread the time-out decides.
+const MIN_POLLS: u32 = 16;
 
 pub struct Das08 {
     port: Box<dyn PortIo>,
@@ -127,15 +131,17 @@ impl Das08 {
             .write_u8(DATA_HIGH, 0)
             .map_err(|e| failed(format!("starting a conversion: {e}")))?;
         let deadline = Instant::now() + self.eoc_timeout;
+        let mut polls = 0;
         loop {
             // Look at the clock before reading, so that a pause between the two (the
-            // thread preempted) still leaves one more read after the deadline.
+            // thread preempted) still leaves a read after the deadline.
             let expired = Instant::now() >= deadline;
             let status = self.read_status()?;
+            polls += 1;
             if status & EOC_BUSY == 0 {
                 break;
             }
-            if expired {
+            if expired && polls >= MIN_POLLS {
                 return Err(failed(format!(
                     "its A/D did not finish a conversion of channel {channel} within {} us \
                      (status {status:#04x})",
