@@ -4,6 +4,7 @@
 //! the steer thread (steer/), the camera link (camlink/); run.rs starts them on real
 //! time, lockstep.rs runs the same tick functions on simulated time.
 
+pub mod backend;
 pub mod bench_rows;
 pub mod camlink;
 pub mod config;

@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use clap::{Parser, Subcommand, ValueEnum};
 
 use mechweed::bench_rows;
-use mechweed::config::{ConfigError, DEFAULT_INI, Settings};
+use mechweed::config::{Backend, ConfigError, DEFAULT_INI, Settings};
 use mechweed::modes::Mode;
 use mechweed::report::Report;
 use mechweed::run::{RunOptions, run};
@@ -131,19 +131,28 @@ fn run_command(args: RunArgs) -> ExitCode {
         StartMode::Joystick => Mode::Joystick,
         StartMode::Autonomous => Mode::Autonomous,
     };
-    println!(
-        "mechweed on the simulated robot: {} row, {} m/s, seed {}; start mode {start_mode}",
-        bench_rows::row_name(settings.sim.row),
-        settings.steer.speed_mps,
-        settings.sim.seed
-    );
+    match settings.backend {
+        Backend::Sim => println!(
+            "mechweed on the simulated robot: {} row, {} m/s, seed {}; start mode {start_mode}",
+            bench_rows::row_name(settings.sim.row),
+            settings.steer.speed_mps,
+            settings.sim.seed
+        ),
+        Backend::Cards => println!("mechweed on the I/O cards; start mode {start_mode}"),
+    }
     let options = RunOptions {
         settings,
         start_mode,
         duration_s: args.duration,
         status_every_s: 5.0,
     };
-    let outcome = run(&options, stop);
+    let outcome = match run(&options, stop) {
+        Ok(outcome) => outcome,
+        Err(why) => {
+            eprintln!("cannot start: {why}");
+            return ExitCode::FAILURE;
+        }
+    };
     let report = Report::from_run(&outcome);
     print!("{}", report.human());
     if let Some(path) = args.report {

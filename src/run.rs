@@ -8,11 +8,11 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use crossbeam_channel::{Receiver, Sender, bounded, select};
-use mechweed_hw::sim::{CrossTrackSummary, PipeEnd, SimHw, SimRobot, byte_pipe};
+use mechweed_hw::sim::{CrossTrackSummary, PipeEnd, SimHw, SimRobot, TruthHandle, byte_pipe};
 use mechweed_hw::{Hw, Outputs};
 
 use crate::camlink::{LinkCore, LinkStatus};
-use crate::config::Settings;
+use crate::config::{Backend, Settings};
 use crate::console;
 use crate::modes::{Mode, Refusal, Request};
 use crate::rt::{LoopSummary, Periodic};
@@ -215,12 +215,20 @@ fn spawn<T: Send + 'static>(name: &str, f: impl FnOnce() -> T + Send + 'static) 
         .unwrap_or_else(|e| panic!("cannot start the {name} thread: {e}"))
 }
 
-/// Run the controller on the simulated robot until `duration_s` or until `stop` is set.
-pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> RunOutcome {
+/// Run the controller until `duration_s` or until `stop` is set; an error if the
+/// hardware cannot be opened (nothing has started then).
+pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, String> {
     let s = &opts.settings;
     let (camera_end, robot_end) = byte_pipe(4096);
-    let sim = SimHw::new(SimRobot::new(&s.sim, camera_end));
-    let truth = sim.truth_handle();
+    let (hw, truth): (Box<dyn Hw>, TruthHandle) = match s.backend {
+        Backend::Sim => {
+            let sim = SimHw::new(SimRobot::new(&s.sim, camera_end));
+            let truth = sim.truth_handle();
+            (Box::new(sim), truth)
+        }
+        // No simulated camera computer and no truth on the real robot.
+        Backend::Cards => (crate::backend::open_hw(s)?, TruthHandle::none()),
+    };
     let clock = Instant::now();
 
     let (status_w, status_r) = shared(Status::default());
@@ -234,7 +242,7 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> RunOutcome {
     };
 
     let supervisor = SupervisorThread {
-        hw: Box::new(sim),
+        hw,
         core: Supervisor::new(s),
         rate_hz: s.supervisor.rate_hz,
         clock,
@@ -293,7 +301,7 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> RunOutcome {
     if !link_ok {
         tracing::error!("the camera link thread panicked");
     }
-    RunOutcome {
+    Ok(RunOutcome {
         final_status: *supervisor.status(),
         faults: supervisor.fault_log.clone(),
         notices: supervisor.notice_log.clone(),
@@ -301,5 +309,5 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> RunOutcome {
         steer_loop,
         link: link_r.snapshot(),
         cross_track: truth.cross_track().summary(),
-    }
+    })
 }

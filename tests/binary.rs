@@ -128,3 +128,34 @@ fn check_config_says_ok_or_lists_every_error() {
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("cannot read the settings file"));
 }
+
+/// True if this computer has any Measurement Computing card (then the tests below,
+/// written for a machine without them, do not apply).
+fn has_mcc_cards() -> bool {
+    std::fs::read_dir("/sys/bus/pci/devices").is_ok_and(|dir| {
+        dir.flatten().any(|d| {
+            std::fs::read_to_string(d.path().join("vendor")).is_ok_and(|v| v.trim() == "0x1307")
+        })
+    })
+}
+
+#[test]
+fn run_on_the_cards_without_them_refuses_to_start() {
+    if has_mcc_cards() {
+        return;
+    }
+    let out = mechweed()
+        .args([
+            "run",
+            "--headless",
+            "--duration",
+            "1",
+            "--set",
+            "hw.backend=cards",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("cannot start: no PCI-DAS08"), "{stderr}");
+}
