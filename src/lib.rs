@@ -15,6 +15,7 @@ pub mod measure;
 pub mod modes;
 pub mod operator;
 pub mod pid;
+pub mod probe;
 pub mod report;
 pub mod rt;
 pub mod run;

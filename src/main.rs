@@ -37,6 +37,15 @@ enum Command {
     /// Benchmarks on the simulated robot.
     #[command(subcommand)]
     Bench(BenchCommand),
+    /// Find the I/O cards and read every input once (writes nothing but safe outputs).
+    Probe {
+        /// Also print the cards' registers.
+        #[arg(long)]
+        raw: bool,
+        /// Settings file (card locations, wiring) [default: config/robot.ini, or the built-in copy]
+        #[arg(long)]
+        config: Option<PathBuf>,
+    },
 }
 
 #[derive(clap::Args, Default)]
@@ -209,6 +218,26 @@ fn bench(command: BenchCommand) -> ExitCode {
     ExitCode::SUCCESS
 }
 
+fn probe(raw: bool, config: Option<PathBuf>) -> ExitCode {
+    let settings = match load_settings(config.as_deref(), &[]) {
+        Ok(s) => s,
+        Err(errors) => {
+            print_errors(&errors);
+            return ExitCode::FAILURE;
+        }
+    };
+    match mechweed::probe::probe(&settings, raw) {
+        Ok(text) => {
+            print!("{text}");
+            ExitCode::SUCCESS
+        }
+        Err(why) => {
+            eprintln!("{why}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
 fn main() -> ExitCode {
     tracing_subscriber::fmt()
         .with_writer(std::io::stderr)
@@ -220,5 +249,6 @@ fn main() -> ExitCode {
         Some(Command::Run(args)) => run_command(args),
         Some(Command::CheckConfig { file }) => check_config(file),
         Some(Command::Bench(b)) => bench(b),
+        Some(Command::Probe { raw, config }) => probe(raw, config),
     }
 }

@@ -140,6 +140,27 @@ fn has_mcc_cards() -> bool {
 }
 
 #[test]
+fn probe_on_a_computer_without_the_cards_says_so_and_fails() {
+    if has_mcc_cards() {
+        return;
+    }
+    let out = mechweed().arg("probe").output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("the robot's I/O cards are not usable on this computer"),
+        "{stderr}"
+    );
+    for card in ["PCI-DAS08", "PCIM-DDA06/16", "PCI-QUAD04"] {
+        assert!(
+            stderr.contains(&format!("no {card} (PCI id 1307:")),
+            "{stderr}"
+        );
+    }
+    assert!(out.stdout.is_empty(), "nothing read, nothing printed");
+}
+
+#[test]
 fn run_on_the_cards_without_them_refuses_to_start() {
     if has_mcc_cards() {
         return;
