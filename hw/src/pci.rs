@@ -10,7 +10,7 @@
 use std::io;
 use std::path::{Path, PathBuf};
 
-use crate::port::{DevPort, PortIo, SysfsBar};
+use crate::port::{DevPort, PortIo, SysfsBar, kernel_locked_down};
 
 /// Measurement Computing's PCI vendor id.
 pub const VENDOR_MCC: u16 = 0x1307;
@@ -202,13 +202,6 @@ pub fn find(root: &Path, kind: CardKind, location: &CardLocation) -> Result<Foun
         dir,
         bar_ports,
     })
-}
-
-/// True if the kernel is in lockdown (secure boot), which refuses all port access.
-fn kernel_locked_down() -> bool {
-    std::fs::read_to_string("/sys/kernel/security/lockdown")
-        .map(|text| !text.contains("[none]"))
-        .unwrap_or(false)
 }
 
 /// Turn an open or access error into advice a person can act on.

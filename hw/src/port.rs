@@ -31,6 +31,28 @@ fn outside(offset: u16, len: u16) -> io::Error {
     )
 }
 
+/// True if the kernel is in lockdown (secure boot), which refuses all port access.
+pub fn kernel_locked_down() -> bool {
+    std::fs::read_to_string("/sys/kernel/security/lockdown")
+        .map(|text| !text.contains("[none]"))
+        .unwrap_or(false)
+}
+
+/// A refused access says why, if the kernel's lockdown is the reason: a locked-down
+/// kernel lets the sysfs file open and refuses the first write.
+fn refused(path: &Path, e: io::Error) -> io::Error {
+    if e.kind() != io::ErrorKind::PermissionDenied {
+        return e;
+    }
+    let why = if kernel_locked_down() {
+        "the kernel is in lockdown (secure boot), which refuses all I/O-port access: \
+         switch secure boot off in the firmware setup"
+    } else {
+        "the kernel refused the port access"
+    };
+    io::Error::new(e.kind(), format!("{}: {e}: {why}", path.display()))
+}
+
 /// A file whose byte at `base + offset` is the card's register at `offset`.
 struct ByteFile {
     file: File,
@@ -45,10 +67,8 @@ impl ByteFile {
             return Err(outside(offset, self.len));
         }
         let mut byte = [0u8; 1];
-        match self
-            .file
-            .read_at(&mut byte, self.base + u64::from(offset))?
-        {
+        let read = self.file.read_at(&mut byte, self.base + u64::from(offset));
+        match read.map_err(|e| refused(&self.path, e))? {
             1 => Ok(byte[0]),
             _ => Err(io::Error::new(
                 io::ErrorKind::UnexpectedEof,
@@ -61,10 +81,8 @@ impl ByteFile {
         if offset >= self.len {
             return Err(outside(offset, self.len));
         }
-        match self
-            .file
-            .write_at(&[value], self.base + u64::from(offset))?
-        {
+        let written = self.file.write_at(&[value], self.base + u64::from(offset));
+        match written.map_err(|e| refused(&self.path, e))? {
             1 => Ok(()),
             _ => Err(io::Error::new(
                 io::ErrorKind::WriteZero,
@@ -241,6 +259,25 @@ mod tests {
         };
         assert_eq!(err.kind(), io::ErrorKind::ResourceBusy);
         assert!(err.to_string().contains("in use by another program"));
+    }
+
+    #[test]
+    fn a_refused_access_says_the_kernel_refused_it() {
+        let path = Path::new("/sys/bus/pci/devices/0000:03:00.0/resource2");
+        let e = refused(path, io::Error::from(io::ErrorKind::PermissionDenied));
+        let text = e.to_string();
+        assert!(
+            text.starts_with("/sys/bus/pci/devices/0000:03:00.0/resource2: "),
+            "{text}"
+        );
+        let why = if kernel_locked_down() {
+            "lockdown"
+        } else {
+            "the kernel refused"
+        };
+        assert!(text.contains(why), "{text}");
+        let other = refused(path, io::Error::from(io::ErrorKind::NotFound));
+        assert_eq!(other.kind(), io::ErrorKind::NotFound);
     }
 
     #[test]
