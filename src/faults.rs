@@ -36,7 +36,7 @@ pub enum FaultCause {
     ThreadStopped { thread: ThreadName, for_s: f64 },
     ThreadPanicked { thread: ThreadName },
     Overruns { count: u32, window_s: f64 },
-    Hardware,
+    Hardware { card: &'static str },
 }
 
 fn side_name(side: Side) -> &'static str {
@@ -124,7 +124,7 @@ impl fmt::Display for FaultCause {
                 f,
                 "the supervisor missed {count} deadlines within {window_s:.0} s: the computer is overloaded"
             ),
-            FaultCause::Hardware => write!(f, "hardware stopped answering"),
+            FaultCause::Hardware { card } => write!(f, "I/O card {card} stopped answering"),
         }
     }
 }

@@ -4,6 +4,7 @@
 //! the steer thread (steer/), the camera link (camlink/); run.rs starts them on real
 //! time, lockstep.rs runs the same tick functions on simulated time.
 
+pub mod backend;
 pub mod bench_loop;
 pub mod bench_rows;
 pub mod camlink;
@@ -18,6 +19,7 @@ pub mod measure;
 pub mod modes;
 pub mod operator;
 pub mod pid;
+pub mod probe;
 pub mod report;
 pub mod rt;
 pub mod run;

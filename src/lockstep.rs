@@ -6,9 +6,14 @@
 //! camera computer go through the real decoder, the steer tick runs on a new estimate
 //! or at its rate, command bytes go back; at the supervisor's rate the supervisor
 //! reads the plant's inputs, ticks, and writes its outputs into the plant.
+//!
+//! The supervisor reaches the plant directly ([`Io::Direct`]), or through emulated I/O
+//! cards and the real card drivers and wiring ([`Io::Cards`]): the whole path of the
+//! real robot except the wires.
 
-use mechweed_hw::Outputs;
+use mechweed_hw::emulated::CardRig;
 use mechweed_hw::sim::{PipeEnd, SimRobot, byte_pipe};
+use mechweed_hw::{Hw, HwError, Outputs};
 
 use crate::camlink::LinkCore;
 use crate::config::Settings;
@@ -21,8 +26,25 @@ use crate::supervisor::Supervisor;
 /// Simulated time advances in steps of this, us (also the camera link's poll interval).
 const STEP_US: u64 = 1000;
 
+/// How the supervisor's inputs and outputs travel between it and the plant.
+pub enum Io {
+    /// The plant's signals are the supervisor's inputs and outputs.
+    Direct,
+    /// Plant -> emulated card registers -> drivers -> wiring -> supervisor, and back.
+    Cards(Box<CardRig>),
+}
+
+impl Io {
+    /// Emulated cards set up and wired as `settings` says ([hw], [io]).
+    pub fn cards(settings: &Settings) -> Result<Io, HwError> {
+        let rig = CardRig::new(&settings.cards, &settings.io)?;
+        Ok(Io::Cards(Box::new(rig)))
+    }
+}
+
 pub struct Lockstep {
     pub robot: SimRobot,
+    pub io: Io,
     pipe: PipeEnd,
     pub supervisor: Supervisor,
     pub steer: SteerCore,
@@ -41,9 +63,15 @@ impl Lockstep {
     /// A simulated robot at the row start with the controller beside it; the operator
     /// script pursues `start_mode` and the operator actions of [sim] events.
     pub fn new(settings: &Settings, start_mode: Mode) -> Lockstep {
+        Lockstep::with_io(settings, start_mode, Io::Direct)
+    }
+
+    /// The same, with the supervisor reaching the plant through `io`.
+    pub fn with_io(settings: &Settings, start_mode: Mode, io: Io) -> Lockstep {
         let (camera_end, robot_end) = byte_pipe(4096);
         Lockstep {
             robot: SimRobot::new(&settings.sim, camera_end),
+            io,
             pipe: robot_end,
             supervisor: Supervisor::new(settings),
             steer: SteerCore::new(settings),
@@ -105,18 +133,31 @@ impl Lockstep {
             // A refused request is what a person would see greyed out; the status shows why.
             let _ = self.supervisor.handle(request);
         }
-        let inputs = self.robot.inputs();
+        let (steer, link) = (&self.steer_command, self.link.status());
         // In lockstep every "thread" is a function call: none can stall or panic unseen.
         let health = ThreadHealth::default();
-        let outputs = self.supervisor.tick(
-            now,
-            &inputs,
-            &self.steer_command,
-            self.link.status(),
-            &health,
-        );
-        self.robot.set_outputs(&outputs);
-        outputs
+        match &mut self.io {
+            Io::Direct => {
+                let outputs = self
+                    .supervisor
+                    .tick(now, &self.robot.inputs(), steer, link, &health);
+                self.robot.set_outputs(&outputs);
+                outputs
+            }
+            Io::Cards(rig) => {
+                // As run.rs's supervisor thread does with its Hw.
+                rig.set_wires(&self.robot.inputs());
+                let mut outputs = match rig.hw.read() {
+                    Ok(inputs) => self.supervisor.tick(now, &inputs, steer, link, &health),
+                    Err(e) => self.supervisor.hardware_failed(now, e.card()),
+                };
+                if let Err(e) = rig.hw.write(&outputs) {
+                    outputs = self.supervisor.hardware_failed(now, e.card());
+                }
+                self.robot.set_outputs(&rig.plant_outputs());
+                outputs
+            }
+        }
     }
 
     /// Run supervisor ticks for `seconds` of simulated time.

@@ -10,7 +10,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use mechweed::bench_rows;
 use mechweed::camlink::transport::BAUD_RATES;
 use mechweed::camsim::Pattern;
-use mechweed::config::{ConfigError, DEFAULT_INI, Settings};
+use mechweed::config::{Backend, ConfigError, DEFAULT_INI, Settings};
 use mechweed::modes::Mode;
 use mechweed::report::Report;
 use mechweed::run::{RunOptions, run};
@@ -41,6 +41,15 @@ enum Command {
     Bench(BenchCommand),
     /// A stand-alone simulated camera computer, for bench tests of a link.
     Camsim(CamsimArgs),
+    /// Find the I/O cards and read every input once (writes nothing but safe outputs).
+    Probe {
+        /// Also print the cards' registers.
+        #[arg(long)]
+        raw: bool,
+        /// Settings file (card locations, wiring) [default: config/robot.ini, or the built-in copy]
+        #[arg(long)]
+        config: Option<PathBuf>,
+    },
 }
 
 #[derive(clap::Args)]
@@ -192,12 +201,15 @@ fn run_command(args: RunArgs) -> ExitCode {
         StartMode::Joystick => Mode::Joystick,
         StartMode::Autonomous => Mode::Autonomous,
     };
-    println!(
-        "mechweed on the simulated robot: {} row, {} m/s, seed {}; start mode {start_mode}",
-        bench_rows::row_name(settings.sim.row),
-        settings.steer.speed_mps,
-        settings.sim.seed
-    );
+    match settings.backend {
+        Backend::Sim => println!(
+            "mechweed on the simulated robot: {} row, {} m/s, seed {}; start mode {start_mode}",
+            bench_rows::row_name(settings.sim.row),
+            settings.steer.speed_mps,
+            settings.sim.seed
+        ),
+        Backend::Cards => println!("mechweed on the I/O cards; start mode {start_mode}"),
+    }
     let options = RunOptions {
         settings,
         start_mode,
@@ -208,7 +220,7 @@ fn run_command(args: RunArgs) -> ExitCode {
     let outcome = match run(&options, stop) {
         Ok(outcome) => outcome,
         Err(why) => {
-            eprintln!("{why}");
+            eprintln!("cannot start: {why}");
             return ExitCode::FAILURE;
         }
     };
@@ -320,6 +332,26 @@ fn camsim(args: CamsimArgs) -> ExitCode {
     }
 }
 
+fn probe(raw: bool, config: Option<PathBuf>) -> ExitCode {
+    let settings = match load_settings(config.as_deref(), &[]) {
+        Ok(s) => s,
+        Err(errors) => {
+            print_errors(&errors);
+            return ExitCode::FAILURE;
+        }
+    };
+    match mechweed::probe::probe(&settings, raw) {
+        Ok(text) => {
+            print!("{text}");
+            ExitCode::SUCCESS
+        }
+        Err(why) => {
+            eprintln!("{why}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
 fn main() -> ExitCode {
     use std::io::IsTerminal;
     tracing_subscriber::fmt()
@@ -334,5 +366,6 @@ fn main() -> ExitCode {
         Some(Command::CheckConfig { file }) => check_config(file),
         Some(Command::Bench(b)) => bench(b),
         Some(Command::Camsim(args)) => camsim(args),
+        Some(Command::Probe { raw, config }) => probe(raw, config),
     }
 }

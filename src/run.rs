@@ -14,7 +14,7 @@ use mechweed_hw::{Hw, Outputs};
 use crate::camlink::thread::LinkThread;
 use crate::camlink::transport::CameraPort;
 use crate::camlink::{LinkCore, LinkStatus, simwire};
-use crate::config::{RtSettings, Settings};
+use crate::config::{Backend, RtSettings, Settings};
 use crate::console;
 use crate::health::{self, PanicFlag, ThreadHealth, ThreadName};
 use crate::modes::{Mode, Refusal, Request};
@@ -187,12 +187,12 @@ impl SupervisorThread {
                 Ok(inputs) => core.tick(now_s, &inputs, &steer_now, &link_now, &health),
                 Err(e) => {
                     tracing::error!("{e}");
-                    core.hardware_failed(now_s)
+                    core.hardware_failed(now_s, e.card())
                 }
             };
             if let Err(e) = hw.0.write(&outputs) {
                 tracing::error!("{e}");
-                core.hardware_failed(now_s);
+                core.hardware_failed(now_s, e.card());
                 let _ = hw.0.write(&Outputs::SAFE);
             }
             if health.panicked.is_some() && core.status().outputs.is_safe() {
@@ -305,22 +305,33 @@ fn spawn<T: Send + 'static>(name: &str, f: impl FnOnce() -> T + Send + 'static) 
         .unwrap_or_else(|e| panic!("cannot start the {name} thread: {e}"))
 }
 
-/// Run the controller on the simulated robot until `duration_s` or until `stop` is set.
+/// Run the controller until `duration_s` or until `stop` is set; an error if the
+/// hardware or the camera port cannot be set up (nothing has started then).
 pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, String> {
     let s = &opts.settings;
     let (camera_end, robot_end) = byte_pipe(4096);
-    let sim = SimHw::new(SimRobot::new(&s.sim, camera_end));
-    let truth = sim.truth_handle();
+    let (hw, truth): (Box<dyn Hw>, TruthHandle) = match s.backend {
+        Backend::Sim => {
+            let sim = SimHw::new(SimRobot::new(&s.sim, camera_end));
+            let truth = sim.truth_handle();
+            (Box::new(sim), truth)
+        }
+        // No simulated camera computer and no truth on the real robot.
+        Backend::Cards => (crate::backend::open_hw(s)?, TruthHandle::none()),
+    };
     // The simulated camera computer speaks through a pseudo-terminal, unless robot.ini
     // names a real port: then it stays unplugged and the port's camera computer is used.
-    let (camera_port, cable) = match &s.camera_port {
-        CameraPort::Sim => {
+    let (camera_port, cable) = match (&s.camera_port, s.backend) {
+        (CameraPort::Sim, Backend::Sim) => {
             let (path, cable) = simwire::start(robot_end, stop.clone()).map_err(|e| {
                 format!("cannot make a pseudo-terminal for the simulated camera computer: {e}")
             })?;
             (CameraPort::Serial { path, baud: 115200 }, Some(cable))
         }
-        port => (port.clone(), None),
+        (CameraPort::Sim, Backend::Cards) => {
+            return Err("[camera] port = sim needs the simulated robot: set [camera] port to the camera computer's serial device (e.g. /dev/ttyS0) or tcp://HOST:PORT".to_string());
+        }
+        (port, _) => (port.clone(), None),
     };
     let clock = Instant::now();
     let rt_warnings = rt_setup(&s.rt);
@@ -348,7 +359,7 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
     };
 
     let supervisor = SupervisorThread {
-        hw: Box::new(sim),
+        hw,
         core: Supervisor::new(s),
         rate_hz: s.supervisor.rate_hz,
         clock,

@@ -172,7 +172,8 @@ impl Supervisor {
             }
             Request::Mode(Mode::Fault) => Err(Refusal::FaultIsNotAMode),
             Request::Mode(_) if st.mode == Mode::Fault => Err(Refusal::FaultLatched(
-                st.fault.map_or(FaultCause::Hardware, |f| f.cause),
+                st.fault
+                    .map_or(FaultCause::Hardware { card: "?" }, |f| f.cause),
             )),
             Request::Mode(Mode::Halt) => {
                 self.set_mode(Mode::Halt);
@@ -258,12 +259,13 @@ impl Supervisor {
         self.set_mode(Mode::Fault);
     }
 
-    /// The hardware could not be read or written: fault now, safe outputs.
-    pub fn hardware_failed(&mut self, now_s: f64) -> Outputs {
+    /// The hardware (`card`, by name) could not be read or written: fault now, safe
+    /// outputs.
+    pub fn hardware_failed(&mut self, now_s: f64, card: &'static str) -> Outputs {
         self.status.t_s = now_s;
         self.status.tick += 1;
         if self.status.mode != Mode::Fault {
-            self.enter_fault(FaultCause::Hardware);
+            self.enter_fault(FaultCause::Hardware { card });
         }
         self.status.outputs = Outputs::SAFE;
         Outputs::SAFE

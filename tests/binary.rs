@@ -180,3 +180,55 @@ fn camsim_serves_a_robot_computer_over_tcp() {
         assert!(printed.contains(expected), "{printed}");
     }
 }
+
+/// True if this computer has any Measurement Computing card (then the tests below,
+/// written for a machine without them, do not apply).
+fn has_mcc_cards() -> bool {
+    std::fs::read_dir("/sys/bus/pci/devices").is_ok_and(|dir| {
+        dir.flatten().any(|d| {
+            std::fs::read_to_string(d.path().join("vendor")).is_ok_and(|v| v.trim() == "0x1307")
+        })
+    })
+}
+
+#[test]
+fn probe_on_a_computer_without_the_cards_says_so_and_fails() {
+    if has_mcc_cards() {
+        return;
+    }
+    let out = mechweed().arg("probe").output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("the robot's I/O cards are not usable on this computer"),
+        "{stderr}"
+    );
+    for card in ["PCI-DAS08", "PCIM-DDA06/16", "PCI-QUAD04"] {
+        assert!(
+            stderr.contains(&format!("no {card} (PCI id 1307:")),
+            "{stderr}"
+        );
+    }
+    assert!(out.stdout.is_empty(), "nothing read, nothing printed");
+}
+
+#[test]
+fn run_on_the_cards_without_them_refuses_to_start() {
+    if has_mcc_cards() {
+        return;
+    }
+    let out = mechweed()
+        .args([
+            "run",
+            "--headless",
+            "--duration",
+            "1",
+            "--set",
+            "hw.backend=cards",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("cannot start: no PCI-DAS08"), "{stderr}");
+}

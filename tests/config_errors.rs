@@ -135,3 +135,89 @@ fn every_error_is_reported_at_once() {
         .replace("[hw]", "[hardware]");
     assert!(errors(&text, &[]).len() >= 4, "{:?}", errors(&text, &[]));
 }
+
+#[test]
+fn the_shipped_wiring_is_io_cards_md() {
+    use mechweed_hw::pci::CardLocation;
+    let s = Settings::parse("robot.ini", SHIPPED, &["hw.backend=cards".to_string()]).unwrap();
+    assert_eq!(s.backend, mechweed::config::Backend::Cards);
+    assert_eq!(s.cards.das08, CardLocation::PciAuto);
+    assert_eq!((s.io.battery_v.channel, s.io.battery_v.scale), (3, 10.0));
+    assert_eq!(s.io.enc_steer_counts.channel, 3);
+    assert_eq!(s.cards.dda06_ranges[0].name(), "+-10");
+}
+
+#[test]
+fn two_signals_on_one_channel_name_the_second_key_and_its_line() {
+    let (text, line) = with_line(
+        "joystick_speed_v = das08 ai 2, scale 1",
+        "joystick_speed_v = das08 ai 0, scale 1",
+    );
+    assert_eq!(
+        errors(&text, &[]),
+        vec![format!(
+            "robot.ini line {line}: [io] joystick_speed_v: das08 ai 0 is already wired to pot_v"
+        )]
+    );
+}
+
+#[test]
+fn a_channel_the_card_does_not_have_names_the_key() {
+    let (text, line) = with_line(
+        "tool_on = das08 op 4, active high",
+        "tool_on = das08 op 5, active high",
+    );
+    assert_eq!(
+        errors(&text, &[]),
+        vec![format!(
+            "robot.ini line {line}: [io] tool_on: das08 output op 5 does not exist: the card has 1..4"
+        )]
+    );
+    let errs = errors(SHIPPED, &["io.amp_left_v=das08 ai 5, scale 1"]);
+    assert_eq!(errs.len(), 1, "{errs:?}");
+    assert!(errs[0].starts_with(
+        "--set io.amp_left_v=das08 ai 5, scale 1: [io] amp_left_v: das08 ai 5 cannot carry"
+    ));
+}
+
+#[test]
+fn each_card_is_found_one_way() {
+    use mechweed_hw::pci::CardLocation;
+    let set = [
+        "hw.quad04_pci=none",
+        "hw.quad04_port_base=0xE000",
+        "hw.dda06_pci=0000:03:00.0",
+    ];
+    let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+    let s = Settings::parse("robot.ini", SHIPPED, &set).unwrap();
+    assert_eq!(s.cards.quad04, CardLocation::PortBase(0xE000));
+    assert_eq!(
+        s.cards.dda06,
+        CardLocation::PciAddress("0000:03:00.0".into())
+    );
+
+    let both = errors(SHIPPED, &["hw.das08_port_base=0xe000"]);
+    assert_eq!(both.len(), 1, "{both:?}");
+    assert!(both[0].contains("[hw] das08_pci: set das08_pci = none to use das08_port_base"));
+    let neither = errors(SHIPPED, &["hw.das08_pci=none"]);
+    assert!(neither[0].contains("set das08_pci (auto or an address) or das08_port_base"));
+    let bad = errors(SHIPPED, &["hw.das08_pci=3:0.0"]);
+    assert!(
+        bad[0].contains("is not a PCI address like 0000:03:00.0"),
+        "{bad:?}"
+    );
+}
+
+#[test]
+fn dac_ranges_are_six_known_ranges() {
+    let few = errors(SHIPPED, &["hw.dda06_ranges_v=+-10, +-10"]);
+    assert!(
+        few[0].contains("[hw] dda06_ranges_v: needs six ranges"),
+        "{few:?}"
+    );
+    let odd = errors(
+        SHIPPED,
+        &["hw.dda06_ranges_v=+-10, +-10, +-10, +-5, +-5, 0..20"],
+    );
+    assert!(odd[0].contains("AO5: '0..20' is not one of"), "{odd:?}");
+}

@@ -8,7 +8,15 @@
 //! checked with a voltmeter on the real robot.
 
 pub mod camproto;
+pub mod cards;
+pub mod das08;
+pub mod dda06;
+pub mod emulated;
+pub mod pci;
+pub mod port;
+pub mod quad04;
 pub mod sim;
+pub mod wiring;
 
 /// Every input of the robot, read once per supervisor tick.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -97,10 +105,21 @@ pub enum HwError {
     Open(String),
 }
 
+impl HwError {
+    /// The part that failed, for the fault's cause.
+    pub fn card(&self) -> &'static str {
+        match self {
+            HwError::CardNotAnswering { card, .. } => card,
+            HwError::Open(_) => "hardware",
+        }
+    }
+}
+
 /// The robot's inputs and outputs, as the supervisor thread sees them.
 ///
 /// Implementations do no heap allocation in `read` and `write` after start, so that
-/// the supervisor tick stays allocation-free.
+/// the supervisor tick stays allocation-free. A `write` that fails leaves the safe
+/// outputs on whatever still answers.
 pub trait Hw: Send {
     /// Read every input once.
     fn read(&mut self) -> Result<Inputs, HwError>;

@@ -2,6 +2,7 @@
 //! and its unit; there are no hidden defaults in the code, so what the file says is
 //! what the robot does. Errors name the file, line, section and key.
 
+mod io;
 mod reader;
 mod sim;
 
@@ -29,6 +30,7 @@ const SECTIONS: &[&str] = &[
     "camera",
     "hw",
     "rt",
+    "io",
     "sim",
 ];
 
@@ -139,6 +141,8 @@ pub struct RtSettings {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Backend {
     Sim,
+    /// The robot's three I/O cards, wired as [io] says.
+    Cards,
 }
 
 /// Everything in robot.ini, typed.
@@ -157,6 +161,10 @@ pub struct Settings {
     pub camera_port: CameraPort,
     pub rt: RtSettings,
     pub backend: Backend,
+    /// Where the I/O cards are and how they are set ([hw]).
+    pub cards: mechweed_hw::cards::CardsSettings,
+    /// How the robot is wired to the cards ([io]).
+    pub io: mechweed_hw::wiring::Wiring,
     pub sim: mechweed_hw::sim::SimParams,
 }
 
@@ -198,7 +206,9 @@ impl Settings {
             camera: camera(&mut r),
             camera_port: camera_port(&mut r),
             rt: rt(&mut r),
-            backend: [Backend::Sim][r.choice("hw", "backend", &["sim"])],
+            backend: [Backend::Sim, Backend::Cards][r.choice("hw", "backend", &["sim", "cards"])],
+            cards: io::cards(&mut r),
+            io: io::wiring(&mut r),
             sim: sim::load(&mut r),
         };
         let errors = r.finish(SECTIONS);

@@ -229,6 +229,12 @@ impl Reader {
         }
     }
 
+    /// Record an error about a key that a check across several settings found.
+    pub fn error_at(&mut self, section: &str, key: &str, what: String) {
+        let place = self.place_of(section, key);
+        self.push(place, format!("[{section}] {key}: {what}"));
+    }
+
     /// Report missing sections, unknown sections and unknown keys; return every error.
     pub fn finish(mut self, sections: &[&str]) -> Vec<ConfigError> {
         for &name in sections {

@@ -26,7 +26,7 @@ mod steering;
 mod tool;
 
 #[cfg(test)]
-mod alloc_tests;
+pub(crate) mod alloc_tests;
 
 pub use crosstrack::{CrossTrackStats, CrossTrackSummary};
 pub use events::{EncoderId, EventAction, OperatorMode, Side, SimEvent, parse_events};

@@ -146,6 +146,20 @@ impl Hw for SimHw {
 }
 
 impl TruthHandle {
+    /// A handle with no simulated robot behind it (on the real robot there is no
+    /// truth): the truth stays zero and the cross-track statistics empty.
+    pub fn none() -> TruthHandle {
+        let shared = Shared {
+            truth: Truth::default(),
+            cross: CrossTrackStats::new(),
+            actions: [None; QUEUE_LEN],
+            joystick: None,
+        };
+        TruthHandle {
+            shared: Arc::new(Mutex::new(shared)),
+        }
+    }
+
     pub fn truth(&self) -> Truth {
         lock(&self.shared).truth
     }

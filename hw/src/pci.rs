@@ -1,0 +1,284 @@
+//! Finding the three Measurement Computing cards and opening their register windows,
+//! with no kernel driver (shared/io-cards.md, "Reaching a card").
+//!
+//! A card is found under /sys/bus/pci/devices by vendor 0x1307 and its device id, or
+//! named by its PCI address in robot.ini; its I/O BAR is opened through sysfs after
+//! switching decoding on (`enable`). Or robot.ini gives a base port for /dev/port.
+//! Every failure says what to do about it: a missing card, a missing permission (the
+//! udev rule or capability in docs/robot-pc.md), or a kernel in lockdown.
+
+use std::io;
+use std::path::{Path, PathBuf};
+
+use crate::port::{DevPort, PortIo, SysfsBar, kernel_locked_down};
+
+/// Measurement Computing's PCI vendor id.
+pub const VENDOR_MCC: u16 = 0x1307;
+
+/// The three cards, with the facts needed to find and open them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CardKind {
+    Das08,
+    Dda06,
+    Quad04,
+}
+
+impl CardKind {
+    pub const ALL: [CardKind; 3] = [CardKind::Das08, CardKind::Dda06, CardKind::Quad04];
+
+    /// The card's name, as printed on it and used in every message.
+    pub fn name(self) -> &'static str {
+        match self {
+            CardKind::Das08 => "PCI-DAS08",
+            CardKind::Dda06 => "PCIM-DDA06/16",
+            CardKind::Quad04 => "PCI-QUAD04",
+        }
+    }
+
+    pub fn device_id(self) -> u16 {
+        match self {
+            CardKind::Das08 => 0x0029,
+            CardKind::Dda06 => 0x0053,
+            CardKind::Quad04 => 0x004D,
+        }
+    }
+
+    /// The BAR that holds the card's registers.
+    pub fn bar(self) -> usize {
+        match self {
+            CardKind::Das08 | CardKind::Quad04 => 2,
+            CardKind::Dda06 => 3,
+        }
+    }
+
+    /// Bytes in the register window the drivers use.
+    pub fn window_len(self) -> u16 {
+        match self {
+            CardKind::Das08 => 8,
+            CardKind::Dda06 => 16,
+            CardKind::Quad04 => 10,
+        }
+    }
+}
+
+/// Where robot.ini says a card is.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum CardLocation {
+    /// The one card with this device id on the PCI bus.
+    PciAuto,
+    /// The card at this PCI address ("0000:03:00.0", as `lspci -D` shows it).
+    PciAddress(String),
+    /// Through /dev/port, from this base port.
+    PortBase(u16),
+}
+
+/// Check a PCI address written as domain:bus:device.function in hex ("0000:03:00.0").
+pub fn parse_pci_address(text: &str) -> Result<String, String> {
+    let bad = || format!("'{text}' is not a PCI address like 0000:03:00.0 (see lspci -D)");
+    let (domain, rest) = text.split_once(':').ok_or_else(bad)?;
+    let (bus, rest) = rest.split_once(':').ok_or_else(bad)?;
+    let (device, function) = rest.split_once('.').ok_or_else(bad)?;
+    let hex =
+        |s: &str, digits: usize| s.len() == digits && s.chars().all(|c| c.is_ascii_hexdigit());
+    if hex(domain, 4) && hex(bus, 2) && hex(device, 2) && hex(function, 1) {
+        Ok(text.to_ascii_lowercase())
+    } else {
+        Err(bad())
+    }
+}
+
+/// One card as found on the bus: where it is and what its BAR spans.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FoundCard {
+    pub kind: CardKind,
+    pub address: String,
+    pub dir: PathBuf,
+    /// First and last I/O port of the card's register BAR.
+    pub bar_ports: (u64, u64),
+}
+
+/// An opened card: its register window and a line saying where it is.
+pub struct OpenedCard {
+    pub port: Box<dyn PortIo>,
+    pub description: String,
+}
+
+fn read_hex(path: &Path) -> Option<u64> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let text = text.trim();
+    u64::from_str_radix(text.trim_start_matches("0x"), 16).ok()
+}
+
+/// Every card of this kind under `root` (normally /sys/bus/pci/devices), sorted.
+pub fn find_all(root: &Path, kind: CardKind) -> Result<Vec<String>, String> {
+    let entries = std::fs::read_dir(root)
+        .map_err(|e| format!("cannot list the PCI devices in {}: {e}", root.display()))?;
+    let mut found: Vec<String> = entries
+        .flatten()
+        .filter(|entry| {
+            let dir = entry.path();
+            read_hex(&dir.join("vendor")) == Some(u64::from(VENDOR_MCC))
+                && read_hex(&dir.join("device")) == Some(u64::from(kind.device_id()))
+        })
+        .map(|entry| entry.file_name().to_string_lossy().into_owned())
+        .collect();
+    found.sort();
+    Ok(found)
+}
+
+/// The card's register BAR from the device's `resource` file; it must be I/O ports.
+fn io_bar(dir: &Path, kind: CardKind) -> Result<(u64, u64), String> {
+    /// Linux's IORESOURCE_IO flag: the BAR is I/O ports, not memory.
+    const IORESOURCE_IO: u64 = 0x100;
+    let path = dir.join("resource");
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let line = text.lines().nth(kind.bar()).unwrap_or("");
+    let fields: Vec<u64> = line
+        .split_whitespace()
+        .filter_map(|f| u64::from_str_radix(f.trim_start_matches("0x"), 16).ok())
+        .collect();
+    match fields[..] {
+        [start, end, flags] if flags & IORESOURCE_IO != 0 && end >= start => Ok((start, end)),
+        _ => Err(format!(
+            "BAR{} of the {} in {} is not an I/O-port BAR ('{line}'): is this the right card?",
+            kind.bar(),
+            kind.name(),
+            dir.display()
+        )),
+    }
+}
+
+/// Find a card as robot.ini says (`location` must be a PCI one).
+pub fn find(root: &Path, kind: CardKind, location: &CardLocation) -> Result<FoundCard, String> {
+    let id = format!("{VENDOR_MCC:04x}:{:04x}", kind.device_id());
+    let address = match location {
+        CardLocation::PciAddress(address) => {
+            let dir = root.join(address);
+            if !dir.exists() {
+                return Err(format!(
+                    "no PCI device at {address} (robot.ini [hw]): `lspci -D -d {id}` lists the {}",
+                    kind.name()
+                ));
+            }
+            if read_hex(&dir.join("device")) != Some(u64::from(kind.device_id())) {
+                return Err(format!(
+                    "the PCI device at {address} is not a {} ({id}): check robot.ini [hw]",
+                    kind.name()
+                ));
+            }
+            address.clone()
+        }
+        CardLocation::PciAuto => {
+            let all = find_all(root, kind)?;
+            match &all[..] {
+                [one] => one.clone(),
+                [] => {
+                    return Err(format!(
+                        "no {} (PCI id {id}) found in {}: is the card in this computer?",
+                        kind.name(),
+                        root.display()
+                    ));
+                }
+                many => {
+                    return Err(format!(
+                        "{} {} cards found ({}): set its PCI address in robot.ini [hw]",
+                        many.len(),
+                        kind.name(),
+                        many.join(", ")
+                    ));
+                }
+            }
+        }
+        CardLocation::PortBase(_) => {
+            return Err(format!("the {} is set to /dev/port, not PCI", kind.name()));
+        }
+    };
+    let dir = root.join(&address);
+    let bar_ports = io_bar(&dir, kind)?;
+    Ok(FoundCard {
+        kind,
+        address,
+        dir,
+        bar_ports,
+    })
+}
+
+/// Turn an open or access error into advice a person can act on.
+pub fn explain(kind: CardKind, path: &Path, e: &io::Error) -> String {
+    let what = format!("{}: cannot use {}: {e}", kind.name(), path.display());
+    match e.kind() {
+        io::ErrorKind::PermissionDenied if kernel_locked_down() => format!(
+            "{what}. The kernel is in lockdown (secure boot), which refuses all I/O-port \
+             access from programs: switch secure boot off in the firmware setup for this computer"
+        ),
+        io::ErrorKind::PermissionDenied if path.starts_with("/dev") => format!(
+            "{what}. /dev/port needs the capability CAP_SYS_RAWIO and read-write access to \
+             the file (docs/robot-pc.md), or run as root"
+        ),
+        io::ErrorKind::PermissionDenied => format!(
+            "{what}. Install the udev rule of docs/robot-pc.md (it gives the mechweed group \
+             the cards' files), or run as root"
+        ),
+        _ => what,
+    }
+}
+
+/// Switch the device's I/O decoding on, unless it already is.
+fn enable(card: &FoundCard) -> Result<(), String> {
+    let path = card.dir.join("enable");
+    let on = std::fs::read_to_string(&path).is_ok_and(|t| t.trim() != "0");
+    if on {
+        return Ok(());
+    }
+    std::fs::write(&path, "1").map_err(|e| explain(card.kind, &path, &e))
+}
+
+/// Open a card's register window as robot.ini says: sysfs under `root`, or `dev_port`.
+pub fn open(
+    root: &Path,
+    dev_port: &Path,
+    kind: CardKind,
+    location: &CardLocation,
+) -> Result<OpenedCard, String> {
+    if let CardLocation::PortBase(base) = location {
+        let port = DevPort::open(dev_port, *base, kind.window_len())
+            .map_err(|e| explain(kind, dev_port, &e))?;
+        return Ok(OpenedCard {
+            port: Box::new(port),
+            description: format!(
+                "{} at I/O port {base:#06x} through {}",
+                kind.name(),
+                dev_port.display()
+            ),
+        });
+    }
+    let card = find(root, kind, location)?;
+    enable(&card)?;
+    let path = card.dir.join(format!("resource{}", kind.bar()));
+    let (start, end) = card.bar_ports;
+    if end - start + 1 < u64::from(kind.window_len()) {
+        return Err(format!(
+            "{}: BAR{} at {} spans {} ports, fewer than its {} registers",
+            kind.name(),
+            kind.bar(),
+            card.address,
+            end - start + 1,
+            kind.window_len()
+        ));
+    }
+    let port = SysfsBar::open(&path, kind.window_len()).map_err(|e| explain(kind, &path, &e))?;
+    Ok(OpenedCard {
+        port: Box::new(port),
+        description: format!(
+            "{} at PCI {}, BAR{} I/O ports {start:#06x}..{end:#06x}",
+            kind.name(),
+            card.address,
+            kind.bar()
+        ),
+    })
+}
+
+#[cfg(test)]
+#[path = "pci_tests.rs"]
+mod tests;

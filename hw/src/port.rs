@@ -1,0 +1,295 @@
+//! One card's register window, one byte at a time: the only thing the card drivers
+//! need from Linux (shared/io-cards.md).
+//!
+//! Every access is exactly one byte at the register's own offset, because that is one
+//! port access on the card. The LS7266R1's three count bytes, for example, are three
+//! reads of the same offset; a 3-byte read would touch three different ports.
+//!
+//! Backends: [`SysfsBar`] (a PCI device's `resourceN` file of an I/O-port BAR, where the
+//! file offset is the register offset) and [`DevPort`] (`/dev/port`, where the file
+//! offset is the port number). [`CountingPort`] wraps either to count accesses. The
+//! emulated cards (emulated/) implement the same trait for tests.
+
+use std::fs::{File, OpenOptions};
+use std::io;
+use std::os::unix::fs::FileExt;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Read or write one byte at `offset` inside one card's register window.
+pub trait PortIo: Send {
+    fn read_u8(&mut self, offset: u16) -> io::Result<u8>;
+    fn write_u8(&mut self, offset: u16, value: u8) -> io::Result<()>;
+}
+
+/// An error for an offset outside the window: a driver bug, never a card's fault.
+fn outside(offset: u16, len: u16) -> io::Error {
+    io::Error::new(
+        io::ErrorKind::InvalidInput,
+        format!("register offset {offset:#x} is outside the card's {len}-byte window"),
+    )
+}
+
+/// True if the kernel is in lockdown (secure boot), which refuses all port access.
+pub fn kernel_locked_down() -> bool {
+    std::fs::read_to_string("/sys/kernel/security/lockdown")
+        .map(|text| !text.contains("[none]"))
+        .unwrap_or(false)
+}
+
+/// A refused access says why, if the kernel's lockdown is the reason: a locked-down
+/// kernel lets the sysfs file open and refuses the first write.
+fn refused(path: &Path, e: io::Error) -> io::Error {
+    if e.kind() != io::ErrorKind::PermissionDenied {
+        return e;
+    }
+    let why = if kernel_locked_down() {
+        "the kernel is in lockdown (secure boot), which refuses all I/O-port access: \
+         switch secure boot off in the firmware setup"
+    } else {
+        "the kernel refused the port access"
+    };
+    io::Error::new(e.kind(), format!("{}: {e}: {why}", path.display()))
+}
+
+/// A file whose byte at `base + offset` is the card's register at `offset`.
+struct ByteFile {
+    file: File,
+    path: PathBuf,
+    base: u64,
+    len: u16,
+}
+
+impl ByteFile {
+    fn read_u8(&self, offset: u16) -> io::Result<u8> {
+        if offset >= self.len {
+            return Err(outside(offset, self.len));
+        }
+        let mut byte = [0u8; 1];
+        let read = self.file.read_at(&mut byte, self.base + u64::from(offset));
+        match read.map_err(|e| refused(&self.path, e))? {
+            1 => Ok(byte[0]),
+            _ => Err(io::Error::new(
+                io::ErrorKind::UnexpectedEof,
+                format!("{} gave no byte at {offset:#x}", self.path.display()),
+            )),
+        }
+    }
+
+    fn write_u8(&self, offset: u16, value: u8) -> io::Result<()> {
+        if offset >= self.len {
+            return Err(outside(offset, self.len));
+        }
+        let written = self.file.write_at(&[value], self.base + u64::from(offset));
+        match written.map_err(|e| refused(&self.path, e))? {
+            1 => Ok(()),
+            _ => Err(io::Error::new(
+                io::ErrorKind::WriteZero,
+                format!("{} took no byte at {offset:#x}", self.path.display()),
+            )),
+        }
+    }
+}
+
+/// Open read-write and take an exclusive lock, so that two programs (a run and a
+/// probe) never drive the same card at once.
+fn open_locked(path: &Path) -> io::Result<File> {
+    let file = OpenOptions::new().read(true).write(true).open(path)?;
+    match file.try_lock() {
+        Ok(()) => Ok(file),
+        Err(std::fs::TryLockError::WouldBlock) => Err(io::Error::new(
+            io::ErrorKind::ResourceBusy,
+            format!(
+                "{} is in use by another program (is mechweed already running?)",
+                path.display()
+            ),
+        )),
+        Err(std::fs::TryLockError::Error(e)) => Err(e),
+    }
+}
+
+/// A card's I/O-port BAR through sysfs: `/sys/bus/pci/devices/<address>/resourceN`.
+pub struct SysfsBar(ByteFile);
+
+impl SysfsBar {
+    /// Open the BAR file; `len` is the card's register window (bytes).
+    pub fn open(path: &Path, len: u16) -> io::Result<SysfsBar> {
+        Ok(SysfsBar(ByteFile {
+            file: open_locked(path)?,
+            path: path.to_path_buf(),
+            base: 0,
+            len,
+        }))
+    }
+}
+
+impl PortIo for SysfsBar {
+    fn read_u8(&mut self, offset: u16) -> io::Result<u8> {
+        self.0.read_u8(offset)
+    }
+    fn write_u8(&mut self, offset: u16, value: u8) -> io::Result<()> {
+        self.0.write_u8(offset, value)
+    }
+}
+
+/// A card's ports through `/dev/port`, from a base port set in robot.ini.
+pub struct DevPort(ByteFile);
+
+impl DevPort {
+    /// `path` is normally /dev/port; `base` the card's first port; `len` its window.
+    pub fn open(path: &Path, base: u16, len: u16) -> io::Result<DevPort> {
+        Ok(DevPort(ByteFile {
+            file: open_locked(path)?,
+            path: path.to_path_buf(),
+            base: u64::from(base),
+            len,
+        }))
+    }
+}
+
+impl PortIo for DevPort {
+    fn read_u8(&mut self, offset: u16) -> io::Result<u8> {
+        self.0.read_u8(offset)
+    }
+    fn write_u8(&mut self, offset: u16, value: u8) -> io::Result<()> {
+        self.0.write_u8(offset, value)
+    }
+}
+
+/// How many port accesses went through a [`CountingPort`]; cloneable, readable anywhere.
+#[derive(Clone, Default)]
+pub struct AccessCount {
+    reads: Arc<AtomicU64>,
+    writes: Arc<AtomicU64>,
+}
+
+impl AccessCount {
+    pub fn reads(&self) -> u64 {
+        self.reads.load(Ordering::Relaxed)
+    }
+    pub fn writes(&self) -> u64 {
+        self.writes.load(Ordering::Relaxed)
+    }
+    pub fn total(&self) -> u64 {
+        self.reads() + self.writes()
+    }
+}
+
+/// Counts every access to the port it wraps (for benchmarks: accesses per tick).
+pub struct CountingPort<P> {
+    inner: P,
+    count: AccessCount,
+}
+
+impl<P: PortIo> CountingPort<P> {
+    /// Wrap `inner`, adding to `count` (share one count between several cards).
+    pub fn new(inner: P, count: AccessCount) -> CountingPort<P> {
+        CountingPort { inner, count }
+    }
+}
+
+impl<P: PortIo> PortIo for CountingPort<P> {
+    fn read_u8(&mut self, offset: u16) -> io::Result<u8> {
+        self.count.reads.fetch_add(1, Ordering::Relaxed);
+        self.inner.read_u8(offset)
+    }
+    fn write_u8(&mut self, offset: u16, value: u8) -> io::Result<()> {
+        self.count.writes.fetch_add(1, Ordering::Relaxed);
+        self.inner.write_u8(offset, value)
+    }
+}
+
+impl PortIo for Box<dyn PortIo> {
+    fn read_u8(&mut self, offset: u16) -> io::Result<u8> {
+        (**self).read_u8(offset)
+    }
+    fn write_u8(&mut self, offset: u16, value: u8) -> io::Result<()> {
+        (**self).write_u8(offset, value)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A plain file stands in for a BAR: one byte per register.
+    fn bar_file(dir: &Path, len: usize) -> PathBuf {
+        let path = dir.join("resource2");
+        std::fs::write(&path, vec![0u8; len]).unwrap();
+        path
+    }
+
+    #[test]
+    fn sysfs_bar_reads_and_writes_one_byte_at_the_registers_offset() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = bar_file(dir.path(), 8);
+        let mut bar = SysfsBar::open(&path, 8).unwrap();
+        bar.write_u8(2, 0xA5).unwrap();
+        bar.write_u8(7, 0x3C).unwrap();
+        assert_eq!(bar.read_u8(2).unwrap(), 0xA5);
+        assert_eq!(bar.read_u8(7).unwrap(), 0x3C);
+        assert_eq!(
+            std::fs::read(&path).unwrap(),
+            [0, 0, 0xA5, 0, 0, 0, 0, 0x3C]
+        );
+        let err = bar.read_u8(8).unwrap_err();
+        assert!(err.to_string().contains("outside the card's 8-byte window"));
+    }
+
+    #[test]
+    fn dev_port_adds_the_base_port() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("port");
+        std::fs::write(&path, vec![0u8; 0x120]).unwrap();
+        let mut port = DevPort::open(&path, 0x100, 16).unwrap();
+        port.write_u8(0x0F, 0x90).unwrap();
+        assert_eq!(std::fs::read(&path).unwrap()[0x10F], 0x90);
+        assert_eq!(port.read_u8(0x0F).unwrap(), 0x90);
+        assert!(port.write_u8(16, 0).is_err());
+    }
+
+    #[test]
+    fn a_second_program_cannot_open_a_card_in_use() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = bar_file(dir.path(), 8);
+        let _first = SysfsBar::open(&path, 8).unwrap();
+        let Err(err) = SysfsBar::open(&path, 8) else {
+            panic!("opened twice")
+        };
+        assert_eq!(err.kind(), io::ErrorKind::ResourceBusy);
+        assert!(err.to_string().contains("in use by another program"));
+    }
+
+    #[test]
+    fn a_refused_access_says_the_kernel_refused_it() {
+        let path = Path::new("/sys/bus/pci/devices/0000:03:00.0/resource2");
+        let e = refused(path, io::Error::from(io::ErrorKind::PermissionDenied));
+        let text = e.to_string();
+        assert!(
+            text.starts_with("/sys/bus/pci/devices/0000:03:00.0/resource2: "),
+            "{text}"
+        );
+        let why = if kernel_locked_down() {
+            "lockdown"
+        } else {
+            "the kernel refused"
+        };
+        assert!(text.contains(why), "{text}");
+        let other = refused(path, io::Error::from(io::ErrorKind::NotFound));
+        assert_eq!(other.kind(), io::ErrorKind::NotFound);
+    }
+
+    #[test]
+    fn counting_port_counts_reads_and_writes() {
+        let dir = tempfile::tempdir().unwrap();
+        let count = AccessCount::default();
+        let bar = SysfsBar::open(&bar_file(dir.path(), 8), 8).unwrap();
+        let mut port = CountingPort::new(bar, count.clone());
+        port.write_u8(1, 1).unwrap();
+        for _ in 0..3 {
+            port.read_u8(0).unwrap();
+        }
+        assert_eq!((count.reads(), count.writes(), count.total()), (3, 1, 4));
+    }
+}

@@ -1,0 +1,39 @@
+//! Opening the hardware that robot.ini [hw] asks for. The simulated robot is built in
+//! run.rs, as it comes with its camera computer and its truth; here is the real one:
+//! the three I/O cards, found on the PCI bus (or through /dev/port), started with safe
+//! outputs, and joined by the wiring of [io].
+
+use std::path::Path;
+
+use mechweed_hw::Hw;
+use mechweed_hw::cards::{CardPorts, CardsHw};
+
+use crate::config::Settings;
+
+/// Where Linux lists the PCI devices.
+pub const PCI_DEVICES: &str = "/sys/bus/pci/devices";
+/// Linux's file of every I/O port.
+pub const DEV_PORT: &str = "/dev/port";
+
+/// The robot's I/O cards as hardware, or why not (every card's problem, one per line).
+pub fn open_hw(settings: &Settings) -> Result<Box<dyn Hw>, String> {
+    let (hw, found) = open_cards(settings, Path::new(PCI_DEVICES), Path::new(DEV_PORT))?;
+    for line in found {
+        tracing::info!("{line}");
+    }
+    Ok(Box::new(hw))
+}
+
+/// Find, open and start the cards; also says where each one was found.
+pub fn open_cards(
+    settings: &Settings,
+    pci_root: &Path,
+    dev_port: &Path,
+) -> Result<(CardsHw, [String; 3]), String> {
+    let ports = CardPorts::open(&settings.cards, pci_root, dev_port)?;
+    let found = ports.descriptions.clone();
+    let hw = CardsHw::open(ports, &settings.cards, &settings.io).map_err(|e| {
+        format!("{e} (while starting the cards; the ones that answered have safe outputs)")
+    })?;
+    Ok((hw, found))
+}
