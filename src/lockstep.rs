@@ -106,6 +106,13 @@ impl Lockstep {
 
     /// Advance to the next supervisor tick, run it, and return the outputs it wrote.
     pub fn tick(&mut self) -> Outputs {
+        self.advance();
+        self.supervisor_step()
+    }
+
+    /// Everything up to the next supervisor tick: the plant, the camera link, the steer
+    /// tick, and the operator's requests.
+    pub fn advance(&mut self) {
         let step_us = STEP_US.min(self.supervisor_period_us);
         let next_supervisor_us =
             (self.t_us / self.supervisor_period_us + 1) * self.supervisor_period_us;
@@ -133,6 +140,12 @@ impl Lockstep {
             // A refused request is what a person would see greyed out; the status shows why.
             let _ = self.supervisor.handle(request);
         }
+    }
+
+    /// The supervisor's tick as its thread runs it: read every input, tick, write every
+    /// output.
+    pub fn supervisor_step(&mut self) -> Outputs {
+        let now = self.now_s();
         let (steer, link) = (&self.steer_command, self.link.status());
         // In lockstep every "thread" is a function call: none can stall or panic unseen.
         let health = ThreadHealth::default();
