@@ -7,7 +7,7 @@ use std::cell::Cell;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use mechweed::config::Settings;
-use mechweed::lockstep::Lockstep;
+use mechweed::lockstep::{Io, Lockstep};
 use mechweed::modes::{Mode, Request};
 
 struct Counting;
@@ -80,5 +80,25 @@ fn no_allocation_per_tick_while_driving_or_faulting() {
     assert_eq!(
         other_modes, 0,
         "allocations in joystick mode and in a fault"
+    );
+}
+
+#[test]
+fn no_allocation_per_tick_through_the_emulated_cards() {
+    // The whole real I/O path: plant -> card registers -> drivers -> wiring -> controller.
+    let settings = Settings::shipped();
+    let io = Io::cards(&settings).expect("emulated cards open");
+    let mut sim = Lockstep::with_io(&settings, Mode::Autonomous, io);
+    sim.run_for(3.0);
+    assert_eq!(sim.supervisor.mode(), Mode::Autonomous);
+    let driving = allocations_in(|| {
+        for _ in 0..2000 {
+            sim.tick();
+        }
+    });
+    assert_eq!(sim.supervisor.mode(), Mode::Autonomous);
+    assert_eq!(
+        driving, 0,
+        "allocations in 2000 ticks through the emulated cards"
     );
 }
