@@ -24,5 +24,6 @@ pub mod report;
 pub mod rt;
 pub mod run;
 pub mod state;
+pub mod status;
 pub mod steer;
 pub mod supervisor;

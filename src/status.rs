@@ -1,0 +1,69 @@
+//! What the supervisor publishes every tick for the other threads (the protected
+//! object `Status`), and the faults and notices it keeps for the report.
+
+use mechweed_hw::sim::Side;
+use mechweed_hw::{Inputs, Outputs};
+
+use crate::faults::{FaultCause, PowerState};
+use crate::measure::Measured;
+use crate::modes::Mode;
+
+/// One fault, as the report lists it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FaultRecord {
+    pub cause: FaultCause,
+    pub t_s: f64,
+    /// Tick that first saw the cause.
+    pub tick_seen: u64,
+    /// Tick that wrote the safe outputs.
+    pub tick_safe: u64,
+}
+
+/// Something the operator should know that is not a fault.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Notice {
+    /// The end-switch procedure stopped the robot and steered back off this switch.
+    EndSwitchRecovered { side: Side, t_s: f64 },
+}
+
+/// What the supervisor publishes every tick for the other threads.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Status {
+    pub t_s: f64,
+    pub tick: u64,
+    pub mode: Mode,
+    pub fault: Option<FaultRecord>,
+    pub power: PowerState,
+    pub inputs: Inputs,
+    pub outputs: Outputs,
+    pub measured: Measured,
+    pub speed_ref_mps: f64,
+    pub v_left_ref_mps: f64,
+    pub v_right_ref_mps: f64,
+    pub wheel_angle_ref_rad: f64,
+    /// An end switch closed while driving: latched until the steer thread's
+    /// end-switch procedure reports done.
+    pub endswitch_hit: Option<Side>,
+    pub notice: Option<Notice>,
+}
+
+impl Default for Status {
+    fn default() -> Self {
+        Status {
+            t_s: 0.0,
+            tick: 0,
+            mode: Mode::Halt,
+            fault: None,
+            power: PowerState::Off,
+            inputs: Inputs::default(),
+            outputs: Outputs::SAFE,
+            measured: Measured::default(),
+            speed_ref_mps: 0.0,
+            v_left_ref_mps: 0.0,
+            v_right_ref_mps: 0.0,
+            wheel_angle_ref_rad: 0.0,
+            endswitch_hit: None,
+            notice: None,
+        }
+    }
+}
