@@ -107,10 +107,9 @@ fn overruns_past_the_limit_are_a_fault() {
     let outcome = run_with(ThreadName::Supervisor, Fail::Slow { ms: 15 }, 3.0);
     let (cause, t_s) = first_fault(&outcome);
     assert!(matches!(cause, FaultCause::Overruns { .. }), "{cause:?}");
-    // max_overruns are tolerated; one more within the window is not.
+    // How many overruns are tolerated is the check's unit test (src/faults.rs); on a
+    // loaded test machine the loop may overrun before the injection too, so here only:
+    // the slow loop ends in this fault soon.
     let ticks_to_fault = rt.max_overruns as f64 + 1.0;
-    assert!(
-        t_s > 1.5 + 0.01 * rt.max_overruns as f64 && t_s < 1.5 + 0.02 * ticks_to_fault + 0.5,
-        "fault at {t_s}"
-    );
+    assert!(t_s < 1.5 + 0.02 * ticks_to_fault + 0.5, "fault at {t_s}");
 }
