@@ -3,11 +3,13 @@
 //! what the robot does. Errors name the file, line, section and key.
 
 mod reader;
+mod record;
 mod sim;
 
 use std::path::Path;
 
 pub use reader::ConfigError;
+pub use record::{RecordFormats, RecordSettings};
 
 use crate::camlink::transport::{BAUD_RATES, CameraPort};
 use reader::Reader;
@@ -29,6 +31,7 @@ const SECTIONS: &[&str] = &[
     "camera",
     "hw",
     "sim",
+    "record",
 ];
 
 /// The controller's model of the robot (the simulated plant has its own, in [sim]).
@@ -144,6 +147,8 @@ pub struct Settings {
     pub camera_port: CameraPort,
     pub backend: Backend,
     pub sim: mechweed_hw::sim::SimParams,
+    /// Where and how each run is recorded.
+    pub record: RecordSettings,
 }
 
 impl Settings {
@@ -185,6 +190,7 @@ impl Settings {
             camera_port: camera_port(&mut r),
             backend: [Backend::Sim][r.choice("hw", "backend", &["sim"])],
             sim: sim::load(&mut r),
+            record: record::load(&mut r),
         };
         let errors = r.finish(SECTIONS);
         if errors.is_empty() {
