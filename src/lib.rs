@@ -16,6 +16,7 @@ pub mod measure;
 pub mod modes;
 pub mod operator;
 pub mod pid;
+pub mod record;
 pub mod report;
 pub mod rt;
 pub mod run;
