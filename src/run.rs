@@ -17,6 +17,7 @@ use crate::camlink::{LinkCore, LinkStatus, simwire};
 use crate::config::Settings;
 use crate::console;
 use crate::modes::{Mode, Refusal, Request};
+use crate::record::{self, RecordOutcome, RecordTap};
 use crate::rt::{LoopSummary, Periodic};
 use crate::state::{Reader, Writer, shared};
 use crate::steer::{SteerCommand, SteerCore};
@@ -63,6 +64,7 @@ pub struct RunOutcome {
     pub steer_loop: LoopSummary,
     pub link: LinkStatus,
     pub cross_track: CrossTrackSummary,
+    pub record: RecordOutcome,
 }
 
 /// Writes the safe outputs when dropped: at the end of the supervisor thread, and
@@ -88,6 +90,8 @@ struct SupervisorThread {
     steer: Reader<SteerCommand>,
     link: Reader<LinkStatus>,
     stop: Arc<AtomicBool>,
+    /// Hands each tick to the recorder thread; never blocks.
+    record: RecordTap,
 }
 
 impl SupervisorThread {
@@ -102,6 +106,7 @@ impl SupervisorThread {
             steer,
             link,
             stop,
+            mut record,
         } = self;
         let mut hw = SafeOnDrop(hw);
         let mut periodic = Periodic::new(rate_hz);
@@ -123,6 +128,7 @@ impl SupervisorThread {
                 core.hardware_failed(now_s);
             }
             status.publish(core.status());
+            record.after_tick(core.status(), &steer, &link);
             periodic.done();
         }
         (core, periodic.stats.summary())
@@ -195,6 +201,7 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
         port => (port.clone(), None),
     };
     let clock = Instant::now();
+    let (record_tap, recorder) = record::start_for_run(&s.record, truth.clone());
 
     let (status_w, status_r) = shared(Status::default());
     let (steer_w, steer_r) = shared(SteerCommand::default());
@@ -217,6 +224,7 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
         steer: steer_r.clone(),
         link: link_r.clone(),
         stop: stop.clone(),
+        record: record_tap,
     };
     let steer = SteerThread {
         core: SteerCore::new(s),
@@ -271,6 +279,8 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
     if let Some(cable) = cable {
         let _ = cable.join();
     }
+    // The supervisor thread has ended and dropped its tap: the recorder closes the files.
+    let record = recorder.finish();
     Ok(RunOutcome {
         final_status: *supervisor.status(),
         faults: supervisor.fault_log.clone(),
@@ -279,5 +289,6 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
         steer_loop,
         link: link_r.snapshot(),
         cross_track: truth.cross_track().summary(),
+        record,
     })
 }

@@ -8,13 +8,22 @@ fn mechweed() -> Command {
     cmd
 }
 
+/// `mechweed run` with its record in `folder`: tests never write into the
+/// repository's records/.
+fn run_recording_into(folder: &std::path::Path) -> Command {
+    let mut cmd = mechweed();
+    cmd.arg("run")
+        .arg("--set")
+        .arg(format!("record.folder={}", folder.display()));
+    cmd
+}
+
 #[test]
 fn a_short_autonomous_run_on_real_threads_writes_its_report() {
     let dir = tempfile::tempdir().unwrap();
     let report_path = dir.path().join("report.json");
-    let out = mechweed()
+    let out = run_recording_into(dir.path())
         .args([
-            "run",
             "--headless",
             "--mode",
             "autonomous",
@@ -61,15 +70,8 @@ fn a_short_autonomous_run_on_real_threads_writes_its_report() {
 fn a_scripted_estop_shows_in_the_report_with_its_cause() {
     let dir = tempfile::tempdir().unwrap();
     let report_path = dir.path().join("report.json");
-    let out = mechweed()
-        .args([
-            "run",
-            "--headless",
-            "--mode",
-            "autonomous",
-            "--duration",
-            "3",
-        ])
+    let out = run_recording_into(dir.path())
+        .args(["--headless", "--mode", "autonomous", "--duration", "3"])
         .args(["--set", "sim.events=2 estop_front", "--report"])
         .arg(&report_path)
         .output()

@@ -91,6 +91,12 @@ fn scenario(port: &str, serve: impl FnOnce(Instant, Log, Arc<AtomicBool>) -> Joi
         ])
         .args(["--set", &format!("camera.port={port}")])
         .args(["--set", "sim.events=3 mode halt, 3.6 mode autonomous"])
+        // The run's record goes to the temporary folder, not into the repository.
+        .arg("--set")
+        .arg(format!(
+            "record.folder={}",
+            dir.path().join("records").display()
+        ))
         .arg("--report")
         .arg(&report_path)
         .output()
