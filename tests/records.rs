@@ -180,3 +180,21 @@ fn the_record_summary_agrees_with_the_run_report() {
     assert!((summary.last_t_s - 24.0).abs() < 0.02);
     assert_eq!(summary.ticks_dropped, 0);
 }
+
+#[test]
+fn every_column_is_named_in_the_readme_and_the_spec() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let readme = std::fs::read_to_string(format!("{root}/README.md")).unwrap();
+    let spec = std::fs::read_to_string(format!("{root}/docs/function_spec.md")).unwrap();
+    let readme_words: Vec<&str> = readme.split_whitespace().collect();
+    for name in column_names() {
+        assert!(
+            readme_words.contains(&name),
+            "README.md does not list {name}"
+        );
+        assert!(
+            spec.contains(&format!("| `{name}` |")),
+            "function_spec.md: no row for {name}"
+        );
+    }
+}
