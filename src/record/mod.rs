@@ -69,10 +69,11 @@ pub fn start(
         .files
         .into_iter();
     let mut sinks: Vec<Box<dyn Sink>> = Vec::new();
-    if let (true, Some(ticks), Some(events)) = (csv, made.next(), made.next()) {
+    // The files come in the order of `extensions`.
+    if csv && let (Some(ticks), Some(events)) = (made.next(), made.next()) {
         sinks.push(Box::new(csv::CsvSink::new(ticks, events).map_err(why)?));
     }
-    if let (true, Some(file)) = (mcap, made.next()) {
+    if mcap && let Some(file) = made.next() {
         let start_unix_ns = started
             .duration_since(UNIX_EPOCH)
             .map_or(0, |d| d.as_nanos() as u64);

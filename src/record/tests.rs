@@ -130,6 +130,45 @@ fn what_was_recorded_is_on_disk_within_a_second() {
 }
 
 #[test]
+fn each_format_alone_and_every_nth_tick() {
+    let dir = tempfile::tempdir().unwrap();
+    for (formats, endings) in [
+        (
+            crate::config::RecordFormats::Csv,
+            &[".csv", ".events.csv"][..],
+        ),
+        (crate::config::RecordFormats::Mcap, &[".mcap"][..]),
+    ] {
+        let mut settings = Settings::shipped();
+        settings.record.folder = dir.path().join(format!("{formats:?}"));
+        settings.record.formats = formats;
+        settings.record.every_n_ticks = 10;
+        let (tap, recorder) = start(&settings.record, None, Delivery::WaitForRoom).unwrap();
+        let mut sim = Lockstep::new(&settings, Mode::Autonomous);
+        sim.record_into(tap);
+        sim.run_for(3.0);
+        sim.stop_recording();
+        let outcome = recorder.finish();
+        assert_eq!(outcome.files.len(), endings.len(), "{outcome:?}");
+        for (file, ending) in outcome.files.iter().zip(endings) {
+            assert!(file.ends_with(ending), "{file}");
+        }
+        let record = read::read(std::path::Path::new(&outcome.files[0]), &["tick"]).unwrap();
+        let ticks: Vec<Option<f64>> = (0..record.ticks.rows.len())
+            .map(|row| record.ticks.number(row, 0).unwrap())
+            .collect();
+        let expected: Vec<Option<f64>> = (1..=30).map(|k| Some(k as f64 * 10.0)).collect();
+        assert_eq!(ticks, expected, "{formats:?}: every 10th tick");
+        let events = record.events.unwrap();
+        assert_eq!(
+            events.text(0, 3),
+            "halt -> autonomous",
+            "events of ticks between"
+        );
+    }
+}
+
+#[test]
 fn a_full_disk_is_a_warning_and_the_robot_runs_on() {
     let full = |name: &str| {
         let file = File::options().write(true).open("/dev/full").unwrap();
