@@ -20,6 +20,7 @@ pub mod modes;
 pub mod operator;
 pub mod pid;
 pub mod probe;
+pub mod record;
 pub mod report;
 pub mod rt;
 pub mod run;

@@ -20,6 +20,7 @@ use crate::config::Settings;
 use crate::health::ThreadHealth;
 use crate::modes::{Mode, Refusal, Request};
 use crate::operator::OperatorScript;
+use crate::record::RecordTap;
 use crate::steer::{SteerCommand, SteerCore};
 use crate::supervisor::Supervisor;
 
@@ -57,6 +58,8 @@ pub struct Lockstep {
     next_steer_us: u64,
     buf: [u8; 512],
     pub steer_ticks: u64,
+    /// Where each supervisor tick is recorded, if anywhere (see `record_into`).
+    record: Option<RecordTap>,
 }
 
 impl Lockstep {
@@ -84,11 +87,23 @@ impl Lockstep {
             next_steer_us: 0,
             buf: [0; 512],
             steer_ticks: 0,
+            record: None,
         }
     }
 
     pub fn now_s(&self) -> f64 {
         self.t_us as f64 * 1e-6
+    }
+
+    /// Record every supervisor tick from now on into `tap` (from `record::start`, best
+    /// with `Delivery::WaitForRoom`: simulated time loses nothing by waiting).
+    pub fn record_into(&mut self, tap: RecordTap) {
+        self.record = Some(tap);
+    }
+
+    /// Stop recording: drops the tap, so that the recorder can finish its files.
+    pub fn stop_recording(&mut self) {
+        self.record = None;
     }
 
     /// Send a request to the supervisor, as the GUI would.
@@ -149,7 +164,7 @@ impl Lockstep {
         let (steer, link) = (&self.steer_command, self.link.status());
         // In lockstep every "thread" is a function call: none can stall or panic unseen.
         let health = ThreadHealth::default();
-        match &mut self.io {
+        let outputs = match &mut self.io {
             Io::Direct => {
                 let outputs = self
                     .supervisor
@@ -170,7 +185,17 @@ impl Lockstep {
                 self.robot.set_outputs(&rig.plant_outputs());
                 outputs
             }
+        };
+        if let Some(tap) = &mut self.record {
+            let truth = self.robot.truth();
+            tap.offer(
+                self.supervisor.status(),
+                &self.steer_command,
+                self.link.status(),
+                Some(&truth),
+            );
         }
+        outputs
     }
 
     /// Run supervisor ticks for `seconds` of simulated time.

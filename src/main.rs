@@ -50,6 +50,9 @@ enum Command {
         #[arg(long)]
         config: Option<PathBuf>,
     },
+    /// Run records (CSV or MCAP) left by `mechweed run`.
+    #[command(subcommand)]
+    Record(RecordCommand),
 }
 
 #[derive(clap::Args)]
@@ -153,6 +156,40 @@ enum BenchCommand {
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
     },
+}
+
+#[derive(Subcommand)]
+enum RecordCommand {
+    /// Print a record's duration, distance, modes, faults and cross-track figures.
+    Summary {
+        /// The record: NAME.csv (with NAME.events.csv beside it) or NAME.mcap.
+        file: PathBuf,
+        /// Cross-track figures from this distance on, m (the run report's 5 m; 0 for
+        /// short runs).
+        #[arg(long, value_name = "METRES", default_value_t = 5.0, value_parser = parse_metres)]
+        from_m: f64,
+    },
+}
+
+fn parse_metres(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(m) if m.is_finite() && m >= 0.0 => Ok(m),
+        _ => Err(format!("'{text}' is not a distance in m (0 or more)")),
+    }
+}
+
+fn record(command: RecordCommand) -> ExitCode {
+    let RecordCommand::Summary { file, from_m } = command;
+    match mechweed::record::summary::summarise(&file, from_m) {
+        Ok(summary) => {
+            print!("{}", summary.text());
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("{e}");
+            ExitCode::FAILURE
+        }
+    }
 }
 
 fn print_errors(errors: &[ConfigError]) {
@@ -367,5 +404,6 @@ fn main() -> ExitCode {
         Some(Command::Bench(b)) => bench(b),
         Some(Command::Camsim(args)) => camsim(args),
         Some(Command::Probe { raw, config }) => probe(raw, config),
+        Some(Command::Record(command)) => record(command),
     }
 }

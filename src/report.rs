@@ -4,6 +4,7 @@ use mechweed_hw::camproto::LinkCounters;
 use mechweed_hw::sim::{CrossTrackSummary, Side};
 use serde::Serialize;
 
+use crate::record::RecordOutcome;
 use crate::rt::{LiuLayland, LoopSummary, liu_layland};
 use crate::run::RunOutcome;
 use crate::supervisor::Notice;
@@ -55,6 +56,8 @@ pub struct Report {
     pub link: LinkReport,
     /// Real-time settings the system refused (the run went on without them).
     pub rt_warnings: Vec<String>,
+    /// The run's record: its files, ticks recorded and dropped, and any problem.
+    pub record: RecordOutcome,
 }
 
 pub fn notice_text(notice: &Notice) -> String {
@@ -130,6 +133,7 @@ impl Report {
                 pings_sent: run.link.pings_sent,
                 ping_rtt_ms: (!run.link.ping_rtt_ms.is_nan()).then_some(run.link.ping_rtt_ms),
             },
+            record: run.record.clone(),
         }
     }
 
@@ -198,6 +202,30 @@ impl Report {
                 .ping_rtt_ms
                 .map_or("-".to_string(), |ms| format!("{ms:.1} ms")),
         );
+        out += &self.record_lines();
+        out
+    }
+
+    /// Where the record went, and how whole it is.
+    fn record_lines(&self) -> String {
+        let r = &self.record;
+        let mut out = String::new();
+        if r.files.is_empty() {
+            out += "record: none\n";
+        } else {
+            out += &format!(
+                "record: {} ({} ticks recorded, {} dropped)\n",
+                r.files.join(", "),
+                r.ticks_recorded,
+                r.ticks_dropped
+            );
+        }
+        for problem in &r.problems {
+            out += &format!("record: {problem}\n");
+        }
+        if r.events_dropped > 0 {
+            out += &format!("record: {} events dropped\n", r.events_dropped);
+        }
         out
     }
 }

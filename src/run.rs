@@ -18,6 +18,7 @@ use crate::config::{Backend, RtSettings, Settings};
 use crate::console;
 use crate::health::{self, PanicFlag, ThreadHealth, ThreadName};
 use crate::modes::{Mode, Refusal, Request};
+use crate::record::{self, RecordOutcome, RecordTap};
 use crate::rt::{self, LoopSummary, Periodic};
 use crate::state::{Reader, Writer, shared};
 use crate::steer::{SteerCommand, SteerCore};
@@ -112,6 +113,7 @@ pub struct RunOutcome {
     /// Warnings about real-time settings the system refused.
     pub rt_warnings: Vec<String>,
     pub cross_track: CrossTrackSummary,
+    pub record: RecordOutcome,
 }
 
 /// Writes the safe outputs when dropped: at the end of the supervisor thread, and
@@ -142,6 +144,8 @@ struct SupervisorThread {
     inject: Option<Injection>,
     figures: Writer<LoopSummary>,
     stop: Arc<AtomicBool>,
+    /// Hands each tick to the recorder thread; never blocks.
+    record: RecordTap,
 }
 
 impl SupervisorThread {
@@ -161,6 +165,7 @@ impl SupervisorThread {
             inject,
             figures,
             stop,
+            mut record,
         } = self;
         health::watch_this_thread(&panics, ThreadName::Supervisor);
         if let Some(warning) = rt::set_this_thread(priority, cpu) {
@@ -202,6 +207,7 @@ impl SupervisorThread {
             status.publish(core.status());
             lock_ns = lock_ns.max(rt::monotonic_ns() - publish_start);
             periodic.stats.worst_lock_us = periodic.stats.worst_lock_us.max(lock_ns / 1000);
+            record.after_tick(core.status(), &steer_now, &link_now);
             if let Some(Injection {
                 thread: ThreadName::Supervisor,
                 at_s,
@@ -344,6 +350,7 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
     };
     let panics = Arc::new(PanicFlag::default());
     health::watch_this_thread(&panics, ThreadName::Console);
+    let (record_tap, recorder) = record::start_for_run(&s.record, truth.clone());
 
     let (status_w, status_r) = shared(Status::default());
     let (steer_w, steer_r) = shared(SteerCommand::default());
@@ -373,6 +380,7 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
         inject: opts.inject,
         figures: supervisor_figures_w,
         stop: stop.clone(),
+        record: record_tap,
     };
     let steer = SteerThread {
         core: SteerCore::new(s),
@@ -433,6 +441,8 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
     if let Some(cable) = cable {
         let _ = cable.join();
     }
+    // The supervisor thread has ended and dropped its tap: the recorder closes the files.
+    let record = recorder.finish();
     Ok(RunOutcome {
         final_status: *supervisor.status(),
         faults: supervisor.fault_log.clone(),
@@ -442,5 +452,6 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
         link: link_r.snapshot(),
         rt_warnings,
         cross_track: truth.cross_track().summary(),
+        record,
     })
 }

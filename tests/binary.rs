@@ -16,6 +16,9 @@ fn run_with_report(args: &[&str]) -> (String, serde_json::Value) {
         .args(["run", "--headless"])
         // A busy test machine may overrun now and then; that fault has its own test.
         .args(["--set", "rt.max_overruns=1000000"])
+        // The run's record goes to the temporary folder, not into the repository.
+        .arg("--set")
+        .arg(format!("record.folder={}", dir.path().display()))
         .args(args)
         .arg("--report")
         .arg(&report_path)

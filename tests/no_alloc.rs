@@ -102,3 +102,40 @@ fn no_allocation_per_tick_through_the_emulated_cards() {
         "allocations in 2000 ticks through the emulated cards"
     );
 }
+
+#[test]
+fn no_allocation_per_tick_while_recording() {
+    // The real-time path offers each tick to the recorder without waiting for the disk.
+    let dir = tempfile::tempdir().unwrap();
+    let mut settings = Settings::shipped();
+    settings.record.folder = dir.path().to_path_buf();
+    let (tap, recorder) = mechweed::record::start(
+        &settings.record,
+        None,
+        mechweed::record::Delivery::NeverWait,
+    )
+    .expect("a record in the temporary folder");
+    let mut sim = Lockstep::new(&settings, Mode::Autonomous);
+    sim.record_into(tap);
+    sim.run_for(3.0);
+    let recording = allocations_in(|| {
+        for _ in 0..2000 {
+            sim.tick();
+        }
+        // A fault is an event in the record as well.
+        sim.robot.apply(&mechweed_hw::sim::EventAction::EstopFront);
+        for _ in 0..100 {
+            sim.tick();
+        }
+    });
+    sim.stop_recording();
+    let outcome = recorder.finish();
+    assert_eq!(recording, 0, "allocations in 2100 offered ticks");
+    // Lockstep runs much faster than the disk is asked to keep up with: with the
+    // real-time delivery, what does not fit in the queue is dropped and counted.
+    assert!(outcome.ticks_recorded > 0, "{outcome:?}");
+    assert!(
+        outcome.ticks_recorded + outcome.ticks_dropped >= 2100,
+        "{outcome:?}"
+    );
+}

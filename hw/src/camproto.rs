@@ -106,7 +106,7 @@ pub struct LinkCounters {
     pub frames_ok: u64,
     /// Ten bytes that began with 0xA5 but failed the CRC.
     pub crc_errors: u64,
-    /// Times the decoder had to hunt for the next 0xA5 after a bad frame.
+    /// Times the decoder had to hunt for the next 0xA5 after a bad or useless frame.
     pub resyncs: u64,
     /// Gaps in the sequence numbers: frames lost on the way.
     pub seq_gaps: u64,
@@ -146,13 +146,20 @@ impl Decoder {
             return None;
         }
         let crc = u16::from_le_bytes([self.buf[8], self.buf[9]]);
-        if crc16(&self.buf[..8]) == crc {
-            self.len = 0;
-            return self.interpret();
+        if crc16(&self.buf[..8]) != crc {
+            self.counters.crc_errors += 1;
+            self.resync();
+            return None;
         }
-        self.counters.crc_errors += 1;
-        self.resync();
-        None
+        let frame = self.interpret();
+        if frame.is_some() {
+            self.len = 0;
+        } else {
+            // A good CRC on a frame that is no use (unknown kind, impossible values) is
+            // more likely a false sync in noise than a frame: look for a real one inside.
+            self.resync();
+        }
+        frame
     }
 
     /// The 0xA5 we started from was not a frame start (or the frame was damaged):
@@ -166,15 +173,19 @@ impl Decoder {
         self.len = FRAME_LEN - start;
     }
 
-    fn interpret(&mut self) -> Option<Frame> {
-        let b = &self.buf;
-        let seq = b[2];
+    /// Count a sequence gap against the last accepted frame.
+    fn follow_seq(&mut self, seq: u8) {
         if let Some(last) = self.last_seq
             && seq != last.wrapping_add(1)
         {
             self.counters.seq_gaps += 1;
         }
         self.last_seq = Some(seq);
+    }
+
+    fn interpret(&mut self) -> Option<Frame> {
+        let b = self.buf;
+        let seq = b[2];
         match b[1] {
             KIND_ROW => {
                 let est = RowEstimate {
@@ -190,10 +201,12 @@ impl Decoder {
                     self.counters.bad_values += 1;
                     return None;
                 }
+                self.follow_seq(seq);
                 self.counters.frames_ok += 1;
                 Some(Frame::Row(est))
             }
             KIND_PONG => {
+                self.follow_seq(seq);
                 self.counters.frames_ok += 1;
                 self.counters.pongs += 1;
                 Some(Frame::Pong { seq })
@@ -251,6 +264,25 @@ mod tests {
         assert_eq!(dec.counters.crc_errors, 1);
         assert_eq!(dec.counters.resyncs, 1);
         assert_eq!(dec.counters.bytes_skipped, 4);
+    }
+
+    #[test]
+    fn a_false_frame_with_a_good_crc_does_not_swallow_a_real_one() {
+        // Found by the property test: noise "A5 22 99 85" and the start of a real frame
+        // form ten bytes whose CRC happens to pass, with an unknown kind.
+        let stream = [
+            0xA5, 0x22, 0x99, 0x85, 0xA5, 0x01, 0xA3, 0x88, 0x13, 0x4F, 0x03, 0x00, 0x89, 0xAC,
+        ];
+        let mut dec = Decoder::new();
+        let frames: Vec<_> = stream.iter().filter_map(|&b| dec.push(b)).collect();
+        assert_eq!(dec.counters.unknown_kinds, 1);
+        let real = RowEstimate {
+            seq: 0xA3,
+            angle_rad: 0.5,
+            offset_m: 0.0847,
+            quality: 0,
+        };
+        assert_eq!(frames, vec![Frame::Row(real)]);
     }
 
     #[test]

@@ -4,11 +4,13 @@
 
 mod io;
 mod reader;
+mod record;
 mod sim;
 
 use std::path::Path;
 
 pub use reader::ConfigError;
+pub use record::{RecordFormats, RecordSettings};
 
 use crate::camlink::transport::{BAUD_RATES, CameraPort};
 use reader::Reader;
@@ -32,6 +34,7 @@ const SECTIONS: &[&str] = &[
     "rt",
     "io",
     "sim",
+    "record",
 ];
 
 /// The controller's model of the robot (the simulated plant has its own, in [sim]).
@@ -166,6 +169,8 @@ pub struct Settings {
     /// How the robot is wired to the cards ([io]).
     pub io: mechweed_hw::wiring::Wiring,
     pub sim: mechweed_hw::sim::SimParams,
+    /// Where and how each run is recorded.
+    pub record: RecordSettings,
 }
 
 impl Settings {
@@ -210,6 +215,7 @@ impl Settings {
             cards: io::cards(&mut r),
             io: io::wiring(&mut r),
             sim: sim::load(&mut r),
+            record: record::load(&mut r),
         };
         let errors = r.finish(SECTIONS);
         if errors.is_empty() {

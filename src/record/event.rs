@@ -1,0 +1,55 @@
+//! What happened between ticks, in words: faults with their causes, mode changes,
+//! notices, and ticks the record could not keep. Events are rare, so they travel on
+//! their own queue and are not lost when the tick queue is full.
+
+use crate::faults::FaultCause;
+use crate::modes::Mode;
+use crate::supervisor::Notice;
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum EventKind {
+    Mode {
+        from: Mode,
+        to: Mode,
+    },
+    Fault(FaultCause),
+    Notice(Notice),
+    /// Ticks the queue had no room for (the disk was slow), just before this event.
+    Dropped {
+        ticks: u64,
+    },
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RecordEvent {
+    pub t_s: f64,
+    pub tick: u64,
+    pub kind: EventKind,
+}
+
+/// The columns of an event, in file order (CSV header and JSON keys).
+pub const EVENT_COLUMNS: [&str; 4] = ["t_s", "tick", "kind", "text"];
+
+impl RecordEvent {
+    /// One word for the kind: mode, fault, notice or dropped.
+    pub fn kind_name(&self) -> &'static str {
+        match self.kind {
+            EventKind::Mode { .. } => "mode",
+            EventKind::Fault(_) => "fault",
+            EventKind::Notice(_) => "notice",
+            EventKind::Dropped { .. } => "dropped",
+        }
+    }
+
+    /// What happened, as the console says it.
+    pub fn text(&self) -> String {
+        match self.kind {
+            EventKind::Mode { from, to } => format!("{from} -> {to}"),
+            EventKind::Fault(cause) => cause.to_string(),
+            EventKind::Notice(notice) => crate::report::notice_text(&notice),
+            EventKind::Dropped { ticks } => {
+                format!("{ticks} ticks not recorded: the recorder fell behind")
+            }
+        }
+    }
+}

@@ -1,0 +1,137 @@
+//! Run records: every run leaves a record a scientist can open in MATLAB, pandas,
+//! Foxglove or PlotJuggler, flushed often enough that a fault or a crash loses at most
+//! the last second.
+//!
+//! The supervisor thread hands each tick to a `RecordTap` (tap.rs): a copy into a
+//! bounded queue that never blocks and never allocates. The recorder thread
+//! (thread.rs) writes the ticks and events into the formats asked for: CSV (csv.rs)
+//! and MCAP (mcap.rs), both made from the one table of columns in row.rs. A record
+//! that cannot be written is a warning; the robot runs on.
+//!
+//! `mechweed record summary FILE` (summary.rs, reading with read.rs) prints a record's
+//! duration, distance, faults and cross-track figures.
+
+mod csv;
+mod event;
+mod files;
+mod mcap;
+pub mod read;
+mod row;
+pub mod summary;
+mod tap;
+mod thread;
+
+#[cfg(test)]
+mod tests;
+
+use std::sync::Arc;
+use std::time::{SystemTime, UNIX_EPOCH};
+
+use crossbeam_channel::bounded;
+use mechweed_hw::sim::TruthHandle;
+
+use crate::config::RecordSettings;
+
+pub use self::mcap::{EVENT_TOPIC, TICK_TOPIC};
+pub use event::{EVENT_COLUMNS, EventKind, RecordEvent};
+pub use files::utc_stamp;
+pub use row::{COLUMNS, Column, TickSample, Value, column_names};
+pub use tap::{Delivery, RecordTap};
+pub use thread::{RecordOutcome, Recorder, Sink};
+
+/// Ticks the queue holds: 10 s at 100 Hz, more than a healthy disk ever stalls.
+const QUEUE_TICKS: usize = 1024;
+/// Events the queue holds; they are rare (a few per run).
+const QUEUE_EVENTS: usize = 256;
+
+/// Start recording into new files in `[record] folder`, named by the time now.
+/// `truth` is the simulated robot's, read on each recorded tick by `after_tick`.
+/// The error names the folder and what is wrong.
+pub fn start(
+    settings: &RecordSettings,
+    truth: Option<TruthHandle>,
+    delivery: Delivery,
+) -> Result<(RecordTap, Recorder), String> {
+    let started = SystemTime::now();
+    let stamp = utc_stamp(started);
+    let folder = &settings.folder;
+    let why = |e: std::io::Error| format!("cannot record this run in {}: {e}", folder.display());
+    let (csv, mcap) = (settings.formats.csv(), settings.formats.mcap());
+    let mut extensions = Vec::new();
+    if csv {
+        extensions.extend([".csv", ".events.csv"]);
+    }
+    if mcap {
+        extensions.push(".mcap");
+    }
+    let mut made = files::create(folder, &stamp, &extensions)
+        .map_err(why)?
+        .files
+        .into_iter();
+    let mut sinks: Vec<Box<dyn Sink>> = Vec::new();
+    // The files come in the order of `extensions`.
+    if csv && let (Some(ticks), Some(events)) = (made.next(), made.next()) {
+        sinks.push(Box::new(csv::CsvSink::new(ticks, events).map_err(why)?));
+    }
+    if mcap && let Some(file) = made.next() {
+        let start_unix_ns = started
+            .duration_since(UNIX_EPOCH)
+            .map_or(0, |d| d.as_nanos() as u64);
+        let about = self::mcap::About {
+            started_utc: &stamp,
+            every_n_ticks: settings.every_n_ticks,
+        };
+        sinks.push(Box::new(
+            self::mcap::McapSink::new(file, start_unix_ns, &about).map_err(why)?,
+        ));
+    }
+    start_with_sinks(sinks, settings.every_n_ticks, delivery, truth).map_err(why)
+}
+
+/// Start a recorder thread writing into `sinks` (tests give their own sinks).
+pub fn start_with_sinks(
+    sinks: Vec<Box<dyn Sink>>,
+    every_n_ticks: u64,
+    delivery: Delivery,
+    truth: Option<TruthHandle>,
+) -> std::io::Result<(RecordTap, Recorder)> {
+    let (tick_tx, tick_rx) = bounded(QUEUE_TICKS);
+    let (event_tx, event_rx) = bounded(QUEUE_EVENTS);
+    let counters = Arc::default();
+    let recorder = thread::spawn(
+        sinks,
+        tick_rx,
+        event_rx,
+        every_n_ticks,
+        Arc::clone(&counters),
+    )?;
+    let tap = RecordTap::new(tick_tx, event_tx, every_n_ticks, delivery, counters, truth);
+    Ok((tap, recorder))
+}
+
+/// For `mechweed run`: record as robot.ini says, and say where. If the record cannot
+/// be made, warn (naming the folder) and run on without one.
+pub fn start_for_run(settings: &RecordSettings, truth: TruthHandle) -> (RecordTap, Recorder) {
+    if !settings.enabled {
+        let outcome = RecordOutcome {
+            problems: vec!["recording is off ([record] enabled = no)".to_string()],
+            ..RecordOutcome::default()
+        };
+        return (RecordTap::off(), Recorder::without(outcome));
+    }
+    match start(settings, Some(truth), Delivery::NeverWait) {
+        Ok((tap, recorder)) => {
+            println!("recording into {}", recorder.files().join(", "));
+            (tap, recorder)
+        }
+        Err(why) => {
+            let why = format!("{why}; the robot runs on without a record");
+            tracing::warn!("{why}");
+            let outcome = RecordOutcome {
+                problems: vec![why],
+                ..RecordOutcome::default()
+            };
+            (RecordTap::off(), Recorder::without(outcome))
+        }
+    }
+}

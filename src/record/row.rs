@@ -1,0 +1,231 @@
+//! One tick of a record: what the supervisor thread hands over, and the table of
+//! columns that both formats write. The CSV header and the MCAP JSON schema are made
+//! from `COLUMNS`, so a name, its unit and its meaning are written down only here.
+
+use mechweed_hw::sim::{Side, Truth};
+
+use crate::camlink::LinkStatus;
+use crate::faults::PowerState;
+use crate::steer::SteerCommand;
+use crate::supervisor::Status;
+
+/// What the supervisor thread hands to the recorder for one tick: plain copies, so
+/// handing it over never allocates.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct TickSample {
+    /// The supervisor's status as published at the end of the tick.
+    pub status: Status,
+    /// The steer thread's latest command (with the steering law's workings).
+    pub steer: SteerCommand,
+    /// The camera link's latest status (with the estimate in use).
+    pub link: LinkStatus,
+    /// The simulated robot's truth at this tick; None on the real robot.
+    pub truth: Option<Truth>,
+}
+
+/// One cell. Numbers that are not finite (no camera estimate yet, not simulated) are
+/// written as an empty CSV cell and a JSON null: MATLAB and pandas read both as NaN.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Value {
+    Num(f64),
+    Int(i64),
+    /// A fixed word (mode, power state, end switch side): no commas, no quotes.
+    Text(&'static str),
+}
+
+/// A column of the record: its name (with the unit in it), unit, meaning, and how to
+/// get its value from a tick.
+pub struct Column {
+    pub name: &'static str,
+    pub unit: &'static str,
+    pub meaning: &'static str,
+    pub value: fn(&TickSample) -> Value,
+}
+
+const fn col(
+    name: &'static str,
+    unit: &'static str,
+    meaning: &'static str,
+    value: fn(&TickSample) -> Value,
+) -> Column {
+    Column {
+        name,
+        unit,
+        meaning,
+        value,
+    }
+}
+
+fn num(x: f64) -> Value {
+    Value::Num(x)
+}
+
+/// On/off signals as 0 and 1, which every plotting tool draws.
+fn flag(on: bool) -> Value {
+    Value::Int(on as i64)
+}
+
+fn power(p: PowerState) -> Value {
+    Value::Text(match p {
+        PowerState::Off => "off",
+        PowerState::Closing { .. } => "closing",
+        PowerState::On => "on",
+    })
+}
+
+fn side(s: Option<Side>) -> Value {
+    Value::Text(match s {
+        None => "",
+        Some(Side::Left) => "left",
+        Some(Side::Right) => "right",
+    })
+}
+
+fn sim(r: &TickSample, get: fn(&Truth) -> f64) -> Value {
+    num(r.truth.as_ref().map_or(f64::NAN, get))
+}
+
+/// Every column of a tick, in file order. Names are valid MATLAB and Python
+/// identifiers; SI units as in the program (angles in rad, speeds in m/s).
+#[rustfmt::skip]
+pub const COLUMNS: &[Column] = &[
+    // Time and state.
+    col("t_s", "s", "supervisor time since the run started", |r| num(r.status.t_s)),
+    col("tick", "count", "supervisor tick number", |r| Value::Int(r.status.tick as i64)),
+    col("mode", "text", "halt, joystick, autonomous, test or fault", |r| Value::Text(r.status.mode.name())),
+    col("power", "text", "motor power: off, closing or on", |r| power(r.status.power)),
+    // Every input, as read.
+    col("pot_v", "V", "steering potentiometer", |r| num(r.status.inputs.pot_v)),
+    col("joystick_steer_v", "V", "joystick steer axis, + = right", |r| num(r.status.inputs.joystick_steer_v)),
+    col("joystick_speed_v", "V", "joystick speed axis, + = forward", |r| num(r.status.inputs.joystick_speed_v)),
+    col("battery_v", "V", "battery voltage", |r| num(r.status.inputs.battery_v)),
+    col("estop_front_released", "0/1", "1 = front e-stop released", |r| flag(r.status.inputs.estop_front_released)),
+    col("estop_back_released", "0/1", "1 = back e-stop released", |r| flag(r.status.inputs.estop_back_released)),
+    col("motor_power_present", "0/1", "1 = motor contactor closed", |r| flag(r.status.inputs.motor_power_present)),
+    col("end_switch_left", "0/1", "1 = left steering end switch closed", |r| flag(r.status.inputs.end_switch_left)),
+    col("end_switch_right", "0/1", "1 = right steering end switch closed", |r| flag(r.status.inputs.end_switch_right)),
+    col("joystick_enable", "0/1", "1 = dead-man button held", |r| flag(r.status.inputs.joystick_enable)),
+    col("enc_left_counts", "counts", "left wheel encoder", |r| Value::Int(r.status.inputs.enc_left_counts)),
+    col("enc_right_counts", "counts", "right wheel encoder", |r| Value::Int(r.status.inputs.enc_right_counts)),
+    col("enc_steer_counts", "counts", "steering encoder, 0 at power-up", |r| Value::Int(r.status.inputs.enc_steer_counts)),
+    // Every output, as written.
+    col("amp_left_v", "V", "left drive amplifier, + = forward", |r| num(r.status.outputs.amp_left_v)),
+    col("amp_right_v", "V", "right drive amplifier, + = forward", |r| num(r.status.outputs.amp_right_v)),
+    col("amp_steer_v", "V", "steering amplifier, + = turn left", |r| num(r.status.outputs.amp_steer_v)),
+    col("main_power_on", "0/1", "1 = contactor commanded closed", |r| flag(r.status.outputs.main_power_on)),
+    col("brake_release_left", "0/1", "1 = left brake released", |r| flag(r.status.outputs.brake_release_left)),
+    col("brake_release_right", "0/1", "1 = right brake released", |r| flag(r.status.outputs.brake_release_right)),
+    col("tool_on", "0/1", "1 = weeding tool on", |r| flag(r.status.outputs.tool_on)),
+    // Measured.
+    col("v_left_mps", "m/s", "left wheel speed, filtered", |r| num(r.status.measured.v_left_mps)),
+    col("v_right_mps", "m/s", "right wheel speed, filtered", |r| num(r.status.measured.v_right_mps)),
+    col("speed_mps", "m/s", "speed of the rear axle centre", |r| num(r.status.measured.speed_mps)),
+    col("wheel_angle_rad", "rad", "wheel angle, + = left", |r| num(r.status.measured.wheel_angle_rad)),
+    col("pot_angle_filtered_rad", "rad", "wheel angle from the potentiometer, filtered",
+        |r| num(r.status.measured.pot_angle_filtered_rad)),
+    col("wheel_angle_filtered_rad", "rad", "wheel angle from the encoder, same filter",
+        |r| num(r.status.measured.wheel_angle_filtered_rad)),
+    col("yaw_rate_rps", "rad/s", "heading rate, + = turning left", |r| num(r.status.measured.yaw_rate_rps)),
+    col("distance_m", "m", "odometry: distance driven", |r| num(r.status.measured.distance_m)),
+    col("calibrated", "0/1", "1 = steering encoder calibrated", |r| flag(r.status.measured.calibrated)),
+    // Regulators: references, and errors = reference - measured (the regulators run
+    // only in joystick and autonomous).
+    col("speed_ref_mps", "m/s", "speed reference after the ramp", |r| num(r.status.speed_ref_mps)),
+    col("v_left_ref_mps", "m/s", "left wheel speed reference", |r| num(r.status.v_left_ref_mps)),
+    col("v_right_ref_mps", "m/s", "right wheel speed reference", |r| num(r.status.v_right_ref_mps)),
+    col("wheel_angle_ref_rad", "rad", "wheel angle reference after the ramp", |r| num(r.status.wheel_angle_ref_rad)),
+    col("v_left_err_mps", "m/s", "left wheel speed error",
+        |r| num(r.status.v_left_ref_mps - r.status.measured.v_left_mps)),
+    col("v_right_err_mps", "m/s", "right wheel speed error",
+        |r| num(r.status.v_right_ref_mps - r.status.measured.v_right_mps)),
+    col("wheel_angle_err_rad", "rad", "wheel angle error",
+        |r| num(r.status.wheel_angle_ref_rad - r.status.measured.wheel_angle_rad)),
+    col("endswitch_hit", "text", "end switch hit latched: left, right or empty", |r| side(r.status.endswitch_hit)),
+    // The steer thread's command and the steering law's workings.
+    col("steer_speed_mps", "m/s", "speed asked by the steer thread", |r| num(r.steer.speed_mps)),
+    col("steer_wheel_angle_rad", "rad", "wheel angle asked by the steer thread", |r| num(r.steer.wheel_angle_rad)),
+    col("steer_age_s", "s", "age of the steer command at this tick", |r| num(r.status.t_s - r.steer.t_s)),
+    col("law_lookahead_offset_m", "m", "row offset at the look-ahead point, + = left",
+        |r| num(r.steer.law.lookahead_offset_m)),
+    col("law_tool_offset_m", "m", "row offset at the tool, as the law sees it", |r| num(r.steer.law.tool_offset_m)),
+    col("law_row_curvature_per_m", "1/m", "row curvature used, + = left", |r| num(r.steer.law.row_curvature_per_m)),
+    col("law_integral_per_m", "1/m", "curvature added by the tool integral", |r| num(r.steer.law.integral_per_m)),
+    // The camera estimate in use (the last usable one) and the link's counters.
+    col("cam_offset_m", "m", "row offset at the camera point, + = left", |r| num(r.link.last_usable.offset_m)),
+    col("cam_angle_rad", "rad", "row angle, + = row turns left", |r| num(r.link.last_usable.angle_rad)),
+    col("cam_quality", "0-100", "camera confidence of that estimate",
+        |r| Value::Int(r.link.last_usable.quality as i64)),
+    col("cam_seq", "count", "sequence number of that estimate", |r| Value::Int(r.link.last_usable.seq as i64)),
+    col("cam_age_s", "s", "time since that estimate arrived (empty: none yet)",
+        |r| num(r.status.t_s - r.link.last_usable_s)),
+    col("cam_frames_ok", "count", "valid frames so far", |r| Value::Int(r.link.counters.frames_ok as i64)),
+    col("cam_crc_errors", "count", "frames with a bad CRC so far", |r| Value::Int(r.link.counters.crc_errors as i64)),
+    col("cam_seq_gaps", "count", "frames lost (sequence gaps) so far", |r| Value::Int(r.link.counters.seq_gaps as i64)),
+    col("cam_connected", "0/1", "1 = camera port open", |r| flag(r.link.connected)),
+    // The simulated robot's truth (empty on the real robot).
+    col("sim_tool_cross_track_m", "m", "tool offset from the row, + = tool left", |r| sim(r, |t| t.tool_cross_track_m)),
+    col("sim_distance_m", "m", "true distance driven by the rear axle", |r| sim(r, |t| t.distance_m)),
+    col("sim_row_done", "0/1", "1 = the tool has passed the row's end",
+        |r| r.truth.map_or(Value::Num(f64::NAN), |t| flag(t.row_done))),
+];
+
+/// The names of every column, in file order.
+pub fn column_names() -> impl Iterator<Item = &'static str> {
+    COLUMNS.iter().map(|c| c.name)
+}
+
+/// A number as text that reads back to the same f64 (shortest round trip), or None
+/// for NaN and infinities.
+pub fn number_text(x: f64, out: &mut String) -> bool {
+    use std::fmt::Write;
+    if x.is_finite() {
+        let _ = write!(out, "{x:?}");
+        true
+    } else {
+        false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_identifiers_and_unique() {
+        let mut seen = std::collections::BTreeSet::new();
+        for c in COLUMNS {
+            let ok = c
+                .name
+                .chars()
+                .next()
+                .is_some_and(|ch| ch.is_ascii_lowercase())
+                && c.name
+                    .chars()
+                    .all(|ch| ch.is_ascii_lowercase() || ch.is_ascii_digit() || ch == '_');
+            assert!(ok, "{} is not a MATLAB/Python identifier", c.name);
+            assert!(seen.insert(c.name), "{} twice", c.name);
+            assert!(!c.unit.is_empty() && !c.meaning.is_empty(), "{}", c.name);
+        }
+    }
+
+    #[test]
+    fn texts_need_no_quoting_and_missing_numbers_are_not_finite() {
+        let sample = TickSample::default();
+        for c in COLUMNS {
+            if let Value::Text(t) = (c.value)(&sample) {
+                assert!(!t.contains([',', '"', '\n']), "{}", c.name);
+            }
+        }
+        let value = |name: &str| {
+            let c = COLUMNS.iter().find(|c| c.name == name).unwrap();
+            (c.value)(&sample)
+        };
+        // No estimate yet, not simulated: empty cells, not zeros that look real.
+        assert!(matches!(value("cam_age_s"), Value::Num(x) if x.is_nan() || x.is_infinite()));
+        assert!(matches!(value("sim_tool_cross_track_m"), Value::Num(x) if x.is_nan()));
+        let mut text = String::new();
+        assert!(!number_text(f64::INFINITY, &mut text) && text.is_empty());
+        assert!(number_text(0.1 + 0.2, &mut text));
+        assert_eq!(text.parse::<f64>().unwrap(), 0.1 + 0.2);
+    }
+}
