@@ -273,7 +273,10 @@ impl Supervisor {
             Mode::Joystick | Mode::Autonomous => self.drive(steer, inputs, dt_s),
         };
         if !self.status.mode.drives() {
+            // Standing: no speed is asked of either wheel, and the steering holds.
             self.status.speed_ref_mps = 0.0;
+            self.status.v_left_ref_mps = 0.0;
+            self.status.v_right_ref_mps = 0.0;
             self.status.wheel_angle_ref_rad = measured.wheel_angle_rad;
         }
         self.status.outputs = outputs;

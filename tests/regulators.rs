@@ -135,3 +135,18 @@ fn steering_lock_to_lock_does_not_trip_the_potentiometer_check() {
         sim.supervisor.fault_log
     );
 }
+
+#[test]
+fn wheel_references_are_zero_once_the_robot_stops_driving() {
+    let s = settings_with("", &[]);
+    let mut sim = Lockstep::new(&s, Mode::Autonomous);
+    record(&mut sim, 3.0);
+    assert!(sim.supervisor.status().v_left_ref_mps > 0.1);
+    sim.request(Request::Mode(Mode::Halt)).unwrap();
+    record(&mut sim, 0.1);
+    let st = sim.supervisor.status();
+    assert_eq!(
+        (st.speed_ref_mps, st.v_left_ref_mps, st.v_right_ref_mps),
+        (0.0, 0.0, 0.0)
+    );
+}
