@@ -104,7 +104,7 @@ fn a_stalled_steer_thread_is_found_within_its_heartbeat_time() {
 fn overruns_past_the_limit_are_a_fault() {
     let rt = Settings::shipped().rt;
     // Every supervisor tick now takes 15 ms of a 10 ms period.
-    let outcome = run_with(ThreadName::Supervisor, Fail::Slow { ms: 15 }, 3.0);
+    let outcome = run_with(ThreadName::Supervisor, Fail::Slow { ms: 15 }, 4.5);
     let (cause, t_s) = first_fault(&outcome);
     assert!(matches!(cause, FaultCause::Overruns { .. }), "{cause:?}");
     // How many overruns are tolerated is the check's unit test (src/faults.rs); on a
