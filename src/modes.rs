@@ -5,8 +5,9 @@ use std::fmt;
 
 use mechweed_hw::Outputs;
 
-use crate::config::{PdSettings, PiSettings};
-use crate::faults::FaultCause;
+use crate::config::{PdSettings, PiSettings, SteerSettings};
+use crate::faults::{FaultCause, PowerState};
+use crate::supervisor::Status;
 
 /// The three regulators' gains, as one request.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -66,6 +67,8 @@ pub enum Request {
     TestOutputs(Outputs),
     /// New regulator gains; taken only in Halt, so that nothing jumps while moving.
     Gains(Gains),
+    /// New steering-law parameters for the steer thread; taken only in Halt.
+    SteerLaw(SteerSettings),
 }
 
 /// Why the supervisor said no.
@@ -101,8 +104,48 @@ impl fmt::Display for Refusal {
             Refusal::AlreadyPowered => write!(f, "motor power is already on"),
             Refusal::OnlyInHalt => write!(
                 f,
-                "gains are changed only in halt, so that nothing jumps while moving"
+                "gains and steering-law parameters are changed only in halt, so that nothing jumps while moving"
             ),
         }
     }
+}
+
+/// Below this the robot counts as standing, m/s.
+pub const STANDING_MPS: f64 = 0.01;
+
+/// The supervisor's rule for a mode request: why it would refuse `wanted` now, or None.
+/// The supervisor decides with it, and the GUI asks it to grey out a button and say why,
+/// so that the two never disagree.
+pub fn mode_refusal(wanted: Mode, st: &Status) -> Option<Refusal> {
+    match wanted {
+        Mode::Fault => Some(Refusal::FaultIsNotAMode),
+        _ if st.mode == Mode::Fault => Some(Refusal::FaultLatched(
+            st.fault.map_or(FaultCause::Hardware, |f| f.cause),
+        )),
+        Mode::Halt => None,
+        Mode::Test if st.mode != Mode::Halt => Some(Refusal::OnlyFromHalt(st.mode)),
+        Mode::Test if st.measured.speed_mps.abs() > STANDING_MPS => Some(Refusal::NotStanding),
+        Mode::Test => None,
+        // Joystick or Autonomous: from Halt, or switching between the two.
+        _ if !(st.mode == Mode::Halt || st.mode.drives()) => Some(Refusal::OnlyFromHalt(st.mode)),
+        _ if st.power != PowerState::On => Some(Refusal::NotPowered),
+        _ if !st.measured.calibrated => Some(Refusal::NotCalibrated),
+        _ => None,
+    }
+}
+
+/// The supervisor's rule for `PowerUp`: why it would refuse now, or None.
+pub fn power_up_refusal(st: &Status) -> Option<Refusal> {
+    if let Some(cause) = st.standing_cause {
+        return Some(Refusal::CauseStillActive(cause));
+    }
+    if st.mode != Mode::Fault && st.power != PowerState::Off {
+        return Some(Refusal::AlreadyPowered);
+    }
+    None
+}
+
+/// Why the operator cannot have `wanted` now, in words; None if the supervisor would take it.
+pub fn why_not(wanted: Mode, st: &Status) -> Option<String> {
+    mode_refusal(wanted, st).map(|r| r.to_string())
 }
