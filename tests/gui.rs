@@ -3,23 +3,23 @@
 //! No timing is asserted: each step waits for its condition with a generous time-out.
 
 use std::path::PathBuf;
-use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
 use mechweed::config::Settings;
 use mechweed::faults::{FaultCause, PowerState};
-use mechweed::gui::GuiApp;
 use mechweed::gui::app::Tab;
+use mechweed::gui::{Controller, GuiApp};
 use mechweed::modes::Mode;
 use mechweed::run::{RunOptions, RunOutcome, Running, start};
 use mechweed_hw::Outputs;
 
 struct Gui {
     harness: Harness<'static, GuiApp>,
-    running: Running,
+    controller: Controller,
 }
 
 fn gui_with(settings_file: Option<PathBuf>) -> Gui {
@@ -32,7 +32,8 @@ fn gui_with(settings_file: Option<PathBuf>) -> Gui {
     };
     let stop = Arc::new(AtomicBool::new(false));
     let (handles, running) = start(&opts, stop.clone()).expect("the controller starts");
-    let app = GuiApp::new(handles, &opts, settings_file, stop);
+    let controller: Controller = Arc::new(Mutex::new(Some(running)));
+    let app = GuiApp::new(handles, &opts, settings_file, stop, controller.clone());
     let harness = Harness::builder()
         .with_size(eframe::egui::vec2(1280.0, 1000.0))
         .build_ui_state(
@@ -42,7 +43,10 @@ fn gui_with(settings_file: Option<PathBuf>) -> Gui {
             },
             app,
         );
-    Gui { harness, running }
+    Gui {
+        harness,
+        controller,
+    }
 }
 
 impl Gui {
@@ -96,7 +100,8 @@ impl Gui {
     }
 
     fn finish(self) -> RunOutcome {
-        let outcome = self.running.finish();
+        let running: Running = self.controller.lock().unwrap().take().expect("running");
+        let outcome = running.finish();
         for f in &outcome.faults {
             assert!(
                 !matches!(f.cause, FaultCause::ThreadStopped { .. }),
@@ -220,5 +225,31 @@ fn the_relay_switch_reaches_the_robot_and_leaving_test_restores_safe_outputs() {
             && !app.view.status.inputs.motor_power_present
     });
     assert_eq!(gui.harness.state().test.outputs, Outputs::SAFE);
+    gui.finish();
+}
+
+#[test]
+fn a_reset_restarts_the_robot_at_the_row_start_on_the_row_chosen() {
+    let mut gui = gui_with(None);
+    gui.power_up();
+    gui.click("Autonomous");
+    gui.wait_until("the robot moves 0.3 m", |app| {
+        app.view.truth.distance_m > 0.3
+    });
+    assert!(
+        !gui.enabled("Reset robot to row start"),
+        "not while driving"
+    );
+    gui.click("HALT");
+    gui.wait_until("standing in halt", |app| {
+        app.view.status.mode == Mode::Halt && app.view.status.measured.speed_mps.abs() < 0.01
+    });
+    gui.click("arc");
+    gui.click("Reset robot to row start");
+    gui.wait_until("a new run at the row start", |app| {
+        app.view.status.tick > 0 && app.view.truth.distance_m < 0.01
+    });
+    assert_eq!(gui.harness.state().sim.row, mechweed_hw::sim::RowShape::Arc);
+    assert_eq!(gui.harness.state().view.status.power, PowerState::Off);
     gui.finish();
 }

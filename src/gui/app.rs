@@ -10,16 +10,18 @@ use std::time::Duration;
 use eframe::egui;
 use mechweed_hw::sim::Truth;
 
+use super::Controller;
 use super::plots::Plots;
 use super::sim_panel::SimPanel;
 use super::test_panel::TestPanel;
 use super::tuning::Tuning;
 use super::{header, modes, status};
 use crate::camlink::LinkStatus;
-use crate::modes::Request;
+use crate::config::Settings;
+use crate::modes::{Mode, Request};
 use crate::operator::OperatorScript;
 use crate::rt::LoopSummary;
-use crate::run::{Handles, RunOptions};
+use crate::run::{Handles, RunOptions, start};
 use crate::state::Reader;
 use crate::steer::SteerCommand;
 use crate::supervisor::Status;
@@ -100,6 +102,7 @@ pub struct GuiApp {
     /// `--mode` and the operator actions of [sim] events, as the console follows them.
     script: OperatorScript,
     stop: Arc<AtomicBool>,
+    controller: Controller,
 }
 
 impl GuiApp {
@@ -108,6 +111,7 @@ impl GuiApp {
         opts: &RunOptions,
         settings_file: Option<PathBuf>,
         stop: Arc<AtomicBool>,
+        controller: Controller,
     ) -> GuiApp {
         let settings = &opts.settings;
         GuiApp {
@@ -122,7 +126,50 @@ impl GuiApp {
             duration_s: opts.duration_s,
             script: OperatorScript::new(&settings.sim.events, opts.start_mode),
             stop,
+            controller,
         }
+    }
+
+    /// Reset the simulated robot to the row start with `settings`: stop the controller
+    /// (its supervisor writes the safe outputs as it ends) and start a new one in Halt.
+    /// The plots start afresh; the tuning panel keeps its values.
+    pub fn restart(&mut self, settings: Settings) {
+        let mut slot = self
+            .controller
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
+        if let Some(running) = slot.take() {
+            running.finish();
+        }
+        let opts = RunOptions {
+            settings,
+            start_mode: Mode::Halt,
+            duration_s: None,
+            status_every_s: 0.0,
+            inject: None,
+        };
+        let at_s = self.view.now_s;
+        self.feedback = Some(match start(&opts, Arc::new(AtomicBool::new(false))) {
+            Ok((handles, running)) => {
+                *slot = Some(running);
+                self.handles = handles;
+                self.script = OperatorScript::new(&[], Mode::Halt);
+                self.plots = Plots::default();
+                self.test = TestPanel::default();
+                self.duration_s = None;
+                Feedback {
+                    text: "simulated robot reset to the row start (controller restarted, halt)"
+                        .to_string(),
+                    refused: false,
+                    at_s,
+                }
+            }
+            Err(why) => Feedback {
+                text: format!("cannot restart the controller: {why}; close the window"),
+                refused: true,
+                at_s,
+            },
+        });
     }
 
     /// Once per pass, also while the window is minimised: beat, take the snapshots,
@@ -151,6 +198,9 @@ impl GuiApp {
         self.plots.record(&self.view);
         self.test.keep_sending(&self.view, h, &mut self.feedback);
         self.sim.keep_joystick(h);
+        if let Some(settings) = self.sim.restart.take() {
+            self.restart(settings);
+        }
         let ending =
             self.stop.load(Ordering::Relaxed) || self.duration_s.is_some_and(|d| now_s >= d);
         if ending {
@@ -158,7 +208,7 @@ impl GuiApp {
         }
         let moving = self.view.status.mode.drives()
             || self.view.status.measured.speed_mps.abs() > 0.01
-            || self.view.status.mode == crate::modes::Mode::Test;
+            || self.view.status.mode == Mode::Test;
         ctx.request_repaint_after(if moving { FRAME_MOVING } else { FRAME_STANDING });
     }
 

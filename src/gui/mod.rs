@@ -23,10 +23,14 @@ pub mod test_panel;
 pub mod tuning;
 
 use std::path::PathBuf;
-use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
+use std::sync::{Arc, Mutex};
 
-use crate::run::{RunOptions, RunOutcome, start};
+use crate::run::{RunOptions, RunOutcome, Running, start};
+
+/// The controller's threads now running: the GUI replaces them when the operator resets
+/// the simulated robot, and `run_gui` stops the last ones when the window closes.
+pub type Controller = Arc<Mutex<Option<Running>>>;
 
 pub use app::GuiApp;
 
@@ -56,8 +60,11 @@ pub fn run_gui(
     if let Some(why) = display_missing() {
         return Err(why);
     }
-    let (handles, running) = start(opts, stop.clone())?;
-    let app = GuiApp::new(handles, opts, settings_file, stop);
+    // The controller's own stop flag: a reset stops one controller and starts another,
+    // while `stop` (Ctrl-C) closes the window.
+    let (handles, running) = start(opts, Arc::new(AtomicBool::new(false)))?;
+    let controller: Controller = Arc::new(Mutex::new(Some(running)));
+    let app = GuiApp::new(handles, opts, settings_file, stop, controller.clone());
     let native = eframe::NativeOptions {
         viewport: eframe::egui::ViewportBuilder::default()
             .with_title("mechweed")
@@ -67,7 +74,13 @@ pub fn run_gui(
     let shown = eframe::run_native("mechweed", native, Box::new(|_cc| Ok(Box::new(app))));
     // Whatever happened to the window, stop the controller: the supervisor writes the
     // safe outputs as it ends.
-    let outcome = running.finish();
+    let running = controller
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
+        .take();
+    let outcome = running
+        .ok_or("the controller could not be restarted after a reset: see the messages above")?
+        .finish();
     match shown {
         Ok(()) => Ok(outcome),
         Err(e) => Err(format!(

@@ -13,6 +13,9 @@ pub const WINDOW_S: f64 = 60.0;
 pub const SAMPLES_PER_S: f64 = 30.0;
 /// Ring buffer length: the window at the highest sample rate.
 pub const CAPACITY: usize = (WINDOW_S * SAMPLES_PER_S) as usize;
+/// Points drawn per line at most: a plot is a few hundred pixels wide, and every
+/// point drawn costs the GUI thread (and a software renderer) time at each frame.
+const MAX_POINTS: usize = 600;
 
 /// One instant of everything plotted, in the units shown.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -133,6 +136,7 @@ impl Plots {
     /// One plot: each line is a name and how to read its value from a sample.
     fn plot(&self, ui: &mut egui::Ui, id: &str, unit: &str, lines: &[Series]) {
         let now_s = self.ring.last().map_or(0.0, |s| s.t_s);
+        let step = self.ring.len().div_ceil(MAX_POINTS).max(1);
         Plot::new(id)
             .height(150.0)
             .legend(Legend::default())
@@ -148,6 +152,7 @@ impl Plots {
                     let points: PlotPoints = self
                         .ring
                         .iter()
+                        .step_by(step)
                         .map(|s| [s.t_s - now_s, value(s)])
                         .collect();
                     plot_ui.line(Line::new(*name, points));

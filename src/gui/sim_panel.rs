@@ -4,10 +4,12 @@
 //! `SimControl`, as a person at the robot would act: never to the controller directly.
 
 use eframe::egui::{self, Color32, RichText, Sense};
-use mechweed_hw::sim::{EncoderId, EventAction, Side};
+use mechweed_hw::sim::{EncoderId, EventAction, RowShape, Side};
 
 use super::app::{Feedback, View};
+use crate::bench_rows::row_name;
 use crate::config::Settings;
+use crate::modes::Mode;
 use crate::run::Handles;
 
 /// Battery reading of the "battery low" fault, V (below [faults] battery_min_v).
@@ -24,6 +26,12 @@ pub struct SimPanel {
     full_scale_v: f64,
     battery_v: f64,
     last_sent: Option<(f64, f64, bool)>,
+    /// The settings of the run, and the row and speed the next reset will use.
+    settings: Settings,
+    pub row: RowShape,
+    pub speed_mps: f64,
+    /// Asked for by "Reset": the settings to restart the controller with.
+    pub restart: Option<Settings>,
 }
 
 impl SimPanel {
@@ -34,6 +42,10 @@ impl SimPanel {
             full_scale_v: settings.joystick.full_scale_v,
             battery_v: settings.sim.battery_v,
             last_sent: None,
+            settings: settings.clone(),
+            row: settings.sim.row,
+            speed_mps: settings.steer.speed_mps,
+            restart: None,
         }
     }
 
@@ -137,6 +149,43 @@ impl SimPanel {
             RichText::new(
                 "A stuck encoder and a broken potentiometer wire last for the rest of the run.",
             )
+            .small()
+            .weak(),
+        );
+        ui.separator();
+
+        ui.label(RichText::new("Row and reset").strong());
+        ui.horizontal(|ui| {
+            for row in [RowShape::Straight, RowShape::SCurve, RowShape::Arc] {
+                ui.selectable_value(&mut self.row, row, row_name(row));
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("autonomous speed");
+            let max = self.settings.supervisor.max_speed_mps;
+            ui.add(
+                egui::DragValue::new(&mut self.speed_mps)
+                    .range(0.05..=max)
+                    .speed(0.01)
+                    .suffix(" m/s"),
+            );
+        });
+        let standing = matches!(view.status.mode, Mode::Halt | Mode::Fault);
+        if ui
+            .add_enabled(standing, egui::Button::new("Reset robot to row start"))
+            .clicked()
+        {
+            let mut settings = self.settings.clone();
+            settings.sim.row = self.row;
+            settings.steer.speed_mps = self.speed_mps;
+            self.restart = Some(settings);
+        }
+        ui.label(
+            RichText::new(if standing {
+                "restarts the controller in halt, e-stops released"
+            } else {
+                "halt first: a reset restarts the controller"
+            })
             .small()
             .weak(),
         );
