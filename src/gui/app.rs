@@ -188,12 +188,12 @@ impl GuiApp {
             truth: h.truth.truth(),
         };
         if let Some(request) = self.script.due(now_s, &self.view.status) {
-            ask(
-                h,
-                request,
-                &format!("script: {request:?}"),
-                &mut self.feedback,
-            );
+            let what = match request {
+                Request::Mode(m) => format!("operator script: mode {m}"),
+                Request::PowerUp => "operator script: power up".to_string(),
+                other => format!("operator script: {other:?}"),
+            };
+            ask(h, request, &what, &mut self.feedback);
         }
         self.plots.record(&self.view);
         self.test.keep_sending(&self.view, h, &mut self.feedback);
