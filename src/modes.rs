@@ -149,3 +149,46 @@ pub fn power_up_refusal(st: &Status) -> Option<Refusal> {
 pub fn why_not(wanted: Mode, st: &Status) -> Option<String> {
     mode_refusal(wanted, st).map(|r| r.to_string())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn why_not_says_what_the_supervisor_would_refuse() {
+        let mut st = Status::default();
+        assert_eq!(
+            why_not(Mode::Autonomous, &st).as_deref(),
+            Some("motor power is off: press Power up first")
+        );
+        assert_eq!(why_not(Mode::Test, &st), None, "test needs no power");
+        assert_eq!(why_not(Mode::Halt, &st), None);
+        st.power = PowerState::On;
+        assert_eq!(
+            why_not(Mode::Joystick, &st).as_deref(),
+            Some("the steering is still being calibrated")
+        );
+        st.measured.calibrated = true;
+        assert_eq!(why_not(Mode::Joystick, &st), None);
+        assert_eq!(power_up_refusal(&st), Some(Refusal::AlreadyPowered));
+        st.mode = Mode::Autonomous;
+        st.measured.speed_mps = 0.5;
+        assert_eq!(
+            mode_refusal(Mode::Test, &st),
+            Some(Refusal::OnlyFromHalt(Mode::Autonomous))
+        );
+        st.mode = Mode::Halt;
+        assert_eq!(mode_refusal(Mode::Test, &st), Some(Refusal::NotStanding));
+        st.mode = Mode::Fault;
+        st.standing_cause = Some(FaultCause::EstopBack);
+        assert_eq!(
+            power_up_refusal(&st),
+            Some(Refusal::CauseStillActive(FaultCause::EstopBack))
+        );
+        assert!(
+            why_not(Mode::Halt, &st)
+                .unwrap()
+                .starts_with("a fault is latched")
+        );
+    }
+}
