@@ -253,3 +253,17 @@ fn a_reset_restarts_the_robot_at_the_row_start_on_the_row_chosen() {
     assert_eq!(gui.harness.state().view.status.power, PowerState::Off);
     gui.finish();
 }
+
+#[test]
+fn without_a_display_the_gui_says_to_run_headless_and_fails() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_mechweed"))
+        .args(["run", "--duration", "1"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("--headless"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
