@@ -17,6 +17,7 @@ use crate::run::{RunOptions, run};
 #[derive(Debug, Serialize)]
 pub struct LoopBench {
     pub rate_hz: f64,
+    pub gui: bool,
     pub seconds: f64,
     pub supervisor: LoopSummary,
     pub steer: LoopSummary,
@@ -25,7 +26,14 @@ pub struct LoopBench {
     pub rt_warnings: Vec<String>,
 }
 
-pub fn bench_loop(settings: &Settings, rate_hz: f64, seconds: f64) -> Result<LoopBench, String> {
+/// With `gui`, the operator GUI is open for the whole run (on this, the main thread),
+/// to measure what it costs the supervisor.
+pub fn bench_loop(
+    settings: &Settings,
+    rate_hz: f64,
+    seconds: f64,
+    gui: bool,
+) -> Result<LoopBench, String> {
     let mut settings = settings.clone();
     settings.supervisor.rate_hz = rate_hz;
     let options = RunOptions {
@@ -35,9 +43,15 @@ pub fn bench_loop(settings: &Settings, rate_hz: f64, seconds: f64) -> Result<Loo
         status_every_s: 0.0,
         inject: None,
     };
-    let outcome = run(&options, Arc::new(AtomicBool::new(false)))?;
+    let stop = Arc::new(AtomicBool::new(false));
+    let outcome = if gui {
+        crate::gui::run_gui(&options, None, stop)?
+    } else {
+        run(&options, stop)?
+    };
     Ok(LoopBench {
         rate_hz,
+        gui,
         seconds,
         supervisor: outcome.supervisor_loop,
         steer: outcome.steer_loop,
@@ -54,8 +68,14 @@ pub fn bench_loop(settings: &Settings, rate_hz: f64, seconds: f64) -> Result<Loo
 impl LoopBench {
     pub fn text(&self) -> String {
         let mut out = format!(
-            "{} s at {} Hz, driving autonomously on the simulated robot\n",
-            self.seconds, self.rate_hz
+            "{} s at {} Hz, driving autonomously on the simulated robot{}\n",
+            self.seconds,
+            self.rate_hz,
+            if self.gui {
+                ", operator GUI open"
+            } else {
+                ", headless"
+            }
         );
         out += &loop_line("supervisor", &self.supervisor);
         out += "\n";

@@ -25,6 +25,7 @@ pub fn operate(
         loops,
         truth,
         clock,
+        ..
     } = handles;
     let mut script = OperatorScript::new(&opts.settings.sim.events, opts.start_mode);
     let mut last_refusal = String::new();

@@ -330,9 +330,16 @@ impl FaultChecks {
             (ThreadName::Gui, c.health.gui_beat_s),
         ];
         for (thread, beat_s) in beats {
+            // The GUI thread runs at normal priority and draws with the processor: it
+            // gets its own, longer time-out.
+            let timeout_s = if thread == ThreadName::Gui {
+                self.rt.gui_heartbeat_timeout_s
+            } else {
+                self.rt.heartbeat_timeout_s
+            };
             if let Some(beat_s) = beat_s {
                 let for_s = now - beat_s;
-                if for_s > self.rt.heartbeat_timeout_s {
+                if for_s > timeout_s {
                     report(FaultCause::ThreadStopped { thread, for_s });
                 }
             }

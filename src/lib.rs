@@ -13,6 +13,7 @@ pub mod camsim_main;
 pub mod config;
 pub mod console;
 pub mod faults;
+pub mod gui;
 pub mod health;
 pub mod lockstep;
 pub mod measure;

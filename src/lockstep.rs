@@ -108,7 +108,12 @@ impl Lockstep {
 
     /// Send a request to the supervisor, as the GUI would.
     pub fn request(&mut self, request: Request) -> Result<(), Refusal> {
-        self.supervisor.handle(request)
+        let answer = self.supervisor.handle(request);
+        // As the real-time run passes them on its channel: the steer "thread" takes them.
+        if let Some(settings) = self.supervisor.take_steer_settings() {
+            self.steer.set_law_settings(&settings);
+        }
+        answer
     }
 
     fn steer_tick(&mut self) {

@@ -20,7 +20,7 @@ use mechweed::run::{RunOptions, run};
     name = "mechweed",
     version,
     about = "Control program for the weeding robot. Runs on the simulated robot unless config/robot.ini [hw] says otherwise.",
-    after_help = "Without a command, mechweed runs as `mechweed run`."
+    after_help = "Without a command, mechweed runs as `mechweed run`: the operator GUI on the simulated robot."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -103,7 +103,7 @@ struct RunArgs {
     /// Settings file [default: config/robot.ini, or the built-in copy if there is none]
     #[arg(long)]
     config: Option<PathBuf>,
-    /// Run without the operator GUI (the GUI is not built yet: runs are headless).
+    /// Run without the operator GUI: the console prints the status instead.
     #[arg(long)]
     headless: bool,
     /// Mode to bring the robot into at start (powering up first).
@@ -140,7 +140,7 @@ enum BenchCommand {
         rate: f64,
         #[arg(long, default_value_t = 10.0, value_name = "N")]
         seconds: f64,
-        /// With the operator GUI open (not built yet).
+        /// With the operator GUI open (needs a display).
         #[arg(long)]
         gui: bool,
         /// Also write the figures as JSON to this file.
@@ -200,14 +200,22 @@ fn print_errors(errors: &[ConfigError]) {
 
 /// The settings file: the one named, else config/robot.ini here, else the built-in copy.
 fn load_settings(file: Option<&Path>, overrides: &[String]) -> Result<Settings, Vec<ConfigError>> {
-    let default = Path::new("config/robot.ini");
-    match file {
-        Some(path) => Settings::load(path, overrides),
-        None if default.exists() => Settings::load(default, overrides),
+    match settings_file(file) {
+        Some(path) => Settings::load(&path, overrides),
         None => {
             eprintln!("no config/robot.ini here: using the built-in settings");
             Settings::parse("built-in robot.ini", DEFAULT_INI, overrides)
         }
+    }
+}
+
+/// Which file the settings come from (None: the built-in copy).
+fn settings_file(file: Option<&Path>) -> Option<PathBuf> {
+    let default = Path::new("config/robot.ini");
+    match file {
+        Some(path) => Some(path.to_path_buf()),
+        None if default.exists() => Some(default.to_path_buf()),
+        None => None,
     }
 }
 
@@ -223,8 +231,11 @@ fn run_command(args: RunArgs) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    if !args.headless {
-        eprintln!("the operator GUI is not built yet: running headless");
+    if !args.headless
+        && let Some(why) = mechweed::gui::display_missing()
+    {
+        eprintln!("{why}");
+        return ExitCode::FAILURE;
     }
     let stop = Arc::new(AtomicBool::new(false));
     {
@@ -254,7 +265,12 @@ fn run_command(args: RunArgs) -> ExitCode {
         status_every_s: 5.0,
         inject: None,
     };
-    let outcome = match run(&options, stop) {
+    let outcome = if args.headless {
+        run(&options, stop)
+    } else {
+        mechweed::gui::run_gui(&options, settings_file(args.config.as_deref()), stop)
+    };
+    let outcome = match outcome {
         Ok(outcome) => outcome,
         Err(why) => {
             eprintln!("cannot start: {why}");
@@ -308,21 +324,17 @@ fn bench(command: BenchCommand) -> ExitCode {
     };
     let (seed, json) = match command {
         BenchCommand::Rows { seed, json } => (seed, json),
-        BenchCommand::Loop { gui: true, .. } => {
-            eprintln!("the operator GUI is not built yet: run bench loop without --gui");
-            return ExitCode::FAILURE;
-        }
         BenchCommand::Loop {
             rate,
             seconds,
-            gui: false,
+            gui,
             json,
         } => {
             if !(1.0..=10_000.0).contains(&rate) || !(0.001..=86_400.0).contains(&seconds) {
                 eprintln!("--rate must be 1 to 10000 Hz and --seconds 0.001 to 86400");
                 return ExitCode::FAILURE;
             }
-            return match mechweed::bench_loop::bench_loop(&settings, rate, seconds) {
+            return match mechweed::bench_loop::bench_loop(&settings, rate, seconds, gui) {
                 Ok(figures) => {
                     print!("{}", figures.text());
                     write_json(json, &figures)

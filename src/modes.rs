@@ -5,8 +5,9 @@ use std::fmt;
 
 use mechweed_hw::Outputs;
 
-use crate::config::{PdSettings, PiSettings};
-use crate::faults::FaultCause;
+use crate::config::{PdSettings, PiSettings, SteerSettings};
+use crate::faults::{FaultCause, PowerState};
+use crate::supervisor::Status;
 
 /// The three regulators' gains, as one request.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -66,12 +67,15 @@ pub enum Request {
     TestOutputs(Outputs),
     /// New regulator gains; taken only in Halt, so that nothing jumps while moving.
     Gains(Gains),
+    /// New steering-law parameters for the steer thread; taken only in Halt.
+    SteerLaw(SteerSettings),
 }
 
 /// Why the supervisor said no.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Refusal {
-    FaultLatched(FaultCause),
+    /// A fault is latched (its cause, when the status carries it).
+    FaultLatched(Option<FaultCause>),
     CauseStillActive(FaultCause),
     NotPowered,
     NotCalibrated,
@@ -87,7 +91,10 @@ pub enum Refusal {
 impl fmt::Display for Refusal {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Refusal::FaultLatched(c) => write!(f, "a fault is latched ({c}): power up to clear it"),
+            Refusal::FaultLatched(Some(c)) => {
+                write!(f, "a fault is latched ({c}): power up to clear it")
+            }
+            Refusal::FaultLatched(None) => write!(f, "a fault is latched: power up to clear it"),
             Refusal::CauseStillActive(c) => write!(f, "cannot power up: {c}"),
             Refusal::NotPowered => write!(f, "motor power is off: press Power up first"),
             Refusal::NotCalibrated => write!(f, "the steering is still being calibrated"),
@@ -103,8 +110,98 @@ impl fmt::Display for Refusal {
             Refusal::NotStarted => write!(f, "the robot's inputs have not been read yet"),
             Refusal::OnlyInHalt => write!(
                 f,
-                "gains are changed only in halt, so that nothing jumps while moving"
+                "gains and steering-law parameters are changed only in halt, so that nothing jumps while moving"
             ),
         }
+    }
+}
+
+/// Below this the robot counts as standing, m/s.
+pub const STANDING_MPS: f64 = 0.01;
+
+/// The supervisor's rule for a mode request: why it would refuse `wanted` now, or None.
+/// The supervisor decides with it, and the GUI asks it to grey out a button and say why,
+/// so that the two never disagree.
+pub fn mode_refusal(wanted: Mode, st: &Status) -> Option<Refusal> {
+    if st.tick == 0 {
+        return Some(Refusal::NotStarted);
+    }
+    match wanted {
+        Mode::Fault => Some(Refusal::FaultIsNotAMode),
+        _ if st.mode == Mode::Fault => Some(Refusal::FaultLatched(st.fault.map(|f| f.cause))),
+        Mode::Halt => None,
+        Mode::Test if st.mode != Mode::Halt => Some(Refusal::OnlyFromHalt(st.mode)),
+        Mode::Test if st.measured.speed_mps.abs() > STANDING_MPS => Some(Refusal::NotStanding),
+        Mode::Test => None,
+        // Joystick or Autonomous: from Halt, or switching between the two.
+        _ if !(st.mode == Mode::Halt || st.mode.drives()) => Some(Refusal::OnlyFromHalt(st.mode)),
+        _ if st.power != PowerState::On => Some(Refusal::NotPowered),
+        _ if !st.measured.calibrated => Some(Refusal::NotCalibrated),
+        _ => None,
+    }
+}
+
+/// The supervisor's rule for `PowerUp`: why it would refuse now, or None.
+pub fn power_up_refusal(st: &Status) -> Option<Refusal> {
+    if st.tick == 0 {
+        return Some(Refusal::NotStarted);
+    }
+    if let Some(cause) = st.standing_cause {
+        return Some(Refusal::CauseStillActive(cause));
+    }
+    if st.mode != Mode::Fault && st.power != PowerState::Off {
+        return Some(Refusal::AlreadyPowered);
+    }
+    None
+}
+
+/// Why the operator cannot have `wanted` now, in words; None if the supervisor would take it.
+pub fn why_not(wanted: Mode, st: &Status) -> Option<String> {
+    mode_refusal(wanted, st).map(|r| r.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn why_not_says_what_the_supervisor_would_refuse() {
+        let mut st = Status::default();
+        assert_eq!(mode_refusal(Mode::Halt, &st), Some(Refusal::NotStarted));
+        assert_eq!(power_up_refusal(&st), Some(Refusal::NotStarted));
+        st.tick = 1;
+        assert_eq!(
+            why_not(Mode::Autonomous, &st).as_deref(),
+            Some("motor power is off: press Power up first")
+        );
+        assert_eq!(why_not(Mode::Test, &st), None, "test needs no power");
+        assert_eq!(why_not(Mode::Halt, &st), None);
+        st.power = PowerState::On;
+        assert_eq!(
+            why_not(Mode::Joystick, &st).as_deref(),
+            Some("the steering is still being calibrated")
+        );
+        st.measured.calibrated = true;
+        assert_eq!(why_not(Mode::Joystick, &st), None);
+        assert_eq!(power_up_refusal(&st), Some(Refusal::AlreadyPowered));
+        st.mode = Mode::Autonomous;
+        st.measured.speed_mps = 0.5;
+        assert_eq!(
+            mode_refusal(Mode::Test, &st),
+            Some(Refusal::OnlyFromHalt(Mode::Autonomous))
+        );
+        st.mode = Mode::Halt;
+        assert_eq!(mode_refusal(Mode::Test, &st), Some(Refusal::NotStanding));
+        st.mode = Mode::Fault;
+        st.standing_cause = Some(FaultCause::EstopBack);
+        assert_eq!(
+            power_up_refusal(&st),
+            Some(Refusal::CauseStillActive(FaultCause::EstopBack))
+        );
+        assert!(
+            why_not(Mode::Halt, &st)
+                .unwrap()
+                .starts_with("a fault is latched")
+        );
     }
 }

@@ -8,17 +8,17 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use crossbeam_channel::{Receiver, Sender, bounded, select};
-use mechweed_hw::sim::{CrossTrackSummary, SimHw, SimRobot, TruthHandle, byte_pipe};
+use mechweed_hw::sim::{CrossTrackSummary, SimControl, SimHw, SimRobot, TruthHandle, byte_pipe};
 use mechweed_hw::{Hw, Outputs};
 
 use crate::camlink::thread::LinkThread;
 use crate::camlink::transport::CameraPort;
 use crate::camlink::{LinkCore, LinkStatus, simwire};
-use crate::config::{Backend, RtSettings, Settings};
+use crate::config::{Backend, RtSettings, Settings, SteerSettings};
 use crate::console;
 use crate::health::{self, PanicFlag, ThreadHealth, ThreadName};
 use crate::modes::{Mode, Refusal, Request};
-use crate::record::{self, RecordOutcome, RecordTap};
+use crate::record::{self, RecordOutcome, RecordTap, Recorder};
 use crate::rt::{self, LoopSummary, Periodic};
 use crate::state::{Reader, Writer, shared};
 use crate::steer::{SteerCommand, SteerCore};
@@ -48,13 +48,24 @@ impl SupervisorHandle {
     }
 }
 
-/// What an operator interface (the console, later the GUI) reads and sends.
+/// What an operator interface (the console or the GUI) reads and sends.
 pub struct Handles {
     pub supervisor: SupervisorHandle,
     pub link: Reader<LinkStatus>,
     /// Loop figures of the supervisor and the steer thread, about once a second.
     pub loops: [Reader<LoopSummary>; 2],
     pub truth: TruthHandle,
+    /// The simulated robot's buttons, joystick and faults (None on real hardware).
+    pub sim: Option<SimControl>,
+    /// Ask the camera link for a PING (its round trip shows in LinkStatus).
+    pub ping: Sender<()>,
+    /// The GUI's heartbeat, s since start: NaN until the GUI first beats; from then on
+    /// the supervisor watches it (`ThreadHealth::gui_beat_s`).
+    pub gui_beat: Writer<f64>,
+    /// The steer thread's steering-law parameters as they are now.
+    pub steer_settings: Reader<SteerSettings>,
+    /// The steer thread's figures of the steering law (for plots).
+    pub steer: Reader<SteerCommand>,
     pub clock: Instant,
 }
 
@@ -143,6 +154,9 @@ struct SupervisorThread {
     cpu: i32,
     inject: Option<Injection>,
     figures: Writer<LoopSummary>,
+    gui_beat: Reader<f64>,
+    /// Steering-law parameters the supervisor accepted (in Halt), for the steer thread.
+    steer_settings: Sender<SteerSettings>,
     stop: Arc<AtomicBool>,
     /// Hands each tick to the recorder thread; never blocks.
     record: RecordTap,
@@ -164,6 +178,8 @@ impl SupervisorThread {
             cpu,
             inject,
             figures,
+            gui_beat,
+            steer_settings,
             stop,
             mut record,
         } = self;
@@ -178,13 +194,18 @@ impl SupervisorThread {
             let now_s = clock.elapsed().as_secs_f64();
             while let Ok((request, reply)) = requests.try_recv() {
                 let _ = reply.try_send(core.handle(request));
+                if let Some(accepted) = core.take_steer_settings() {
+                    // One place, bounded: a newer set replaces one not yet taken.
+                    let _ = steer_settings.try_send(accepted);
+                }
             }
             // The only waits on other threads: copying their objects in and ours out.
             let lock_start = rt::monotonic_ns();
             let (steer_now, link_now) = (steer.snapshot(), link.snapshot());
             let mut lock_ns = rt::monotonic_ns() - lock_start;
+            let gui_beat_s = gui_beat.snapshot();
             let health = ThreadHealth {
-                gui_beat_s: None,
+                gui_beat_s: (!gui_beat_s.is_nan()).then_some(gui_beat_s),
                 panicked: panics.panicked(),
                 supervisor_overruns: periodic.stats.overruns,
             };
@@ -237,6 +258,9 @@ struct SteerThread {
     priority: u8,
     inject: Option<Injection>,
     figures: Writer<LoopSummary>,
+    /// New steering-law parameters, accepted by the supervisor in Halt.
+    new_settings: Receiver<SteerSettings>,
+    settings: Writer<SteerSettings>,
     stop: Arc<AtomicBool>,
 }
 
@@ -259,6 +283,10 @@ impl SteerThread {
                 periodic.woke_now();
             }
             let now_s = self.clock.elapsed().as_secs_f64();
+            if let Ok(new_settings) = self.new_settings.try_recv() {
+                self.core.set_law_settings(&new_settings);
+                self.settings.publish(&self.core.law_settings());
+            }
             if let Some(injection) = self.inject
                 && injection.thread == ThreadName::Steer
                 && now_s >= injection.at_s
@@ -311,19 +339,42 @@ fn spawn<T: Send + 'static>(name: &str, f: impl FnOnce() -> T + Send + 'static) 
         .unwrap_or_else(|e| panic!("cannot start the {name} thread: {e}"))
 }
 
-/// Run the controller until `duration_s` or until `stop` is set; an error if the
-/// hardware or the camera port cannot be set up (nothing has started then).
+/// The controller's threads while they run; `finish` stops them and collects the outcome.
+pub struct Running {
+    supervisor: JoinHandle<(Supervisor, LoopSummary)>,
+    steer: JoinHandle<LoopSummary>,
+    link: JoinHandle<()>,
+    cable: Option<JoinHandle<()>>,
+    link_status: Reader<LinkStatus>,
+    truth: TruthHandle,
+    settings: Settings,
+    rt_warnings: Vec<String>,
+    recorder: Recorder,
+    stop: Arc<AtomicBool>,
+}
+
+/// Run the controller with the headless console until `duration_s` or until `stop` is
+/// set; an error if the hardware or the camera port cannot be set up (nothing has
+/// started then).
 pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, String> {
+    let (handles, running) = start(opts, stop.clone())?;
+    console::operate(opts, &handles, &stop, || running.any_thread_ended());
+    Ok(running.finish())
+}
+
+/// Start the controller's threads on the simulated robot; the caller is the operator
+/// interface (console or GUI) and calls `Running::finish` at the end.
+pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Running), String> {
     let s = &opts.settings;
     let (camera_end, robot_end) = byte_pipe(4096);
-    let (hw, truth): (Box<dyn Hw>, TruthHandle) = match s.backend {
+    let (hw, truth, sim_control): (Box<dyn Hw>, TruthHandle, Option<SimControl>) = match s.backend {
         Backend::Sim => {
             let sim = SimHw::new(SimRobot::new(&s.sim, camera_end));
-            let truth = sim.truth_handle();
-            (Box::new(sim), truth)
+            let (truth, control) = (sim.truth_handle(), sim.control());
+            (Box::new(sim), truth, Some(control))
         }
-        // No simulated camera computer and no truth on the real robot.
-        Backend::Cards => (crate::backend::open_hw(s)?, TruthHandle::none()),
+        // No simulated camera computer, no truth and no simulator panel on the real robot.
+        Backend::Cards => (crate::backend::open_hw(s)?, TruthHandle::none(), None),
     };
     // The simulated camera computer speaks through a pseudo-terminal, unless robot.ini
     // names a real port: then it stays unplugged and the port's camera computer is used.
@@ -355,9 +406,12 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
     let (status_w, status_r) = shared(Status::default());
     let (steer_w, steer_r) = shared(SteerCommand::default());
     let (link_w, link_r) = shared(LinkStatus::default());
+    let (gui_beat_w, gui_beat_r) = shared(f64::NAN);
+    let (steer_settings_w, steer_settings_r) = shared(s.steer);
     let (request_tx, request_rx) = bounded(16);
     let (estimate_tx, estimate_rx) = bounded(1);
-    let (_ping_tx, ping_rx) = bounded(1);
+    let (ping_tx, ping_rx) = bounded(1);
+    let (new_steer_settings_tx, new_steer_settings_rx) = bounded(1);
     let (supervisor_figures_w, supervisor_figures) = shared(LoopSummary::default());
     let (steer_figures_w, steer_figures) = shared(LoopSummary::default());
     let handle = SupervisorHandle {
@@ -379,6 +433,8 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
         cpu: s.rt.supervisor_cpu,
         inject: opts.inject,
         figures: supervisor_figures_w,
+        gui_beat: gui_beat_r,
+        steer_settings: new_steer_settings_tx,
         stop: stop.clone(),
         record: record_tap,
     };
@@ -394,6 +450,8 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
         priority: priority(s.rt.steer_priority),
         inject: opts.inject,
         figures: steer_figures_w,
+        new_settings: new_steer_settings_rx,
+        settings: steer_settings_w,
         stop: stop.clone(),
     };
     let link = LinkThread {
@@ -403,7 +461,7 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
         new_estimate: estimate_tx,
         ping_requests: ping_rx,
         status: link_w,
-        steer: steer_r,
+        steer: steer_r.clone(),
         panics: panics.clone(),
         priority: priority(s.rt.camlink_priority),
         inject: opts.inject,
@@ -413,45 +471,71 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, Strin
     let steer = spawn("steer", move || steer.run());
     let link = spawn("camlink", move || link.run());
 
-    let any_thread_ended = || supervisor.is_finished() || steer.is_finished() || link.is_finished();
     let handles = Handles {
         supervisor: handle,
         link: link_r.clone(),
         loops: [supervisor_figures, steer_figures],
         truth: truth.clone(),
+        sim: sim_control,
+        ping: ping_tx,
+        gui_beat: gui_beat_w,
+        steer_settings: steer_settings_r,
+        steer: steer_r,
         clock,
     };
-    console::operate(opts, &handles, &stop, any_thread_ended);
-    stop.store(true, Ordering::Relaxed);
-
-    let link_ok = link.join().is_ok();
-    let steer_loop = steer.join().unwrap_or_default();
-    let (supervisor, supervisor_loop) = match supervisor.join() {
-        Ok(result) => result,
-        Err(_) => {
-            tracing::error!(
-                "the supervisor thread panicked; safe outputs were written as it unwound"
-            );
-            (Supervisor::new(s), LoopSummary::default())
-        }
-    };
-    if !link_ok {
-        tracing::error!("the camera link thread panicked");
-    }
-    if let Some(cable) = cable {
-        let _ = cable.join();
-    }
-    // The supervisor thread has ended and dropped its tap: the recorder closes the files.
-    let record = recorder.finish();
-    Ok(RunOutcome {
-        final_status: *supervisor.status(),
-        faults: supervisor.fault_log.clone(),
-        notices: supervisor.notice_log.clone(),
-        supervisor_loop,
-        steer_loop,
-        link: link_r.snapshot(),
+    let running = Running {
+        supervisor,
+        steer,
+        link,
+        cable,
+        link_status: link_r,
+        truth,
+        settings: s.clone(),
         rt_warnings,
-        cross_track: truth.cross_track().summary(),
-        record,
-    })
+        recorder,
+        stop,
+    };
+    Ok((handles, running))
+}
+
+impl Running {
+    /// A controller thread has ended although the run was not stopped.
+    pub fn any_thread_ended(&self) -> bool {
+        self.supervisor.is_finished() || self.steer.is_finished() || self.link.is_finished()
+    }
+
+    /// Stop the threads (the supervisor writes the safe outputs) and collect the outcome.
+    pub fn finish(self) -> RunOutcome {
+        self.stop.store(true, Ordering::Relaxed);
+        let link_ok = self.link.join().is_ok();
+        let steer_loop = self.steer.join().unwrap_or_default();
+        let (supervisor, supervisor_loop) = match self.supervisor.join() {
+            Ok(result) => result,
+            Err(_) => {
+                tracing::error!(
+                    "the supervisor thread panicked; safe outputs were written as it unwound"
+                );
+                (Supervisor::new(&self.settings), LoopSummary::default())
+            }
+        };
+        if !link_ok {
+            tracing::error!("the camera link thread panicked");
+        }
+        if let Some(cable) = self.cable {
+            let _ = cable.join();
+        }
+        // The supervisor thread has ended and dropped its tap: the recorder closes the files.
+        let record = self.recorder.finish();
+        RunOutcome {
+            final_status: *supervisor.status(),
+            faults: supervisor.fault_log.clone(),
+            notices: supervisor.notice_log.clone(),
+            supervisor_loop,
+            steer_loop,
+            link: self.link_status.snapshot(),
+            rt_warnings: self.rt_warnings,
+            cross_track: self.truth.cross_track().summary(),
+            record,
+        }
+    }
 }

@@ -45,6 +45,9 @@ pub struct Status {
     /// end-switch procedure reports done.
     pub endswitch_hit: Option<Side>,
     pub notice: Option<Notice>,
+    /// A fault cause that holds now whatever the mode (an e-stop pressed, ...): power-up
+    /// is refused while there is one.
+    pub standing_cause: Option<FaultCause>,
 }
 
 impl Default for Status {
@@ -64,6 +67,7 @@ impl Default for Status {
             wheel_angle_ref_rad: 0.0,
             endswitch_hit: None,
             notice: None,
+            standing_cause: None,
         }
     }
 }

@@ -12,10 +12,11 @@ use mechweed_hw::{Inputs, Outputs};
 
 use crate::camlink::LinkStatus;
 use crate::config::Settings;
+use crate::config::SteerSettings;
 use crate::faults::{CheckContext, FaultCause, FaultChecks, PowerState};
 use crate::health::ThreadHealth;
 use crate::measure::Measurement;
-use crate::modes::{Gains, Mode, Refusal, Request};
+use crate::modes::{Gains, Mode, Refusal, Request, mode_refusal, power_up_refusal};
 use crate::pid::{Pd, Pi};
 use crate::steer::SteerCommand;
 
@@ -36,6 +37,8 @@ pub struct Supervisor {
     endswitch_hit_s: f64,
     test_outputs: Outputs,
     endswitch_done_seen: u32,
+    /// Steering-law parameters accepted in Halt, not yet passed to the steer thread.
+    steer_settings: Option<SteerSettings>,
     status: Status,
     pub fault_log: Vec<FaultRecord>,
     pub notice_log: Vec<Notice>,
@@ -66,6 +69,7 @@ impl Supervisor {
             endswitch_hit_s: 0.0,
             test_outputs: Outputs::SAFE,
             endswitch_done_seen: 0,
+            steer_settings: None,
             status: Status::default(),
             fault_log: Vec::with_capacity(LOG_CAPACITY),
             notice_log: Vec::with_capacity(LOG_CAPACITY),
@@ -97,11 +101,8 @@ impl Supervisor {
         }
         match request {
             Request::PowerUp => {
-                if let Some(cause) = self.checks.standing_cause(&st.inputs) {
-                    return Err(Refusal::CauseStillActive(cause));
-                }
-                if st.mode != Mode::Fault && st.power != PowerState::Off {
-                    return Err(Refusal::AlreadyPowered);
+                if let Some(refusal) = power_up_refusal(st) {
+                    return Err(refusal);
                 }
                 if st.mode == Mode::Fault {
                     self.set_mode(Mode::Halt);
@@ -112,39 +113,16 @@ impl Supervisor {
                 };
                 Ok(())
             }
-            Request::Mode(Mode::Fault) => Err(Refusal::FaultIsNotAMode),
-            Request::Mode(_) if st.mode == Mode::Fault => Err(Refusal::FaultLatched(
-                st.fault
-                    .map_or(FaultCause::Hardware { card: "?" }, |f| f.cause),
-            )),
-            Request::Mode(Mode::Halt) => {
-                self.set_mode(Mode::Halt);
-                Ok(())
-            }
-            Request::Mode(Mode::Test) => {
-                if st.mode != Mode::Halt {
-                    return Err(Refusal::OnlyFromHalt(st.mode));
-                }
-                if st.measured.speed_mps.abs() > STANDING_MPS {
-                    return Err(Refusal::NotStanding);
-                }
-                self.test_outputs = Outputs::SAFE;
-                self.set_mode(Mode::Test);
-                Ok(())
-            }
             Request::Mode(mode) => {
-                // Joystick or Autonomous: from Halt, or switching between the two.
-                if !(st.mode == Mode::Halt || st.mode.drives()) {
-                    return Err(Refusal::OnlyFromHalt(st.mode));
+                if let Some(refusal) = mode_refusal(mode, st) {
+                    return Err(refusal);
                 }
-                if st.power != PowerState::On {
-                    return Err(Refusal::NotPowered);
-                }
-                if !st.measured.calibrated {
-                    return Err(Refusal::NotCalibrated);
-                }
-                if st.mode == Mode::Halt {
-                    self.start_driving();
+                match mode {
+                    Mode::Test => self.test_outputs = Outputs::SAFE,
+                    Mode::Joystick | Mode::Autonomous if st.mode == Mode::Halt => {
+                        self.start_driving()
+                    }
+                    _ => {}
                 }
                 self.set_mode(mode);
                 Ok(())
@@ -158,6 +136,13 @@ impl Supervisor {
                 self.steering.gains = gains.steer;
                 Ok(())
             }
+            Request::SteerLaw(settings) => {
+                if st.mode != Mode::Halt {
+                    return Err(Refusal::OnlyInHalt);
+                }
+                self.steer_settings = Some(settings);
+                Ok(())
+            }
             Request::TestOutputs(outputs) => {
                 if st.mode != Mode::Test {
                     return Err(Refusal::NotInTest);
@@ -166,6 +151,11 @@ impl Supervisor {
                 Ok(())
             }
         }
+    }
+
+    /// Steering-law parameters accepted since the last call, for the steer thread.
+    pub fn take_steer_settings(&mut self) -> Option<SteerSettings> {
+        self.steer_settings.take()
     }
 
     fn set_mode(&mut self, mode: Mode) {
@@ -230,6 +220,7 @@ impl Supervisor {
         self.status.t_s = now_s;
         self.status.tick += 1;
         self.status.inputs = *inputs;
+        self.status.standing_cause = self.checks.standing_cause(inputs);
         let measured = self.measure.update(inputs, dt_s);
         self.status.measured = measured;
 
@@ -269,7 +260,7 @@ impl Supervisor {
         let outputs = match self.status.mode {
             Mode::Fault => Outputs::SAFE,
             Mode::Halt => self.standing_outputs(),
-            Mode::Test => self.guard_steering(self.test_outputs, inputs),
+            Mode::Test => self.guard_steering(limit_amplifiers(self.test_outputs), inputs),
             Mode::Joystick | Mode::Autonomous => self.drive(steer, inputs, dt_s),
         };
         if !self.status.mode.drives() {
@@ -394,7 +385,24 @@ impl Supervisor {
     }
 }
 
-/// Below this the robot counts as standing, m/s.
-const STANDING_MPS: f64 = 0.01;
 /// The weeding tool runs only while the robot moves along the row, m/s.
 const TOOL_MIN_SPEED_MPS: f64 = 0.05;
+
+/// The amplifiers take -10..+10 V: whatever the test panel asks, never more.
+const AMPLIFIER_MAX_V: f64 = 10.0;
+
+fn limit_amplifiers(mut outputs: Outputs) -> Outputs {
+    for v in [
+        &mut outputs.amp_left_v,
+        &mut outputs.amp_right_v,
+        &mut outputs.amp_steer_v,
+    ] {
+        // NaN (from a broken sender) becomes 0 V, not a pass-through.
+        *v = if v.is_finite() {
+            v.clamp(-AMPLIFIER_MAX_V, AMPLIFIER_MAX_V)
+        } else {
+            0.0
+        };
+    }
+    outputs
+}

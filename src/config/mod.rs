@@ -137,6 +137,7 @@ pub struct RtSettings {
     pub lock_memory: bool,
     pub supervisor_cpu: i32,
     pub heartbeat_timeout_s: f64,
+    pub gui_heartbeat_timeout_s: f64,
     pub max_overruns: u32,
     pub overrun_window_s: f64,
 }
@@ -321,6 +322,7 @@ fn rt(r: &mut Reader) -> RtSettings {
         lock_memory: r.choice(s, "lock_memory", &["no", "yes"]) == 1,
         supervisor_cpu: r.f64(s, "supervisor_cpu", -1.0, 1023.0) as i32,
         heartbeat_timeout_s: r.f64(s, "heartbeat_timeout_s", 0.05, 60.0),
+        gui_heartbeat_timeout_s: r.f64(s, "gui_heartbeat_timeout_s", 0.1, 60.0),
         max_overruns: r.u64(s, "max_overruns", 0, 1_000_000) as u32,
         overrun_window_s: r.f64(s, "overrun_window_s", 0.1, 3600.0),
     }

@@ -10,7 +10,7 @@ pub mod law;
 use mechweed_hw::sim::Side;
 
 use crate::camlink::LinkStatus;
-use crate::config::Settings;
+use crate::config::{Settings, SteerSettings};
 use crate::modes::Mode;
 use crate::supervisor::Status;
 use endswitch::EndSwitchProcedure;
@@ -49,6 +49,24 @@ impl SteerCore {
             endswitch: EndSwitchProcedure::default(),
             last_mode: Mode::Halt,
         }
+    }
+
+    /// New steering-law parameters (sent by the supervisor, which takes them only in
+    /// Halt). The thread's rate and the end-switch procedure's angle stay as at start:
+    /// the rate is the thread's period, and the supervisor limits angles with the other.
+    pub fn set_law_settings(&mut self, new: &SteerSettings) {
+        let s = &mut self.settings.steer;
+        *s = SteerSettings {
+            rate_hz: s.rate_hz,
+            endswitch_back_deg: s.endswitch_back_deg,
+            ..*new
+        };
+        self.law = RowFollower::new(s, &self.settings.robot);
+    }
+
+    /// The steering-law parameters in use.
+    pub fn law_settings(&self) -> SteerSettings {
+        self.settings.steer
     }
 
     /// One steer tick at `now_s`, from the supervisor's and the camera link's latest state.

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Makes docs/screenshot.png for the README: the operator GUI on the simulated robot,
+# driving autonomously, in a virtual X display (Xvfb) drawn by Mesa's software
+# renderer. Needs: apt-get install -y xvfb imagemagick. Not needed by CI.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+for tool in Xvfb import; do
+    command -v "$tool" >/dev/null 2>&1 || {
+        echo "$tool is missing: apt-get install -y xvfb imagemagick" >&2
+        exit 1
+    }
+done
+# SCREENSHOT_PROFILE=debug uses the dev profile (optimised in this project, and
+# already built by the tests) instead of a release build.
+profile="${SCREENSHOT_PROFILE:-release}"
+if [ "$profile" = debug ]; then cargo build; else cargo build --release; fi
+bin="${CARGO_TARGET_DIR:-target}/$profile/mechweed"
+
+display=":${SCREENSHOT_DISPLAY:-77}"
+Xvfb "$display" -screen 0 1280x860x24 -nolisten tcp &
+xvfb=$!
+trap 'kill "$xvfb" 2>/dev/null || true' EXIT
+sleep 2
+
+# --mode autonomous: the scripted operator powers up and asks for Autonomous, as a
+# person would click Power up, then Autonomous. MECHWEED_TAB opens the Plots tab.
+DISPLAY="$display" MECHWEED_TAB=plots "$bin" run --mode autonomous --duration 45 --set sim.row=scurve &
+app=$!
+sleep "${SCREENSHOT_AFTER_S:-35}"
+DISPLAY="$display" import -window root docs/screenshot.png
+wait "$app"
+echo "wrote docs/screenshot.png"

@@ -1,0 +1,119 @@
+//! Always visible: the mode, the HALT button (also the Space key), the active fault in
+//! a field technician's words and how long ago it happened, and the supervisor's last
+//! answer to the operator.
+
+use eframe::egui::{self, Color32, RichText};
+
+use super::app::{Feedback, View, ask};
+use crate::modes::{Mode, Request};
+use crate::run::Handles;
+
+/// If the supervisor has not published for this long, it has stopped, s.
+const SUPERVISOR_SILENT_S: f64 = 1.0;
+
+pub fn mode_colour(mode: Mode) -> Color32 {
+    match mode {
+        Mode::Halt => Color32::from_rgb(200, 200, 200),
+        Mode::Joystick => Color32::from_rgb(120, 180, 255),
+        Mode::Autonomous => Color32::from_rgb(90, 220, 120),
+        Mode::Test => Color32::from_rgb(240, 200, 80),
+        Mode::Fault => Color32::from_rgb(255, 90, 90),
+    }
+}
+
+/// HALT: asked in every mode. In Fault the outputs are already safe, so the
+/// supervisor's refusal is said as that.
+pub fn halt(handles: &Handles, view: &View, feedback: &mut Option<Feedback>) {
+    if view.status.mode == Mode::Fault {
+        *feedback = Some(Feedback {
+            text: "halt: the robot is in fault, its outputs are already safe".to_string(),
+            refused: false,
+            at_s: view.now_s,
+        });
+        return;
+    }
+    ask(handles, Request::Mode(Mode::Halt), "halted", feedback);
+}
+
+pub fn show(ui: &mut egui::Ui, view: &View, handles: &Handles, feedback: &mut Option<Feedback>) {
+    let st = &view.status;
+    ui.add_space(4.0);
+    ui.horizontal(|ui| {
+        let halt_button = egui::Button::new(
+            RichText::new("HALT")
+                .size(34.0)
+                .strong()
+                .color(Color32::WHITE),
+        )
+        .fill(Color32::from_rgb(200, 30, 30))
+        .min_size(egui::vec2(170.0, 64.0));
+        if ui
+            .add(halt_button)
+            .on_hover_text("Stop driving and stand, in every mode (also the Space key)")
+            .clicked()
+        {
+            halt(handles, view, feedback);
+        }
+        ui.add_space(12.0);
+        ui.vertical(|ui| {
+            ui.horizontal(|ui| {
+                ui.label(RichText::new("Mode").size(16.0));
+                ui.label(
+                    RichText::new(st.mode.name().to_uppercase())
+                        .size(30.0)
+                        .strong()
+                        .color(mode_colour(st.mode)),
+                );
+                ui.add_space(16.0);
+                ui.label(format!(
+                    "{:.2} m/s   wheel {:+.1} deg   power {}   t = {:.1} s",
+                    st.measured.speed_mps,
+                    st.measured.wheel_angle_rad.to_degrees(),
+                    power_text(st.power),
+                    view.now_s
+                ));
+            });
+            match st.fault {
+                Some(fault) => {
+                    ui.label(
+                        RichText::new(format!(
+                            "FAULT: {}  ({:.1} s ago)",
+                            fault.cause,
+                            (view.now_s - fault.t_s).max(0.0)
+                        ))
+                        .size(18.0)
+                        .strong()
+                        .color(Color32::from_rgb(255, 90, 90)),
+                    );
+                }
+                None => {
+                    ui.label(RichText::new("no fault").size(18.0));
+                }
+            }
+            if st.tick > 0 && view.now_s - st.t_s > SUPERVISOR_SILENT_S {
+                ui.label(
+                    RichText::new("the controller has stopped: close this window and see the log")
+                        .strong()
+                        .color(Color32::RED),
+                );
+            }
+            if let Some(f) = feedback {
+                let colour = if f.refused {
+                    Color32::from_rgb(255, 170, 60)
+                } else {
+                    ui.visuals().text_color()
+                };
+                ui.label(RichText::new(format!("{:.1} s  {}", f.at_s, f.text)).color(colour));
+            }
+        });
+    });
+    ui.add_space(4.0);
+}
+
+pub fn power_text(power: crate::faults::PowerState) -> &'static str {
+    match power {
+        crate::faults::PowerState::Off => "off",
+        crate::faults::PowerState::Closing { .. } => "closing",
+        crate::faults::PowerState::On => "on",
+    }
+}

@@ -1,0 +1,90 @@
+//! The operator GUI (egui/eframe): how every user meets mechweed.
+//!
+//! The GUI thread is a reader of the protected objects and a sender of requests: it
+//! copies snapshots out (never holding a lock across a frame) and asks the supervisor
+//! for everything (modes, power-up, gains, test outputs). It never writes an output.
+//! It beats once per pass (`App::logic`, which eframe also runs while the window is
+//! minimised), and the supervisor faults if it stops for `[rt] gui_heartbeat_timeout_s`.
+//!
+//! One file per idea: `app` (the eframe App and its layout), `header` (mode, HALT,
+//! fault), `modes` (mode buttons and why one is disabled), `status` (every input,
+//! output, the camera link and loop figures), `plots` (the last 60 s), `tuning` (gains
+//! and the steering law, saved to robot.ini by `ini_edit`), `test_panel` (mode Test),
+//! `sim_panel` (the simulated robot's e-stops, joystick and faults).
+
+pub mod app;
+mod header;
+pub mod ini_edit;
+mod modes;
+pub mod plots;
+mod sim_panel;
+mod status;
+pub mod test_panel;
+pub mod tuning;
+
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::sync::{Arc, Mutex};
+
+use crate::run::{RunOptions, RunOutcome, Running, start};
+
+/// The controller's threads now running: the GUI replaces them when the operator resets
+/// the simulated robot, and `run_gui` stops the last ones when the window closes.
+pub type Controller = Arc<Mutex<Option<Running>>>;
+
+pub use app::GuiApp;
+
+/// Why there is no window to open, if there is none: checked before anything starts,
+/// so that a GUI run without a display fails with a message, never a panic.
+pub fn display_missing() -> Option<String> {
+    let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
+    if set("DISPLAY") || set("WAYLAND_DISPLAY") {
+        None
+    } else {
+        Some(
+            "no display for the operator GUI (neither DISPLAY nor WAYLAND_DISPLAY is set): \
+             run with --headless for the console, or start it in a desktop session"
+                .to_string(),
+        )
+    }
+}
+
+/// Run the controller with the GUI on this (the main) thread until the window closes,
+/// `duration_s` passes, or `stop` is set; then stop the threads (safe outputs).
+/// `settings_file` is where "Save to robot.ini" writes (None: built-in settings).
+pub fn run_gui(
+    opts: &RunOptions,
+    settings_file: Option<PathBuf>,
+    stop: Arc<AtomicBool>,
+) -> Result<RunOutcome, String> {
+    if let Some(why) = display_missing() {
+        return Err(why);
+    }
+    // The controller's own stop flag: a reset stops one controller and starts another,
+    // while `stop` (Ctrl-C) closes the window.
+    let (handles, running) = start(opts, Arc::new(AtomicBool::new(false)))?;
+    let controller: Controller = Arc::new(Mutex::new(Some(running)));
+    let app = GuiApp::new(handles, opts, settings_file, stop, controller.clone());
+    let native = eframe::NativeOptions {
+        viewport: eframe::egui::ViewportBuilder::default()
+            .with_title("mechweed")
+            .with_inner_size([1280.0, 860.0]),
+        ..Default::default()
+    };
+    let shown = eframe::run_native("mechweed", native, Box::new(|_cc| Ok(Box::new(app))));
+    // Whatever happened to the window, stop the controller: the supervisor writes the
+    // safe outputs as it ends.
+    let running = controller
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
+        .take();
+    let outcome = running
+        .ok_or("the controller could not be restarted after a reset: see the messages above")?
+        .finish();
+    match shown {
+        Ok(()) => Ok(outcome),
+        Err(e) => Err(format!(
+            "the operator GUI could not open its window ({e}); the controller was stopped with safe outputs. Run with --headless for the console."
+        )),
+    }
+}

@@ -1,0 +1,69 @@
+//! Mode buttons, enabled only where the supervisor's state machine allows, each with the
+//! reason when it is not: the GUI asks the supervisor's own rules (`modes::why_not`,
+//! `modes::power_up_refusal`), so the two cannot disagree.
+
+use eframe::egui::{self, RichText};
+
+use super::app::{Feedback, View, ask};
+use super::header::mode_colour;
+use crate::modes::{Mode, Request, power_up_refusal, why_not};
+use crate::run::Handles;
+
+/// A wide button that may be disabled, with the reason in small text under it.
+fn button_with_reason(ui: &mut egui::Ui, label: RichText, why_not: Option<String>) -> bool {
+    let clicked = ui
+        .add_enabled(
+            why_not.is_none(),
+            egui::Button::new(label).min_size(egui::vec2(ui.available_width(), 34.0)),
+        )
+        .clicked();
+    if let Some(why) = why_not {
+        ui.label(RichText::new(why).small().weak());
+    }
+    ui.add_space(4.0);
+    clicked
+}
+
+pub fn show(ui: &mut egui::Ui, view: &View, handles: &Handles, feedback: &mut Option<Feedback>) {
+    let st = &view.status;
+    ui.heading("Modes");
+    ui.add_space(4.0);
+    let power_up = button_with_reason(
+        ui,
+        RichText::new("Power up").size(18.0),
+        power_up_refusal(st).map(|r| r.to_string()),
+    );
+    if power_up {
+        ask(handles, Request::PowerUp, "powering up", feedback);
+    }
+    ui.separator();
+    for (mode, label) in [
+        (Mode::Joystick, "Joystick"),
+        (Mode::Autonomous, "Autonomous"),
+        (Mode::Test, "Test"),
+    ] {
+        // The mode we are in needs no button press: say so rather than grey it silently.
+        let reason = if st.mode == mode {
+            Some(format!("now in {mode}"))
+        } else {
+            why_not(mode, st)
+        };
+        let text = RichText::new(label).size(18.0).color(mode_colour(mode));
+        if button_with_reason(ui, text, reason) {
+            ask(
+                handles,
+                Request::Mode(mode),
+                &format!("mode {mode}"),
+                feedback,
+            );
+        }
+    }
+    ui.separator();
+    ui.label(
+        RichText::new(
+            "HALT (top, or Space) stops in every mode. After a fault: release the cause, \
+             then Power up.",
+        )
+        .small(),
+    );
+}

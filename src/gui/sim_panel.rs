@@ -1,0 +1,235 @@
+//! The simulated robot (only with the simulated plant): press and release each e-stop,
+//! inject every fault of the sim events, and an on-screen joystick (drag pad plus
+//! dead-man button) standing in for the analog one. All of it goes to the plant through
+//! `SimControl`, as a person at the robot would act: never to the controller directly.
+
+use eframe::egui::{self, Color32, RichText, Sense};
+use mechweed_hw::sim::{EncoderId, EventAction, RowShape, Side};
+
+use super::app::{Feedback, View};
+use crate::bench_rows::row_name;
+use crate::config::Settings;
+use crate::modes::Mode;
+use crate::run::Handles;
+
+/// Battery reading of the "battery low" fault, V (below [faults] battery_min_v).
+const LOW_BATTERY_V: f64 = 19.0;
+/// How long "camera link silent" lasts, s.
+const SILENT_S: f64 = 2.0;
+/// Size of the joystick's drag pad, points.
+const PAD: f32 = 170.0;
+
+pub struct SimPanel {
+    /// Stick position, -1..1: x to the right, y forward.
+    pub stick: [f64; 2],
+    pub dead_man: bool,
+    full_scale_v: f64,
+    battery_v: f64,
+    last_sent: Option<(f64, f64, bool)>,
+    /// The settings of the run, and the row and speed the next reset will use.
+    settings: Settings,
+    pub row: RowShape,
+    pub speed_mps: f64,
+    /// Asked for by "Reset": the settings to restart the controller with.
+    pub restart: Option<Settings>,
+}
+
+impl SimPanel {
+    pub fn new(settings: &Settings) -> SimPanel {
+        SimPanel {
+            stick: [0.0; 2],
+            dead_man: false,
+            full_scale_v: settings.joystick.full_scale_v,
+            battery_v: settings.sim.battery_v,
+            last_sent: None,
+            settings: settings.clone(),
+            row: settings.sim.row,
+            speed_mps: settings.steer.speed_mps,
+            restart: None,
+        }
+    }
+
+    /// The joystick's volts as wired (steer + = right, speed + = forward) and dead-man.
+    pub fn joystick(&self) -> (f64, f64, bool) {
+        let v = self.full_scale_v;
+        (self.stick[0] * v, self.stick[1] * v, self.dead_man)
+    }
+
+    /// Every pass: pass the on-screen joystick to the plant when it changes.
+    pub fn keep_joystick(&mut self, handles: &Handles) {
+        let Some(sim) = &handles.sim else { return };
+        let now = self.joystick();
+        if self.last_sent != Some(now) {
+            sim.set_joystick(now.0, now.1, now.2);
+            self.last_sent = Some(now);
+        }
+    }
+
+    pub fn show(
+        &mut self,
+        ui: &mut egui::Ui,
+        view: &View,
+        handles: &Handles,
+        feedback: &mut Option<Feedback>,
+    ) {
+        let Some(sim) = &handles.sim else { return };
+        let mut act = |action: EventAction, ui: &mut egui::Ui, label: &str| {
+            if ui.button(label).clicked() {
+                let queued = sim.apply(action);
+                *feedback = Some(Feedback {
+                    text: if queued {
+                        format!("simulated robot: {label}")
+                    } else {
+                        "simulated robot busy: try again".to_string()
+                    },
+                    refused: !queued,
+                    at_s: view.now_s,
+                });
+            }
+        };
+        ui.heading("Simulated robot");
+        let i = &view.status.inputs;
+        ui.label(RichText::new("Emergency stops").strong());
+        ui.horizontal(|ui| {
+            act(EventAction::EstopFront, ui, "Press e-stop front");
+            act(EventAction::EstopBack, ui, "Press e-stop back");
+        });
+        act(EventAction::EstopRelease, ui, "Release e-stops");
+        let pressed = !(i.estop_front_released && i.estop_back_released);
+        ui.label(if pressed {
+            "an e-stop is pressed"
+        } else {
+            "both released"
+        });
+        ui.separator();
+
+        ui.label(RichText::new("Joystick").strong());
+        self.pad(ui);
+        ui.checkbox(&mut self.dead_man, "Dead-man button held");
+        let (s, v, _) = self.joystick();
+        ui.label(format!("steer {s:+.2} V, speed {v:+.2} V"));
+        ui.separator();
+
+        ui.label(RichText::new("Faults").strong());
+        ui.horizontal_wrapped(|ui| {
+            act(EventAction::PowerLoss, ui, "Power loss");
+            act(EventAction::PowerRestore, ui, "Power back");
+            act(EventAction::Battery(LOW_BATTERY_V), ui, "Battery low");
+            act(EventAction::Battery(self.battery_v), ui, "Battery normal");
+            act(
+                EventAction::EncoderStuck(EncoderId::Left),
+                ui,
+                "Left encoder stuck",
+            );
+            act(
+                EventAction::EncoderStuck(EncoderId::Right),
+                ui,
+                "Right encoder stuck",
+            );
+            act(
+                EventAction::EncoderStuck(EncoderId::Steer),
+                ui,
+                "Steering encoder stuck",
+            );
+            act(EventAction::LinkSilent(SILENT_S), ui, "Camera silent 2 s");
+            act(EventAction::CameraReboot, ui, "Camera reboot");
+            act(
+                EventAction::EndSwitch(Side::Left),
+                ui,
+                "Kick to left end switch",
+            );
+            act(
+                EventAction::EndSwitch(Side::Right),
+                ui,
+                "Kick to right end switch",
+            );
+            act(EventAction::PotBroken, ui, "Potentiometer wire broken");
+        });
+        ui.label(
+            RichText::new(
+                "A stuck encoder and a broken potentiometer wire last for the rest of the run.",
+            )
+            .small()
+            .weak(),
+        );
+        ui.separator();
+
+        ui.label(RichText::new("Row and reset").strong());
+        ui.horizontal(|ui| {
+            for row in [RowShape::Straight, RowShape::SCurve, RowShape::Arc] {
+                ui.selectable_value(&mut self.row, row, row_name(row));
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("autonomous speed");
+            let max = self.settings.supervisor.max_speed_mps;
+            ui.add(
+                egui::DragValue::new(&mut self.speed_mps)
+                    .range(0.05..=max)
+                    .speed(0.01)
+                    .suffix(" m/s"),
+            );
+        });
+        let standing = matches!(view.status.mode, Mode::Halt | Mode::Fault);
+        if ui
+            .add_enabled(standing, egui::Button::new("Reset robot to row start"))
+            .clicked()
+        {
+            let mut settings = self.settings.clone();
+            settings.sim.row = self.row;
+            settings.steer.speed_mps = self.speed_mps;
+            self.restart = Some(settings);
+        }
+        ui.label(
+            RichText::new(if standing {
+                "restarts the controller in halt, e-stops released"
+            } else {
+                "halt first: a reset restarts the controller"
+            })
+            .small()
+            .weak(),
+        );
+        ui.separator();
+        let t = &view.truth;
+        ui.label(format!(
+            "truth: x {:.2} m, y {:+.3} m, tool off row {:+.1} cm{}",
+            t.x_m,
+            t.y_m,
+            t.tool_cross_track_m * 100.0,
+            if t.row_done { ", row done" } else { "" }
+        ));
+    }
+
+    /// The drag pad: drag to deflect, let go and it springs back to the centre.
+    fn pad(&mut self, ui: &mut egui::Ui) {
+        let (rect, response) = ui.allocate_exact_size(egui::vec2(PAD, PAD), Sense::drag());
+        if let Some(pos) = response
+            .interact_pointer_pos()
+            .filter(|_| response.dragged())
+        {
+            let x = (pos.x - rect.center().x) / (PAD / 2.0);
+            let y = (rect.center().y - pos.y) / (PAD / 2.0);
+            self.stick = [x.clamp(-1.0, 1.0) as f64, y.clamp(-1.0, 1.0) as f64];
+        } else {
+            self.stick = [0.0; 2];
+        }
+        let painter = ui.painter_at(rect);
+        painter.rect_filled(rect, 6.0, ui.visuals().extreme_bg_color);
+        painter.line_segment(
+            [rect.center_top(), rect.center_bottom()],
+            (1.0, Color32::GRAY),
+        );
+        painter.line_segment(
+            [rect.left_center(), rect.right_center()],
+            (1.0, Color32::GRAY),
+        );
+        let knob = rect.center()
+            + egui::vec2(self.stick[0] as f32, -self.stick[1] as f32) * (PAD / 2.0 - 12.0);
+        let colour = if self.dead_man {
+            Color32::from_rgb(90, 220, 120)
+        } else {
+            Color32::GRAY
+        };
+        painter.circle_filled(knob, 12.0, colour);
+    }
+}

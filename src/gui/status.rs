@@ -1,0 +1,201 @@
+//! Status: every input live, every output as commanded, the camera link, and each
+//! loop's timing with the Liu-Layland check from measured execution times.
+
+use eframe::egui::{self, RichText};
+
+use super::app::View;
+use crate::rt::liu_layland;
+use crate::run::Handles;
+
+fn on_off(on: bool) -> &'static str {
+    if on { "on" } else { "off" }
+}
+
+fn row(ui: &mut egui::Ui, name: &str, value: String) {
+    ui.label(name);
+    ui.monospace(value);
+    ui.end_row();
+}
+
+/// Every input, in the units at the connector and what they mean.
+pub fn inputs_grid(ui: &mut egui::Ui, view: &View) {
+    let i = &view.status.inputs;
+    let m = &view.status.measured;
+    egui::Grid::new("inputs").striped(true).show(ui, |ui| {
+        let estop = |released: bool| if released { "released" } else { "PRESSED" };
+        row(ui, "E-stop front", estop(i.estop_front_released).into());
+        row(ui, "E-stop back", estop(i.estop_back_released).into());
+        row(ui, "End switch left", on_off(i.end_switch_left).into());
+        row(ui, "End switch right", on_off(i.end_switch_right).into());
+        row(ui, "Motor power", on_off(i.motor_power_present).into());
+        row(ui, "Battery", format!("{:.2} V", i.battery_v));
+        row(
+            ui,
+            "Encoder left",
+            format!("{:>10} counts  {:+.3} m/s", i.enc_left_counts, m.v_left_mps),
+        );
+        row(
+            ui,
+            "Encoder right",
+            format!(
+                "{:>10} counts  {:+.3} m/s",
+                i.enc_right_counts, m.v_right_mps
+            ),
+        );
+        row(
+            ui,
+            "Encoder steering",
+            format!(
+                "{:>10} counts  {:+.2} deg{}",
+                i.enc_steer_counts,
+                m.wheel_angle_rad.to_degrees(),
+                if m.calibrated {
+                    ""
+                } else {
+                    " (not calibrated)"
+                }
+            ),
+        );
+        row(
+            ui,
+            "Potentiometer",
+            format!(
+                "{:.3} V  {:+.2} deg (filtered)",
+                i.pot_v,
+                m.pot_angle_filtered_rad.to_degrees()
+            ),
+        );
+        row(
+            ui,
+            "Joystick",
+            format!(
+                "steer {:+.2} V  speed {:+.2} V  dead-man {}",
+                i.joystick_steer_v,
+                i.joystick_speed_v,
+                if i.joystick_enable {
+                    "held"
+                } else {
+                    "released"
+                }
+            ),
+        );
+    });
+}
+
+/// Every output as the supervisor commanded it in its last tick.
+pub fn outputs_grid(ui: &mut egui::Ui, view: &View) {
+    let o = &view.status.outputs;
+    egui::Grid::new("outputs").striped(true).show(ui, |ui| {
+        row(ui, "Amplifier left", format!("{:+.2} V", o.amp_left_v));
+        row(ui, "Amplifier right", format!("{:+.2} V", o.amp_right_v));
+        row(ui, "Amplifier steering", format!("{:+.2} V", o.amp_steer_v));
+        row(ui, "Main power relay", on_off(o.main_power_on).into());
+        let brake = |released: bool| if released { "released" } else { "on" };
+        row(ui, "Brake left", brake(o.brake_release_left).into());
+        row(ui, "Brake right", brake(o.brake_release_right).into());
+        row(ui, "Tool", on_off(o.tool_on).into());
+    });
+}
+
+fn link_grid(ui: &mut egui::Ui, view: &View, handles: &Handles) {
+    let l = &view.link;
+    let c = &l.counters;
+    egui::Grid::new("link").striped(true).show(ui, |ui| {
+        let state = match l.problem {
+            Some(problem) => format!("DOWN: {problem}"),
+            None if l.streaming => "streaming".to_string(),
+            None => "connected, idle".to_string(),
+        };
+        row(ui, "State", state);
+        let age_s = view.now_s - l.last_row_s;
+        row(
+            ui,
+            "Last row",
+            if age_s.is_finite() {
+                format!(
+                    "offset {:+.3} m  angle {:+.2} deg  quality {}  ({:.2} s ago)",
+                    l.last_row.offset_m,
+                    l.last_row.angle_rad.to_degrees(),
+                    l.last_row.quality,
+                    age_s
+                )
+            } else {
+                "none yet".to_string()
+            },
+        );
+        row(ui, "Frames", format!("{} good", c.frames_ok));
+        row(
+            ui,
+            "Errors",
+            format!(
+                "{} CRC, {} bad values, {} unknown kinds, {} gaps, {} resyncs",
+                c.crc_errors, c.bad_values, c.unknown_kinds, c.seq_gaps, c.resyncs
+            ),
+        );
+        ui.label("Ping round trip");
+        ui.horizontal(|ui| {
+            if l.ping_rtt_ms.is_nan() {
+                ui.monospace(format!("none yet ({} sent)", l.pings_sent));
+            } else {
+                ui.monospace(format!("{:.1} ms ({} sent)", l.ping_rtt_ms, l.pings_sent));
+            }
+            if ui.button("Test link").clicked() {
+                // One place: a second click before the link thread took the first is one ping.
+                let _ = handles.ping.try_send(());
+            }
+        });
+        ui.end_row();
+    });
+}
+
+fn loops_grid(ui: &mut egui::Ui, view: &View) {
+    egui::Grid::new("loops").striped(true).show(ui, |ui| {
+        for text in [
+            "loop", "rate", "late p50", "late p99", "late max", "exec p99", "exec max", "overruns",
+        ] {
+            ui.label(RichText::new(text).strong());
+        }
+        ui.end_row();
+        for (name, l) in [("supervisor", view.loops[0]), ("steer", view.loops[1])] {
+            ui.label(name);
+            ui.monospace(format!("{:.0} Hz", l.rate_hz));
+            for us in [
+                l.late_us.p50,
+                l.late_us.p99,
+                l.late_us.max,
+                l.exec_us.p99,
+                l.exec_us.max,
+            ] {
+                ui.monospace(format!("{us} us"));
+            }
+            ui.monospace(l.overruns.to_string());
+            ui.end_row();
+        }
+    });
+    let check = liu_layland(&view.loops);
+    ui.label(format!(
+        "Liu-Layland: load from measured worst execution times {:.4}, bound {:.3}: {}",
+        check.utilisation,
+        check.bound,
+        if check.schedulable {
+            "schedulable"
+        } else {
+            "NOT guaranteed"
+        }
+    ));
+}
+
+pub fn show(ui: &mut egui::Ui, view: &View, handles: &Handles) {
+    ui.columns(2, |cols| {
+        cols[0].heading("Inputs");
+        inputs_grid(&mut cols[0], view);
+        cols[1].heading("Outputs (as commanded)");
+        outputs_grid(&mut cols[1], view);
+    });
+    ui.separator();
+    ui.heading("Camera link");
+    link_grid(ui, view, handles);
+    ui.separator();
+    ui.heading("Loops");
+    loops_grid(ui, view);
+}

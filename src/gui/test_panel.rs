@@ -1,0 +1,264 @@
+//! The hardware test panel (mode Test, entered only from Halt with the robot standing):
+//! every input live, a switch for each digital output, and for each amplifier a fixed
+//! voltage, a slow ramp or a step, limited to a settable maximum, with a stop.
+//!
+//! The panel computes the amplifier voltages at its own pass rate (10 to 30 a second)
+//! and sends them as `Request::TestOutputs`. Safety does not rest on it: the supervisor
+//! takes test outputs only in Test, limits every amplifier to +-10 V, keeps the end-switch
+//! guard, starts Test with the safe outputs, and on leaving Test (HALT) or any fault
+//! writes the safe outputs in that same tick; e-stops and every fault check keep working.
+//! If the GUI stops, its heartbeat fault does the same. When the mode is not Test the
+//! panel forgets its switches, so re-entering Test starts from safe outputs.
+
+use eframe::egui::{self, RichText};
+use mechweed_hw::Outputs;
+
+use super::app::{Feedback, View, ask};
+use super::status::inputs_grid;
+use crate::modes::{Mode, Request, why_not};
+use crate::run::Handles;
+
+/// A step waits this long at 0 V before jumping, so the plot shows the jump, s.
+const STEP_DELAY_S: f64 = 1.0;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Wave {
+    Stop,
+    Fixed,
+    Ramp,
+    Step,
+}
+
+/// One amplifier's test program.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AmpTest {
+    pub wave: Wave,
+    /// Target voltage (fixed, end of the ramp, height of the step), V.
+    pub level_v: f64,
+    /// Ramp rate, V/s.
+    pub ramp_v_per_s: f64,
+    /// When the wave was started, s.
+    pub started_s: f64,
+}
+
+impl Default for AmpTest {
+    fn default() -> Self {
+        AmpTest {
+            wave: Wave::Stop,
+            level_v: 1.0,
+            ramp_v_per_s: 0.5,
+            started_s: 0.0,
+        }
+    }
+}
+
+impl AmpTest {
+    /// The voltage now, limited to +-`max_v`.
+    pub fn volts(&self, now_s: f64, max_v: f64) -> f64 {
+        let t_s = (now_s - self.started_s).max(0.0);
+        let v = match self.wave {
+            Wave::Stop => 0.0,
+            Wave::Fixed => self.level_v,
+            Wave::Ramp => {
+                self.level_v.signum() * (self.ramp_v_per_s.abs() * t_s).min(self.level_v.abs())
+            }
+            Wave::Step if t_s < STEP_DELAY_S => 0.0,
+            Wave::Step => self.level_v,
+        };
+        v.clamp(-max_v.abs(), max_v.abs())
+    }
+}
+
+pub struct TestPanel {
+    pub outputs: Outputs,
+    /// Left drive, right drive, steering.
+    pub amps: [AmpTest; 3],
+    /// No amplifier gets more than this, V.
+    pub max_v: f64,
+    last_sent: Option<Outputs>,
+}
+
+impl Default for TestPanel {
+    fn default() -> Self {
+        TestPanel {
+            outputs: Outputs::SAFE,
+            amps: [AmpTest::default(); 3],
+            max_v: 3.0,
+            last_sent: None,
+        }
+    }
+}
+
+impl TestPanel {
+    /// The outputs the panel asks for now.
+    pub fn wanted(&self, now_s: f64) -> Outputs {
+        let [l, r, s] = self.amps.map(|a| a.volts(now_s, self.max_v));
+        Outputs {
+            amp_left_v: l,
+            amp_right_v: r,
+            amp_steer_v: s,
+            ..self.outputs
+        }
+    }
+
+    /// Every pass: in Test, send the outputs when they change; otherwise forget them.
+    pub fn keep_sending(
+        &mut self,
+        view: &View,
+        handles: &Handles,
+        feedback: &mut Option<Feedback>,
+    ) {
+        if view.status.mode != Mode::Test {
+            if self.last_sent.is_some() || self.outputs != Outputs::SAFE {
+                let max_v = self.max_v;
+                *self = TestPanel {
+                    max_v,
+                    ..TestPanel::default()
+                };
+            }
+            return;
+        }
+        let wanted = self.wanted(view.now_s);
+        if self.last_sent == Some(wanted) {
+            return;
+        }
+        self.last_sent = Some(wanted);
+        if let Err(why) = handles.supervisor.request(Request::TestOutputs(wanted)) {
+            *feedback = Some(Feedback {
+                text: format!("test outputs refused: {why}"),
+                refused: true,
+                at_s: view.now_s,
+            });
+        }
+    }
+
+    pub fn show(
+        &mut self,
+        ui: &mut egui::Ui,
+        view: &View,
+        handles: &Handles,
+        feedback: &mut Option<Feedback>,
+    ) {
+        let in_test = view.status.mode == Mode::Test;
+        ui.horizontal(|ui| {
+            let reason = if in_test {
+                None
+            } else {
+                why_not(Mode::Test, &view.status)
+            };
+            if ui
+                .add_enabled(
+                    !in_test && reason.is_none(),
+                    egui::Button::new("Enter Test"),
+                )
+                .clicked()
+            {
+                ask(handles, Request::Mode(Mode::Test), "mode test", feedback);
+            }
+            if ui
+                .add_enabled(in_test, egui::Button::new("Leave Test"))
+                .clicked()
+            {
+                ask(
+                    handles,
+                    Request::Mode(Mode::Halt),
+                    "left test: safe outputs",
+                    feedback,
+                );
+            }
+            if let Some(why) = reason {
+                ui.label(RichText::new(why).weak());
+            }
+        });
+        ui.add_enabled_ui(in_test, |ui| {
+            ui.heading("Digital outputs");
+            ui.horizontal(|ui| {
+                let o = &mut self.outputs;
+                ui.checkbox(&mut o.main_power_on, "Main power relay");
+                ui.checkbox(&mut o.brake_release_left, "Release brake left");
+                ui.checkbox(&mut o.brake_release_right, "Release brake right");
+                ui.checkbox(&mut o.tool_on, "Tool");
+            });
+            ui.heading("Amplifiers");
+            ui.horizontal(|ui| {
+                ui.label("Limit +-");
+                ui.add(
+                    egui::DragValue::new(&mut self.max_v)
+                        .range(0.0..=10.0)
+                        .speed(0.05)
+                        .suffix(" V"),
+                );
+                if ui.button("Stop all").clicked() {
+                    for a in &mut self.amps {
+                        a.wave = Wave::Stop;
+                    }
+                }
+            });
+            egui::Grid::new("amps").striped(true).show(ui, |ui| {
+                for (k, name) in ["left drive", "right drive", "steering"]
+                    .into_iter()
+                    .enumerate()
+                {
+                    let a = &mut self.amps[k];
+                    ui.label(name);
+                    ui.add(
+                        egui::DragValue::new(&mut a.level_v)
+                            .range(-10.0..=10.0)
+                            .speed(0.05)
+                            .suffix(" V"),
+                    );
+                    ui.add(
+                        egui::DragValue::new(&mut a.ramp_v_per_s)
+                            .range(0.01..=5.0)
+                            .speed(0.01)
+                            .suffix(" V/s"),
+                    );
+                    for (wave, label) in [
+                        (Wave::Fixed, "Fixed"),
+                        (Wave::Ramp, "Ramp"),
+                        (Wave::Step, "Step"),
+                    ] {
+                        if ui.selectable_label(a.wave == wave, label).clicked() {
+                            a.wave = wave;
+                            a.started_s = view.now_s;
+                        }
+                    }
+                    if ui.button("Stop").clicked() {
+                        a.wave = Wave::Stop;
+                    }
+                    ui.monospace(format!("{:+.2} V", a.volts(view.now_s, self.max_v)));
+                    ui.end_row();
+                }
+            });
+        });
+        ui.separator();
+        ui.heading("Inputs");
+        inputs_grid(ui, view);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn waves_are_limited_to_the_maximum() {
+        let mut a = AmpTest {
+            wave: Wave::Fixed,
+            level_v: 8.0,
+            ramp_v_per_s: 1.0,
+            started_s: 10.0,
+        };
+        assert_eq!(a.volts(11.0, 3.0), 3.0);
+        a.wave = Wave::Ramp;
+        assert!((a.volts(12.0, 5.0) - 2.0).abs() < 1e-12);
+        assert_eq!(a.volts(30.0, 5.0), 5.0);
+        a.level_v = -2.0;
+        assert_eq!(a.volts(30.0, 5.0), -2.0);
+        a.wave = Wave::Step;
+        assert_eq!(a.volts(10.5, 5.0), 0.0);
+        assert_eq!(a.volts(11.5, 5.0), -2.0);
+        a.wave = Wave::Stop;
+        assert_eq!(a.volts(11.5, 5.0), 0.0);
+    }
+}

@@ -1,0 +1,267 @@
+//! Tuning: every regulator gain and steering-law parameter, applied with one button
+//! (only in Halt, so nothing jumps while moving), saved to robot.ini changing only those
+//! values, or reverted from the file.
+//!
+//! Values are checked by the same code that reads robot.ini (ranges included): "Apply"
+//! reads the shipped settings with the panel's values as `--set` overrides, "Save"
+//! reads the rewritten file before it replaces the old one.
+
+use std::path::PathBuf;
+
+use eframe::egui::{self, RichText};
+
+use super::app::{Feedback, View, ask};
+use super::ini_edit::{NewValue, set_values, write_atomic};
+use crate::config::{DEFAULT_INI, Settings};
+use crate::modes::{Gains, Mode, Refusal, Request};
+use crate::run::Handles;
+
+/// One tunable value: where it lives in robot.ini, how it is shown, and how to read
+/// it from the settings.
+pub struct Tunable {
+    pub section: &'static str,
+    pub key: &'static str,
+    pub what: &'static str,
+    pub get: fn(&Settings) -> f64,
+}
+
+macro_rules! tunable {
+    ($section:literal, $key:literal, $what:literal, |$s:ident| $get:expr) => {
+        Tunable {
+            section: $section,
+            key: $key,
+            what: $what,
+            get: |$s: &Settings| $get,
+        }
+    };
+}
+
+/// Every regulator gain and steering-law parameter (the steer thread's rate and the
+/// end-switch angle are not: they are fixed for a run).
+pub const TUNABLES: &[Tunable] = &[
+    tunable!("pid.left", "kp", "V per m/s", |s| s.pid_left.kp),
+    tunable!("pid.left", "ki", "V per m", |s| s.pid_left.ki),
+    tunable!("pid.left", "kff", "V per m/s of reference", |s| s
+        .pid_left
+        .kff),
+    tunable!("pid.left", "out_max_v", "V", |s| s.pid_left.out_max_v),
+    tunable!("pid.right", "kp", "V per m/s", |s| s.pid_right.kp),
+    tunable!("pid.right", "ki", "V per m", |s| s.pid_right.ki),
+    tunable!("pid.right", "kff", "V per m/s of reference", |s| s
+        .pid_right
+        .kff),
+    tunable!("pid.right", "out_max_v", "V", |s| s.pid_right.out_max_v),
+    tunable!("pid.steer", "kp", "V per rad", |s| s.pid_steer.kp),
+    tunable!("pid.steer", "kd", "V per rad/s", |s| s.pid_steer.kd),
+    tunable!("pid.steer", "d_filter_s", "s", |s| s.pid_steer.d_filter_s),
+    tunable!("pid.steer", "out_max_v", "V", |s| s.pid_steer.out_max_v),
+    tunable!("steer", "speed_mps", "autonomous speed, m/s", |s| s
+        .steer
+        .speed_mps),
+    tunable!("steer", "lookahead_m", "m", |s| s.steer.lookahead_m),
+    tunable!("steer", "ki_per_m2", "1/m^2", |s| s.steer.ki_per_m2),
+    tunable!("steer", "integral_max_deg", "deg", |s| s
+        .steer
+        .integral_max_deg),
+    tunable!("steer", "curvature_filter_m", "m", |s| s
+        .steer
+        .curvature_filter_m),
+    tunable!("steer", "latency_s", "camera latency, s", |s| s
+        .steer
+        .latency_s),
+];
+
+/// A value as robot.ini gets it: the shortest text that reads back the same number.
+pub fn value_text(v: f64) -> String {
+    format!("{v}")
+}
+
+pub struct Tuning {
+    /// The panel's values, one per `TUNABLES` entry.
+    pub values: Vec<f64>,
+    /// Where "Save" writes; None when the program runs on its built-in settings.
+    pub file: Option<PathBuf>,
+}
+
+impl Tuning {
+    pub fn new(settings: &Settings, file: Option<PathBuf>) -> Tuning {
+        Tuning {
+            values: TUNABLES.iter().map(|t| (t.get)(settings)).collect(),
+            file,
+        }
+    }
+
+    /// Set one value by section and key (for tests and scripts); false if unknown.
+    pub fn set(&mut self, section: &str, key: &str, value: f64) -> bool {
+        match TUNABLES
+            .iter()
+            .position(|t| t.section == section && t.key == key)
+        {
+            Some(i) => {
+                self.values[i] = value;
+                true
+            }
+            None => false,
+        }
+    }
+
+    fn overrides(&self) -> Vec<String> {
+        TUNABLES
+            .iter()
+            .zip(&self.values)
+            .map(|(t, v)| format!("{}.{}={}", t.section, t.key, value_text(*v)))
+            .collect()
+    }
+
+    /// The panel's values as settings, checked as robot.ini is checked.
+    pub fn checked(&self) -> Result<Settings, String> {
+        Settings::parse("the tuning panel", DEFAULT_INI, &self.overrides()).map_err(|errors| {
+            errors
+                .iter()
+                .map(|e| e.what.clone())
+                .collect::<Vec<_>>()
+                .join("; ")
+        })
+    }
+
+    /// Send the gains and the steering-law parameters to the supervisor (Halt only).
+    pub fn apply(&self, handles: &Handles, feedback: &mut Option<Feedback>) {
+        let s = match self.checked() {
+            Ok(s) => s,
+            Err(why) => {
+                *feedback = Some(Feedback {
+                    text: format!("not applied: {why}"),
+                    refused: true,
+                    at_s: handles.clock.elapsed().as_secs_f64(),
+                });
+                return;
+            }
+        };
+        let gains = Gains {
+            left: s.pid_left,
+            right: s.pid_right,
+            steer: s.pid_steer,
+        };
+        ask(handles, Request::Gains(gains), "gains applied", feedback);
+        if feedback.as_ref().is_some_and(|f| !f.refused) {
+            ask(
+                handles,
+                Request::SteerLaw(s.steer),
+                "gains and steering law applied",
+                feedback,
+            );
+        }
+    }
+
+    /// Rewrite only the values that differ from the file's, atomically.
+    pub fn save(&self) -> Result<String, String> {
+        let path = self
+            .file
+            .as_ref()
+            .ok_or("the program runs on its built-in settings: there is no robot.ini to save to")?;
+        self.checked()?;
+        let shown = path.display();
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("cannot read {shown}: {e}; your values are still here"))?;
+        let in_file = Settings::parse(&shown.to_string(), &text, &[])
+            .map_err(|errors| format!("{shown} has errors, fix them first: {}", errors[0]))?;
+        let changed: Vec<NewValue> = TUNABLES
+            .iter()
+            .zip(&self.values)
+            .filter(|(t, v)| (t.get)(&in_file) != **v)
+            .map(|(t, v)| NewValue {
+                section: t.section.to_string(),
+                key: t.key.to_string(),
+                value: value_text(*v),
+            })
+            .collect();
+        if changed.is_empty() {
+            return Ok(format!("{shown} already holds these values"));
+        }
+        let new_text = set_values(&text, &changed)?;
+        Settings::parse(&shown.to_string(), &new_text, &[])
+            .map_err(|errors| format!("not saved: {}", errors[0]))?;
+        write_atomic(path, &new_text).map_err(|e| format!("{e}; your values are still here"))?;
+        Ok(format!("saved {} value(s) to {shown}", changed.len()))
+    }
+
+    /// Read the values back from the file.
+    pub fn revert(&mut self) -> Result<String, String> {
+        let path = self
+            .file
+            .as_ref()
+            .ok_or("there is no robot.ini to revert to")?;
+        let s =
+            Settings::load(path, &[]).map_err(|errors| format!("cannot revert: {}", errors[0]))?;
+        self.values = TUNABLES.iter().map(|t| (t.get)(&s)).collect();
+        Ok(format!("values read from {}", path.display()))
+    }
+
+    pub fn show(
+        &mut self,
+        ui: &mut egui::Ui,
+        view: &View,
+        handles: &Handles,
+        feedback: &mut Option<Feedback>,
+    ) {
+        egui::Grid::new("tuning").striped(true).show(ui, |ui| {
+            let mut section = "";
+            for (t, v) in TUNABLES.iter().zip(self.values.iter_mut()) {
+                let label = if t.section == section {
+                    String::new()
+                } else {
+                    format!("[{}]", t.section)
+                };
+                section = t.section;
+                ui.label(RichText::new(label).strong());
+                ui.label(t.key);
+                // Drag by about 1 % of the value per point.
+                let speed = (v.abs() * 0.01).max(0.001);
+                ui.add(egui::DragValue::new(v).speed(speed))
+                    .on_hover_text(format!("{}.{}", t.section, t.key));
+                ui.label(RichText::new(t.what).weak());
+                ui.end_row();
+            }
+        });
+        ui.add_space(6.0);
+        let halted = view.status.mode == Mode::Halt;
+        ui.horizontal(|ui| {
+            let apply = ui.add_enabled(halted, egui::Button::new("Apply"));
+            if apply.clicked() {
+                self.apply(handles, feedback);
+            }
+            let at_s = view.now_s;
+            let mut say = |result: Result<String, String>| {
+                *feedback = Some(match result {
+                    Ok(text) => Feedback {
+                        text,
+                        refused: false,
+                        at_s,
+                    },
+                    Err(text) => Feedback {
+                        text,
+                        refused: true,
+                        at_s,
+                    },
+                });
+            };
+            if ui.button("Save to robot.ini").clicked() {
+                say(self.save());
+            }
+            if ui.button("Revert").clicked() {
+                say(self.revert());
+            }
+        });
+        if !halted {
+            ui.label(
+                RichText::new(Refusal::OnlyInHalt.to_string())
+                    .small()
+                    .weak(),
+            );
+        }
+        match &self.file {
+            Some(path) => ui.label(format!("settings file: {}", path.display())),
+            None => ui.label("built-in settings: no file to save to"),
+        };
+    }
+}

@@ -1,0 +1,269 @@
+//! The operator GUI, clicked through by label with egui_kittest (no window, no GPU),
+//! over the real controller: the real threads on the simulated robot, in this process.
+//! No timing is asserted: each step waits for its condition with a generous time-out.
+
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::{NodeT, Queryable};
+use mechweed::config::Settings;
+use mechweed::faults::{FaultCause, PowerState};
+use mechweed::gui::app::Tab;
+use mechweed::gui::{Controller, GuiApp};
+use mechweed::modes::Mode;
+use mechweed::run::{RunOptions, RunOutcome, Running, start};
+use mechweed_hw::Outputs;
+
+struct Gui {
+    harness: Harness<'static, GuiApp>,
+    controller: Controller,
+}
+
+fn gui_with(settings_file: Option<PathBuf>) -> Gui {
+    let opts = RunOptions {
+        settings: Settings::shipped(),
+        start_mode: Mode::Halt,
+        duration_s: None,
+        status_every_s: 0.0,
+        inject: None,
+    };
+    let stop = Arc::new(AtomicBool::new(false));
+    let (handles, running) = start(&opts, stop.clone()).expect("the controller starts");
+    let controller: Controller = Arc::new(Mutex::new(Some(running)));
+    let app = GuiApp::new(handles, &opts, settings_file, stop, controller.clone());
+    let harness = Harness::builder()
+        .with_size(eframe::egui::vec2(1280.0, 1000.0))
+        .build_ui_state(
+            |ui, app: &mut GuiApp| {
+                app.pass(ui.ctx());
+                app.show(ui);
+            },
+            app,
+        );
+    Gui {
+        harness,
+        controller,
+    }
+}
+
+impl Gui {
+    /// Run GUI passes until `condition` holds (panics after 30 s, naming `what`).
+    fn wait_until(&mut self, what: &str, condition: impl Fn(&GuiApp) -> bool) {
+        let end = Instant::now() + Duration::from_secs(30);
+        loop {
+            self.harness.step();
+            if condition(self.harness.state()) {
+                return;
+            }
+            let v = &self.harness.state().view;
+            assert!(
+                Instant::now() < end,
+                "timed out waiting for {what}; mode {}, fault {:?}, feedback {:?}",
+                v.status.mode,
+                v.status.fault,
+                self.harness.state().feedback
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
+    fn click(&mut self, label: &str) {
+        self.harness.get_by_label(label).click();
+        self.harness.step();
+        self.harness.step();
+    }
+
+    fn enabled(&self, label: &str) -> bool {
+        !self
+            .harness
+            .get_by_label(label)
+            .accesskit_node()
+            .is_disabled()
+    }
+
+    fn shows(&self, text: &str) -> bool {
+        self.harness
+            .query_all_by_label_contains(text)
+            .next()
+            .is_some()
+    }
+
+    fn power_up(&mut self) {
+        self.wait_until("Power up enabled", |app| {
+            app.view.status.measured.calibrated && app.view.status.tick > 0
+        });
+        self.click("Power up");
+        self.wait_until("power on", |app| app.view.status.power == PowerState::On);
+    }
+
+    fn finish(self) -> RunOutcome {
+        let running: Running = self.controller.lock().unwrap().take().expect("running");
+        let outcome = running.finish();
+        for f in &outcome.faults {
+            assert!(
+                !matches!(f.cause, FaultCause::ThreadStopped { .. }),
+                "a heartbeat fault: {}",
+                f.cause
+            );
+        }
+        outcome
+    }
+}
+
+#[test]
+fn halt_then_autonomous_and_the_robot_moves_then_space_halts() {
+    let mut gui = gui_with(None);
+    gui.wait_until("the first status", |app| app.view.status.tick > 0);
+    assert_eq!(gui.harness.state().view.status.mode, Mode::Halt);
+    assert!(!gui.enabled("Autonomous"), "not before power-up");
+    assert!(gui.shows("motor power is off: press Power up first"));
+    gui.power_up();
+    assert!(gui.enabled("Autonomous"));
+    gui.click("Autonomous");
+    gui.wait_until("autonomous", |app| app.view.status.mode == Mode::Autonomous);
+    gui.wait_until("the robot moves 0.5 m", |app| {
+        app.view.truth.distance_m > 0.5
+    });
+    gui.harness.key_press(eframe::egui::Key::Space);
+    gui.harness.step();
+    gui.wait_until("halt by the Space key", |app| {
+        app.view.status.mode == Mode::Halt
+    });
+    let outcome = gui.finish();
+    assert!(outcome.faults.is_empty(), "{:?}", outcome.faults);
+}
+
+#[test]
+fn an_estop_shows_its_cause_and_power_up_waits_for_its_release() {
+    let mut gui = gui_with(None);
+    gui.power_up();
+    gui.click("Press e-stop front");
+    gui.wait_until("fault", |app| app.view.status.mode == Mode::Fault);
+    gui.harness.step();
+    assert!(gui.shows("FAULT: front emergency stop pressed (or its wire is broken)"));
+    assert!(gui.shows("s ago)"), "the time since the fault");
+    assert!(!gui.enabled("Autonomous"));
+    assert!(gui.shows("a fault is latched (front emergency stop pressed"));
+    assert!(!gui.enabled("Power up"), "not while the e-stop is pressed");
+    assert!(gui.shows("cannot power up: front emergency stop pressed"));
+    gui.click("Release e-stops");
+    gui.wait_until("e-stops released", |app| {
+        app.view.status.inputs.estop_front_released && app.view.status.standing_cause.is_none()
+    });
+    gui.harness.step();
+    assert!(gui.enabled("Power up"));
+    gui.click("Power up");
+    gui.wait_until("halt without fault", |app| {
+        app.view.status.mode == Mode::Halt && app.view.status.fault.is_none()
+    });
+    gui.finish();
+}
+
+#[test]
+fn a_tuned_gain_is_applied_and_saved_changing_only_its_value() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("robot.ini");
+    let original = std::fs::read_to_string("config/robot.ini").unwrap();
+    std::fs::write(&path, &original).unwrap();
+    let mut gui = gui_with(Some(path.clone()));
+    gui.wait_until("the first status", |app| app.view.status.tick > 0);
+    gui.click("Tuning");
+    assert_eq!(gui.harness.state().tab, Tab::Tuning);
+    assert!(gui.harness.state_mut().tuning.set("pid.left", "kp", 20.5));
+    gui.click("Apply");
+    let feedback = gui.harness.state().feedback.clone().unwrap();
+    assert!(!feedback.refused, "{}", feedback.text);
+    gui.click("Save to robot.ini");
+    let saved = std::fs::read_to_string(&path).unwrap();
+    let left = original.find("[pid.left]").unwrap();
+    let kp = left + original[left..].find("kp = 16.7").unwrap();
+    let expected = format!(
+        "{}kp = 20.5{}",
+        &original[..kp],
+        &original[kp + "kp = 16.7".len()..]
+    );
+    assert_eq!(saved, expected);
+
+    // A read-only file is not replaced, and says so.
+    let mut perms = std::fs::metadata(&path).unwrap().permissions();
+    perms.set_readonly(true);
+    std::fs::set_permissions(&path, perms).unwrap();
+    gui.harness.state_mut().tuning.set("pid.left", "kp", 30.0);
+    gui.click("Save to robot.ini");
+    let feedback = gui.harness.state().feedback.clone().unwrap();
+    assert!(
+        feedback.refused && feedback.text.contains("read-only"),
+        "{}",
+        feedback.text
+    );
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), expected);
+    assert_eq!(gui.harness.state().tuning.values[0], 30.0, "nothing lost");
+
+    gui.click("Revert");
+    assert_eq!(gui.harness.state().tuning.values[0], 20.5);
+    gui.finish();
+}
+
+#[test]
+fn the_relay_switch_reaches_the_robot_and_leaving_test_restores_safe_outputs() {
+    let mut gui = gui_with(None);
+    gui.wait_until("the first status", |app| app.view.status.tick > 0);
+    gui.click("Test panel");
+    gui.click("Enter Test");
+    gui.wait_until("test", |app| app.view.status.mode == Mode::Test);
+    gui.click("Main power relay");
+    gui.wait_until("the contactor closes", |app| {
+        app.view.status.outputs.main_power_on && app.view.status.inputs.motor_power_present
+    });
+    gui.click("Leave Test");
+    gui.wait_until("halt with safe outputs", |app| {
+        app.view.status.mode == Mode::Halt
+            && app.view.status.outputs == Outputs::SAFE
+            && !app.view.status.inputs.motor_power_present
+    });
+    assert_eq!(gui.harness.state().test.outputs, Outputs::SAFE);
+    gui.finish();
+}
+
+#[test]
+fn a_reset_restarts_the_robot_at_the_row_start_on_the_row_chosen() {
+    let mut gui = gui_with(None);
+    gui.power_up();
+    gui.click("Autonomous");
+    gui.wait_until("the robot moves 0.3 m", |app| {
+        app.view.truth.distance_m > 0.3
+    });
+    assert!(
+        !gui.enabled("Reset robot to row start"),
+        "not while driving"
+    );
+    gui.click("HALT");
+    gui.wait_until("standing in halt", |app| {
+        app.view.status.mode == Mode::Halt && app.view.status.measured.speed_mps.abs() < 0.01
+    });
+    gui.click("arc");
+    gui.click("Reset robot to row start");
+    gui.wait_until("a new run at the row start", |app| {
+        app.view.status.tick > 0 && app.view.truth.distance_m < 0.01
+    });
+    assert_eq!(gui.harness.state().sim.row, mechweed_hw::sim::RowShape::Arc);
+    assert_eq!(gui.harness.state().view.status.power, PowerState::Off);
+    gui.finish();
+}
+
+#[test]
+fn without_a_display_the_gui_says_to_run_headless_and_fails() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_mechweed"))
+        .args(["run", "--duration", "1"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("--headless"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
