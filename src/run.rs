@@ -343,6 +343,7 @@ pub struct Running {
     truth: TruthHandle,
     settings: Settings,
     rt_warnings: Vec<String>,
+    panics: Arc<PanicFlag>,
     stop: Arc<AtomicBool>,
 }
 
@@ -473,12 +474,19 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         truth,
         settings: s.clone(),
         rt_warnings,
+        panics,
         stop,
     };
     Ok((handles, running))
 }
 
 impl Running {
+    /// Name the calling thread in this run's panic reports (the main thread is the
+    /// console unless it says otherwise, e.g. the GUI).
+    pub fn watch_this_thread_as(&self, name: ThreadName) {
+        health::watch_this_thread(&self.panics, name);
+    }
+
     /// A controller thread has ended although the run was not stopped.
     pub fn any_thread_ended(&self) -> bool {
         self.supervisor.is_finished() || self.steer.is_finished() || self.link.is_finished()
