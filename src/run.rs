@@ -350,6 +350,7 @@ pub struct Running {
     settings: Settings,
     rt_warnings: Vec<String>,
     recorder: Recorder,
+    panics: Arc<PanicFlag>,
     stop: Arc<AtomicBool>,
 }
 
@@ -493,12 +494,19 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         settings: s.clone(),
         rt_warnings,
         recorder,
+        panics,
         stop,
     };
     Ok((handles, running))
 }
 
 impl Running {
+    /// Name the calling thread in this run's panic reports (the main thread is the
+    /// console unless it says otherwise, e.g. the GUI).
+    pub fn watch_this_thread_as(&self, name: ThreadName) {
+        health::watch_this_thread(&self.panics, name);
+    }
+
     /// A controller thread has ended although the run was not stopped.
     pub fn any_thread_ended(&self) -> bool {
         self.supervisor.is_finished() || self.steer.is_finished() || self.link.is_finished()

@@ -267,3 +267,27 @@ fn without_a_display_the_gui_says_to_run_headless_and_fails() {
     assert!(stderr.contains("--headless"), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+#[test]
+fn in_test_an_amplifier_follows_the_panel_and_an_estop_still_stops_everything() {
+    let mut gui = gui_with(None);
+    gui.wait_until("the first status", |app| app.view.status.tick > 0);
+    gui.click("Test panel");
+    gui.click("Enter Test");
+    gui.wait_until("test", |app| app.view.status.mode == Mode::Test);
+    gui.click("Main power relay");
+    // The first of the three "Fixed" buttons is the left drive's: 1 V by default.
+    gui.harness
+        .get_all_by_label("Fixed")
+        .next()
+        .unwrap()
+        .click();
+    gui.wait_until("1 V on the left amplifier", |app| {
+        app.view.status.outputs.amp_left_v == 1.0 && app.view.status.outputs.main_power_on
+    });
+    gui.click("Press e-stop front");
+    gui.wait_until("fault with safe outputs", |app| {
+        app.view.status.mode == Mode::Fault && app.view.status.outputs == Outputs::SAFE
+    });
+    gui.finish();
+}

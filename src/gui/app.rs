@@ -151,6 +151,7 @@ impl GuiApp {
         let at_s = self.view.now_s;
         self.feedback = Some(match start(&opts, Arc::new(AtomicBool::new(false))) {
             Ok((handles, running)) => {
+                running.watch_this_thread_as(crate::health::ThreadName::Gui);
                 *slot = Some(running);
                 self.handles = handles;
                 self.script = OperatorScript::new(&[], Mode::Halt);

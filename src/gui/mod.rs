@@ -26,6 +26,7 @@ use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, Mutex};
 
+use crate::health::ThreadName;
 use crate::run::{RunOptions, RunOutcome, Running, start};
 
 /// The controller's threads now running: the GUI replaces them when the operator resets
@@ -63,6 +64,7 @@ pub fn run_gui(
     // The controller's own stop flag: a reset stops one controller and starts another,
     // while `stop` (Ctrl-C) closes the window.
     let (handles, running) = start(opts, Arc::new(AtomicBool::new(false)))?;
+    running.watch_this_thread_as(ThreadName::Gui);
     let controller: Controller = Arc::new(Mutex::new(Some(running)));
     let app = GuiApp::new(handles, opts, settings_file, stop, controller.clone());
     let native = eframe::NativeOptions {
