@@ -29,3 +29,4 @@ pub mod state;
 pub mod status;
 pub mod steer;
 pub mod supervisor;
+pub mod threads;

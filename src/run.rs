@@ -7,25 +7,26 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use crossbeam_channel::{Receiver, Sender, bounded, select};
+use crossbeam_channel::{Sender, bounded};
+use mechweed_hw::Hw;
 use mechweed_hw::sim::{CrossTrackSummary, SimControl, SimHw, SimRobot, TruthHandle, byte_pipe};
-use mechweed_hw::{Hw, Outputs};
 
 use crate::camlink::thread::LinkThread;
 use crate::camlink::transport::CameraPort;
 use crate::camlink::{LinkCore, LinkStatus, simwire};
 use crate::config::{Backend, RtSettings, Settings, SteerSettings};
 use crate::console;
-use crate::health::{self, PanicFlag, ThreadHealth, ThreadName};
+use crate::health::{self, PanicFlag, ThreadName};
 use crate::modes::{Mode, Refusal, Request};
-use crate::record::{self, RecordOutcome, RecordTap, Recorder};
-use crate::rt::{self, LoopSummary, Periodic};
+use crate::record::{self, RecordOutcome, Recorder};
+use crate::rt::{self, LoopSummary};
 use crate::state::{Reader, Writer, shared};
 use crate::steer::{SteerCommand, SteerCore};
 use crate::supervisor::{FaultRecord, Notice, Status, Supervisor};
+use crate::threads::{SteerThread, SupervisorThread};
 
 /// A request and where to send the supervisor's answer.
-type Envelope = (Request, Sender<Result<(), Refusal>>);
+pub(crate) type Envelope = (Request, Sender<Result<(), Refusal>>);
 
 /// How other threads (the operator script, later the GUI) talk to the supervisor.
 #[derive(Clone)]
@@ -125,195 +126,6 @@ pub struct RunOutcome {
     pub rt_warnings: Vec<String>,
     pub cross_track: CrossTrackSummary,
     pub record: RecordOutcome,
-}
-
-/// Writes the safe outputs when dropped: at the end of the supervisor thread, and
-/// also if it unwinds from a panic, so that no exit leaves a frozen last command.
-struct SafeOnDrop(Box<dyn Hw>);
-
-impl Drop for SafeOnDrop {
-    fn drop(&mut self) {
-        if let Err(e) = self.0.write(&Outputs::SAFE) {
-            tracing::error!("could not write the safe outputs at exit: {e}");
-        }
-    }
-}
-
-/// What the supervisor thread owns: the hardware, the supervisor, its object's writer.
-struct SupervisorThread {
-    hw: Box<dyn Hw>,
-    core: Supervisor,
-    rate_hz: f64,
-    clock: Instant,
-    requests: Receiver<Envelope>,
-    status: Writer<Status>,
-    steer: Reader<SteerCommand>,
-    link: Reader<LinkStatus>,
-    panics: Arc<PanicFlag>,
-    priority: u8,
-    cpu: i32,
-    inject: Option<Injection>,
-    figures: Writer<LoopSummary>,
-    gui_beat: Reader<f64>,
-    /// Steering-law parameters the supervisor accepted (in Halt), for the steer thread.
-    steer_settings: Sender<SteerSettings>,
-    stop: Arc<AtomicBool>,
-    /// Hands each tick to the recorder thread; never blocks.
-    record: RecordTap,
-}
-
-impl SupervisorThread {
-    fn run(self) -> (Supervisor, LoopSummary) {
-        let SupervisorThread {
-            hw,
-            mut core,
-            rate_hz,
-            clock,
-            requests,
-            status,
-            steer,
-            link,
-            panics,
-            priority,
-            cpu,
-            inject,
-            figures,
-            gui_beat,
-            steer_settings,
-            stop,
-            mut record,
-        } = self;
-        health::watch_this_thread(&panics, ThreadName::Supervisor);
-        if let Some(warning) = rt::set_this_thread(priority, cpu) {
-            tracing::warn!("supervisor thread: {warning}");
-        }
-        let mut hw = SafeOnDrop(hw);
-        let mut periodic = Periodic::new(rate_hz);
-        while !stop.load(Ordering::Relaxed) {
-            periodic.wait();
-            let now_s = clock.elapsed().as_secs_f64();
-            while let Ok((request, reply)) = requests.try_recv() {
-                let _ = reply.try_send(core.handle(request));
-                if let Some(accepted) = core.take_steer_settings() {
-                    // One place, bounded: a newer set replaces one not yet taken.
-                    let _ = steer_settings.try_send(accepted);
-                }
-            }
-            // The only waits on other threads: copying their objects in and ours out.
-            let lock_start = rt::monotonic_ns();
-            let (steer_now, link_now) = (steer.snapshot(), link.snapshot());
-            let mut lock_ns = rt::monotonic_ns() - lock_start;
-            let gui_beat_s = gui_beat.snapshot();
-            let health = ThreadHealth {
-                gui_beat_s: (!gui_beat_s.is_nan()).then_some(gui_beat_s),
-                panicked: panics.panicked(),
-                supervisor_overruns: periodic.stats.overruns,
-            };
-            let outputs = match hw.0.read() {
-                Ok(inputs) => core.tick(now_s, &inputs, &steer_now, &link_now, &health),
-                Err(e) => {
-                    tracing::error!("{e}");
-                    core.hardware_failed(now_s, e.card())
-                }
-            };
-            if let Err(e) = hw.0.write(&outputs) {
-                tracing::error!("{e}");
-                core.hardware_failed(now_s, e.card());
-                let _ = hw.0.write(&Outputs::SAFE);
-            }
-            if health.panicked.is_some() && core.status().outputs.is_safe() {
-                panics.safe_outputs_written();
-            }
-            let publish_start = rt::monotonic_ns();
-            status.publish(core.status());
-            lock_ns = lock_ns.max(rt::monotonic_ns() - publish_start);
-            periodic.stats.worst_lock_us = periodic.stats.worst_lock_us.max(lock_ns / 1000);
-            record.after_tick(core.status(), &steer_now, &link_now);
-            if let Some(Injection {
-                thread: ThreadName::Supervisor,
-                at_s,
-                action: Fail::Slow { ms },
-            }) = inject
-                && now_s >= at_s
-            {
-                std::thread::sleep(Duration::from_millis(ms));
-            }
-            periodic.done();
-            publish_figures_now_and_then(&periodic, &figures);
-        }
-        (core, periodic.stats.summary())
-    }
-}
-
-/// What the steer thread owns: the steering law's state and the command's writer.
-struct SteerThread {
-    core: SteerCore,
-    rate_hz: f64,
-    clock: Instant,
-    new_estimate: Receiver<()>,
-    command: Writer<SteerCommand>,
-    status: Reader<Status>,
-    link: Reader<LinkStatus>,
-    panics: Arc<PanicFlag>,
-    priority: u8,
-    inject: Option<Injection>,
-    figures: Writer<LoopSummary>,
-    /// New steering-law parameters, accepted by the supervisor in Halt.
-    new_settings: Receiver<SteerSettings>,
-    settings: Writer<SteerSettings>,
-    stop: Arc<AtomicBool>,
-}
-
-impl SteerThread {
-    /// Ticks at its rate, and also as soon as the camera link has a new estimate.
-    fn run(mut self) -> LoopSummary {
-        health::watch_this_thread(&self.panics, ThreadName::Steer);
-        if let Some(warning) = rt::set_this_thread(self.priority, -1) {
-            tracing::warn!("steer thread: {warning}");
-        }
-        let mut periodic = Periodic::new(self.rate_hz);
-        while !self.stop.load(Ordering::Relaxed) {
-            let scheduled = select! {
-                recv(self.new_estimate) -> _ => false,
-                default(periodic.until_deadline()) => true,
-            };
-            if scheduled {
-                periodic.wait();
-            } else {
-                periodic.woke_now();
-            }
-            let now_s = self.clock.elapsed().as_secs_f64();
-            if let Ok(new_settings) = self.new_settings.try_recv() {
-                self.core.set_law_settings(&new_settings);
-                self.settings.publish(&self.core.law_settings());
-            }
-            if let Some(injection) = self.inject
-                && injection.thread == ThreadName::Steer
-                && now_s >= injection.at_s
-            {
-                injection.strike(&self.stop);
-            }
-            let command = self
-                .core
-                .tick(now_s, &self.status.snapshot(), &self.link.snapshot());
-            self.command.publish(&command);
-            if scheduled {
-                periodic.done();
-                publish_figures_now_and_then(&periodic, &self.figures);
-            } else {
-                periodic.done_unscheduled();
-            }
-        }
-        periodic.stats.summary()
-    }
-}
-
-/// Publish a loop's figures about once a second (percentiles cost a few microseconds).
-fn publish_figures_now_and_then(periodic: &Periodic, figures: &Writer<LoopSummary>) {
-    let ticks_per_second = periodic.stats.rate_hz().round().max(1.0) as u64;
-    if periodic.stats.ticks.is_multiple_of(ticks_per_second) {
-        figures.publish(&periodic.stats.summary());
-    }
 }
 
 /// Lock memory and find out whether real-time priorities are granted: one warning for
