@@ -7,7 +7,8 @@ use std::time::{Duration, Instant};
 
 use serialport::{SerialPort, TTYPort};
 
-use crate::camsim::{CamSim, CamSimOptions, serve};
+use crate::camlink::transport::BAUD_RATES;
+use crate::camsim::{CamSim, CamSimOptions, Pattern, serve};
 
 /// A read waits at most this long, so frames go out on time.
 const POLL: Duration = Duration::from_millis(5);
@@ -81,4 +82,63 @@ pub fn on_tcp(address: &str, options: CamSimOptions) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// The command line of `mechweed camsim`.
+#[derive(clap::Args)]
+#[command(group(clap::ArgGroup::new("where").required(true).args(["port", "listen"])))]
+pub struct CamsimArgs {
+    /// Serial device to speak on, or "pty" to make a pseudo-terminal and print its path.
+    #[arg(long, value_name = "DEVICE")]
+    pub port: Option<String>,
+    /// TCP address to listen on, one robot computer at a time: ADDR:PORT, or PORT alone
+    /// for 127.0.0.1:PORT.
+    #[arg(long, value_name = "ADDR:PORT")]
+    pub listen: Option<String>,
+    /// Serial line speed.
+    #[arg(long, default_value_t = 115200, value_parser = parse_baud)]
+    pub baud: u32,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    #[arg(long, value_enum, default_value = "straight")]
+    pub pattern: Pattern,
+    /// Share of frames not sent (0..1).
+    #[arg(long, default_value_t = 0.0, value_parser = parse_share)]
+    pub drop: f64,
+    /// Probability that a byte is damaged (0..1).
+    #[arg(long, default_value_t = 0.0, value_parser = parse_share)]
+    pub corrupt: f64,
+}
+
+fn parse_baud(text: &str) -> Result<u32, String> {
+    let baud: u32 = text
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number"))?;
+    if BAUD_RATES.contains(&baud) {
+        Ok(baud)
+    } else {
+        Err(format!("the camera computer speaks at {BAUD_RATES:?} baud"))
+    }
+}
+
+fn parse_share(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(p) if (0.0..=1.0).contains(&p) => Ok(p),
+        _ => Err(format!("'{text}' is not a number from 0 to 1")),
+    }
+}
+
+/// `mechweed camsim`: serve on the port or address given.
+pub fn run(args: CamsimArgs) -> Result<(), String> {
+    let options = CamSimOptions {
+        pattern: args.pattern,
+        seed: args.seed,
+        drop: args.drop,
+        corrupt: args.corrupt,
+    };
+    match (args.port, args.listen) {
+        (Some(device), _) => on_serial(&device, args.baud, options),
+        (None, Some(address)) => on_tcp(&address, options),
+        (None, None) => Err("say where to speak: --port DEVICE or --listen ADDR:PORT".to_string()),
+    }
 }

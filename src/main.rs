@@ -8,8 +8,6 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use clap::{Parser, Subcommand, ValueEnum};
 
 use mechweed::bench_rows;
-use mechweed::camlink::transport::BAUD_RATES;
-use mechweed::camsim::Pattern;
 use mechweed::config::{Backend, ConfigError, DEFAULT_INI, Settings};
 use mechweed::modes::Mode;
 use mechweed::report::Report;
@@ -40,7 +38,7 @@ enum Command {
     #[command(subcommand)]
     Bench(BenchCommand),
     /// A stand-alone simulated camera computer, for bench tests of a link.
-    Camsim(CamsimArgs),
+    Camsim(mechweed::camsim_main::CamsimArgs),
     /// Find the I/O cards and read every input once (writes nothing but safe outputs).
     Probe {
         /// Also print the cards' registers.
@@ -53,49 +51,6 @@ enum Command {
     /// Run records (CSV or MCAP) left by `mechweed run`.
     #[command(subcommand)]
     Record(RecordCommand),
-}
-
-#[derive(clap::Args)]
-#[command(group(clap::ArgGroup::new("where").required(true).args(["port", "listen"])))]
-struct CamsimArgs {
-    /// Serial device to speak on, or "pty" to make a pseudo-terminal and print its path.
-    #[arg(long, value_name = "DEVICE")]
-    port: Option<String>,
-    /// TCP address to listen on, one robot computer at a time: ADDR:PORT, or PORT alone
-    /// for 127.0.0.1:PORT.
-    #[arg(long, value_name = "ADDR:PORT")]
-    listen: Option<String>,
-    /// Serial line speed.
-    #[arg(long, default_value_t = 115200, value_parser = parse_baud)]
-    baud: u32,
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
-    #[arg(long, value_enum, default_value = "straight")]
-    pattern: Pattern,
-    /// Share of frames not sent (0..1).
-    #[arg(long, default_value_t = 0.0, value_parser = parse_share)]
-    drop: f64,
-    /// Probability that a byte is damaged (0..1).
-    #[arg(long, default_value_t = 0.0, value_parser = parse_share)]
-    corrupt: f64,
-}
-
-fn parse_baud(text: &str) -> Result<u32, String> {
-    let baud: u32 = text
-        .parse()
-        .map_err(|_| format!("'{text}' is not a number"))?;
-    if BAUD_RATES.contains(&baud) {
-        Ok(baud)
-    } else {
-        Err(format!("the camera computer speaks at {BAUD_RATES:?} baud"))
-    }
-}
-
-fn parse_share(text: &str) -> Result<f64, String> {
-    match text.parse::<f64>() {
-        Ok(p) if (0.0..=1.0).contains(&p) => Ok(p),
-        _ => Err(format!("'{text}' is not a number from 0 to 1")),
-    }
 }
 
 #[derive(clap::Args, Default)]
@@ -360,27 +315,6 @@ fn bench(command: BenchCommand) -> ExitCode {
     write_json(json, &runs)
 }
 
-fn camsim(args: CamsimArgs) -> ExitCode {
-    let options = mechweed::camsim::CamSimOptions {
-        pattern: args.pattern,
-        seed: args.seed,
-        drop: args.drop,
-        corrupt: args.corrupt,
-    };
-    let result = match (args.port, args.listen) {
-        (Some(device), _) => mechweed::camsim_main::on_serial(&device, args.baud, options),
-        (None, Some(address)) => mechweed::camsim_main::on_tcp(&address, options),
-        (None, None) => unreachable!("clap requires --port or --listen"),
-    };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(why) => {
-            eprintln!("{why}");
-            ExitCode::FAILURE
-        }
-    }
-}
-
 fn probe(raw: bool, config: Option<PathBuf>) -> ExitCode {
     let settings = match load_settings(config.as_deref(), &[]) {
         Ok(s) => s,
@@ -414,7 +348,13 @@ fn main() -> ExitCode {
         Some(Command::Run(args)) => run_command(args),
         Some(Command::CheckConfig { file }) => check_config(file),
         Some(Command::Bench(b)) => bench(b),
-        Some(Command::Camsim(args)) => camsim(args),
+        Some(Command::Camsim(args)) => match mechweed::camsim_main::run(args) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(why) => {
+                eprintln!("{why}");
+                ExitCode::FAILURE
+            }
+        },
         Some(Command::Probe { raw, config }) => probe(raw, config),
         Some(Command::Record(command)) => record(command),
     }
