@@ -64,6 +64,12 @@ pub enum EventAction {
     Battery(f64),
     /// The potentiometer's wire breaks: it reads 0 V.
     PotBroken,
+    /// The motor contactor's contacts weld shut: motor power stays on whatever the
+    /// relay and the e-stop chain ask.
+    ContactorWelded,
+    /// The steering encoder's coupling slips by this many degrees (positive: the
+    /// encoder reads that much further left than the wheel is).
+    SteerSlip(f64),
 }
 
 impl EventAction {
@@ -88,6 +94,8 @@ const ACTIONS: &[&str] = &[
     "endswitch",
     "battery",
     "pot_broken",
+    "contactor_welded",
+    "steer_slip",
 ];
 
 impl fmt::Display for EventAction {
@@ -107,6 +115,8 @@ impl fmt::Display for EventAction {
             EventAction::EndSwitch(Side::Right) => write!(f, "endswitch right"),
             EventAction::Battery(v) => write!(f, "battery {v}"),
             EventAction::PotBroken => write!(f, "pot_broken"),
+            EventAction::ContactorWelded => write!(f, "contactor_welded"),
+            EventAction::SteerSlip(deg) => write!(f, "steer_slip {deg}"),
         }
     }
 }
@@ -179,7 +189,7 @@ fn parse_item(item: &str) -> Result<SimEvent, String> {
 fn takes_argument(name: &str) -> bool {
     matches!(
         name,
-        "mode" | "encoder_stuck" | "link_silent" | "endswitch" | "battery"
+        "mode" | "encoder_stuck" | "link_silent" | "endswitch" | "battery" | "steer_slip"
     )
 }
 
@@ -193,6 +203,7 @@ fn parse_action(name: &str, arg: Option<&str>) -> Result<EventAction, String> {
         "power_restore" => EventAction::PowerRestore,
         "camera_reboot" => EventAction::CameraReboot,
         "pot_broken" => EventAction::PotBroken,
+        "contactor_welded" => EventAction::ContactorWelded,
         "mode" => EventAction::Mode(
             match choice(arg, &["halt", "joystick", "autonomous", "test"])? {
                 "halt" => OperatorMode::Halt,
@@ -214,6 +225,7 @@ fn parse_action(name: &str, arg: Option<&str>) -> Result<EventAction, String> {
         }),
         "link_silent" => EventAction::LinkSilent(number(arg, "a duration in seconds")?),
         "battery" => EventAction::Battery(number(arg, "a voltage in volts")?),
+        "steer_slip" => EventAction::SteerSlip(signed(arg, "an angle in degrees")?),
         _ => {
             return Err(format!(
                 "unknown action \"{name}\" (known: {})",
@@ -240,6 +252,15 @@ fn number(arg: Option<&str>, what: &str) -> Result<f64, String> {
     match word.parse::<f64>() {
         Ok(value) if value.is_finite() && value >= 0.0 => Ok(value),
         _ => Err(format!("argument \"{word}\" is not {what}, 0 or more")),
+    }
+}
+
+/// The argument as a finite number of either sign.
+fn signed(arg: Option<&str>, what: &str) -> Result<f64, String> {
+    let word = arg.ok_or_else(|| format!("missing argument: {what}"))?;
+    match word.parse::<f64>() {
+        Ok(value) if value.is_finite() => Ok(value),
+        _ => Err(format!("argument \"{word}\" is not {what}")),
     }
 }
 

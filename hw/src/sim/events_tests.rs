@@ -36,6 +36,8 @@ fn display_round_trips_every_action() {
         EventAction::EndSwitch(Side::Right),
         EventAction::Battery(21.5),
         EventAction::PotBroken,
+        EventAction::ContactorWelded,
+        EventAction::SteerSlip(-3.5),
     ];
     for action in all {
         let text = SimEvent { t_s: 1.5, action }.to_string();

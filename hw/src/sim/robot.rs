@@ -52,6 +52,9 @@ pub struct SimRobot {
     power_lost: bool,
     battery_v: f64,
     pot_broken: bool,
+    contactor_welded: bool,
+    /// Counts the steering encoder has gained by slipping.
+    steer_slip_counts: i64,
     /// Drawn once per step, so `inputs()` can stay `&self`.
     pot_noise_v: f64,
     pot_rng: ChaCha8Rng,
@@ -99,6 +102,8 @@ impl SimRobot {
             power_lost: false,
             battery_v: p.battery_v,
             pot_broken: false,
+            contactor_welded: false,
+            steer_slip_counts: 0,
             pot_noise_v: 0.0,
             pot_rng: ChaCha8Rng::seed_from_u64(p.seed.wrapping_add(SEED_POT)),
             stuck_counts: [None; 3],
@@ -168,12 +173,13 @@ impl SimRobot {
     }
 
     /// The contactor: closed while the relay asks for it, both e-stops are released and
-    /// the battery is there.
+    /// the battery is there. A welded contactor stays closed whatever the relay and the e-stops say.
     fn motor_power_present(&self) -> bool {
-        self.outputs.main_power_on
-            && self.estop_front_released
-            && self.estop_back_released
-            && !self.power_lost
+        let closed = self.contactor_welded
+            || (self.outputs.main_power_on
+                && self.estop_front_released
+                && self.estop_back_released);
+        closed && !self.power_lost
     }
 
     fn speed_mps(&self) -> f64 {
@@ -221,6 +227,11 @@ impl SimRobot {
             }
             EventAction::Battery(_) => {}
             EventAction::PotBroken => self.pot_broken = true,
+            EventAction::ContactorWelded => self.contactor_welded = true,
+            EventAction::SteerSlip(deg) => {
+                // `as` saturates, so no slip can make this panic.
+                self.steer_slip_counts += (deg * self.p.steer_counts_per_deg).round() as i64
+            }
         }
     }
 
@@ -232,7 +243,7 @@ impl SimRobot {
             EncoderId::Right => (self.right.travel_m() * self.p.enc_counts_per_m).floor() as i64,
             EncoderId::Steer => {
                 let turned_deg = self.steering.angle_deg() - self.p.initial_wheel_angle_deg;
-                (turned_deg * self.p.steer_counts_per_deg).floor() as i64
+                (turned_deg * self.p.steer_counts_per_deg).floor() as i64 + self.steer_slip_counts
             }
         }
     }
