@@ -94,6 +94,9 @@ pub fn operate(
                 check.utilisation,
                 check.bound,
             );
+            if let Some(warning) = &handles.not_realtime {
+                println!("           {warning}");
+            }
             next_line_s += opts.status_every_s;
         }
     }

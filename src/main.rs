@@ -213,6 +213,19 @@ fn run_command(args: RunArgs) -> ExitCode {
         ),
         Backend::Cards => println!("mechweed on the I/O cards; start mode {start_mode}"),
     }
+    // Nothing powers the real robot up without a person: the console asks here, the GUI
+    // in a window of its own.
+    let start_mode = if args.headless
+        && mechweed::operator::needs_confirmation(settings.backend, start_mode)
+        && !mechweed::operator::confirm_on_console(
+            start_mode,
+            &mut std::io::stdin().lock(),
+            &mut std::io::stdout(),
+        ) {
+        Mode::Halt
+    } else {
+        start_mode
+    };
     let options = RunOptions {
         settings,
         start_mode,

@@ -18,9 +18,10 @@ pub struct Gains {
 }
 
 /// What the robot is doing. Halt at start; every fault latches Fault.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Mode {
+    #[default]
     /// Standing: amplifiers 0 V, brakes on, tool off (motor power may be on).
     Halt,
     /// Driven from the joystick, dead-man button held.
@@ -67,8 +68,9 @@ pub enum Request {
     TestOutputs(Outputs),
     /// New regulator gains; taken only in Halt, so that nothing jumps while moving.
     Gains(Gains),
-    /// New steering-law parameters for the steer thread; taken only in Halt.
-    SteerLaw(SteerSettings),
+    /// New gains and steering-law parameters together (the GUI's Apply): both are
+    /// taken, or neither; only in Halt.
+    Tuning(Gains, SteerSettings),
 }
 
 /// Why the supervisor said no.

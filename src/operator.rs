@@ -2,8 +2,11 @@
 //! `--mode` and the operator actions of [sim] events (power_up, mode MODE). Both the
 //! real-time run and the lockstep simulation ask it, every tick, what to request.
 
+use std::io::{BufRead, Write};
+
 use mechweed_hw::sim::{EventAction, OperatorMode, SimEvent};
 
+use crate::config::Backend;
 use crate::faults::PowerState;
 use crate::modes::{Mode, Request};
 use crate::supervisor::Status;
@@ -67,6 +70,61 @@ impl OperatorScript {
                 Some(Request::Mode(goal))
             }
             _ => None,
+        }
+    }
+}
+
+/// On the real robot nobody is assumed to stand by: a start mode other than Halt powers
+/// the robot up and may drive it, so it waits for a person's yes.
+pub fn needs_confirmation(backend: Backend, start_mode: Mode) -> bool {
+    backend == Backend::Cards && start_mode != Mode::Halt
+}
+
+/// Ask at the console whether to power up the real robot and enter `mode`; only the
+/// answer "yes" confirms (end of input, as with no terminal, is a no).
+pub fn confirm_on_console(mode: Mode, input: &mut impl BufRead, out: &mut impl Write) -> bool {
+    let _ = write!(
+        out,
+        "--mode {mode} will power up the REAL robot{}. Is the area clear and a person at an \
+         emergency stop? Type yes and Enter to go on (anything else starts in halt): ",
+        if mode.drives() { " and drive it" } else { "" }
+    );
+    let _ = out.flush();
+    let mut answer = String::new();
+    let confirmed = input.read_line(&mut answer).is_ok() && answer.trim() == "yes";
+    if !confirmed {
+        let _ = writeln!(out, "\nnot confirmed: starting in halt");
+    }
+    confirmed
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_the_cards_backend_and_a_moving_start_ask() {
+        assert!(needs_confirmation(Backend::Cards, Mode::Autonomous));
+        assert!(needs_confirmation(Backend::Cards, Mode::Joystick));
+        assert!(needs_confirmation(Backend::Cards, Mode::Test));
+        assert!(!needs_confirmation(Backend::Cards, Mode::Halt));
+        assert!(!needs_confirmation(Backend::Sim, Mode::Autonomous));
+    }
+
+    #[test]
+    fn only_yes_confirms() {
+        for (typed, confirmed) in [
+            ("yes\n", true),
+            ("y\n", false),
+            ("", false),
+            ("no\n", false),
+        ] {
+            let mut out = Vec::new();
+            let answer = confirm_on_console(Mode::Autonomous, &mut typed.as_bytes(), &mut out);
+            assert_eq!(answer, confirmed, "{typed:?}");
+            let said = String::from_utf8(out).unwrap();
+            assert!(said.contains("REAL robot and drive it"), "{said}");
+            assert_eq!(said.contains("starting in halt"), !confirmed, "{said}");
         }
     }
 }

@@ -78,7 +78,7 @@ pub fn notice_text(notice: &Notice) -> String {
 pub fn loop_line(name: &str, l: &LoopSummary) -> String {
     let (late, exec) = (&l.late_us, &l.exec_us);
     format!(
-        "{name} loop: {} ticks at {} Hz, {} overruns, late p50/p99/p99.9/max {}/{}/{}/{} us, exec p50/p99/p99.9/max {}/{}/{}/{} us, worst lock {} us",
+        "{name} loop: {} ticks at {} Hz, {} overruns, late p50/p99/p99.9/max {}/{}/{}/{} us, exec p50/p99/p99.9/max {}/{}/{}/{} us, worst lock {} us ({} busy)",
         l.ticks,
         l.rate_hz,
         l.overruns,
@@ -90,7 +90,8 @@ pub fn loop_line(name: &str, l: &LoopSummary) -> String {
         exec.p99,
         exec.p999,
         exec.max,
-        l.worst_lock_us
+        l.worst_lock_us,
+        l.locks_busy
     )
 }
 

@@ -67,6 +67,8 @@ pub struct LoopSummary {
     pub exec_us: Percentiles,
     /// Longest the loop waited for or held a protected object's lock, us.
     pub worst_lock_us: u64,
+    /// Times the loop found a lock busy and went on without waiting.
+    pub locks_busy: u64,
 }
 
 /// Histograms of lateness and execution time; recording never allocates.
@@ -77,6 +79,7 @@ pub struct LoopStats {
     pub ticks: u64,
     pub overruns: u64,
     pub worst_lock_us: u64,
+    pub locks_busy: u64,
 }
 
 fn histogram() -> Histogram<u64> {
@@ -102,6 +105,7 @@ impl LoopStats {
             ticks: 0,
             overruns: 0,
             worst_lock_us: 0,
+            locks_busy: 0,
         }
     }
 
@@ -123,6 +127,7 @@ impl LoopStats {
             late_us: percentiles(&self.late_us),
             exec_us: percentiles(&self.exec_us),
             worst_lock_us: self.worst_lock_us,
+            locks_busy: self.locks_busy,
         }
     }
 }

@@ -68,6 +68,9 @@ pub struct Handles {
     /// The steer thread's figures of the steering law (for plots).
     pub steer: Reader<SteerCommand>,
     pub clock: Instant,
+    /// Said in the status line and the GUI's header while the real robot runs without
+    /// real-time priorities.
+    pub not_realtime: Option<String>,
 }
 
 pub struct RunOptions {
@@ -97,6 +100,10 @@ pub enum Fail {
     Slow {
         ms: u64,
     },
+    /// Stall once, for this long, as a hung card read would (supervisor only).
+    Pause {
+        ms: u64,
+    },
 }
 
 impl Injection {
@@ -109,7 +116,7 @@ impl Injection {
                     std::thread::sleep(Duration::from_millis(10));
                 }
             }
-            Fail::Slow { ms } => std::thread::sleep(Duration::from_millis(ms)),
+            Fail::Slow { ms } | Fail::Pause { ms } => std::thread::sleep(Duration::from_millis(ms)),
         }
     }
 }
@@ -129,11 +136,13 @@ pub struct RunOutcome {
 }
 
 /// Lock memory and find out whether real-time priorities are granted: one warning for
-/// each thing the system refuses, printed once, and the program runs on.
-fn rt_setup(rt: &RtSettings) -> Vec<String> {
+/// each thing the system refuses, printed once, and the program runs on. Also returns
+/// the refusal of the priorities on its own, as the threads then run without them.
+fn rt_setup(rt: &RtSettings) -> (Vec<String>, Option<String>) {
+    let priorities_refused = rt::priorities_allowed(rt);
     let warnings: Vec<String> = [
         rt.lock_memory.then(rt::lock_memory).flatten(),
-        rt::priorities_allowed(rt),
+        priorities_refused.clone(),
     ]
     .into_iter()
     .flatten()
@@ -141,7 +150,19 @@ fn rt_setup(rt: &RtSettings) -> Vec<String> {
     for warning in &warnings {
         tracing::warn!("{warning}");
     }
-    warnings
+    (warnings, priorities_refused)
+}
+
+/// What the operator must see at all times when the real robot drives without
+/// real-time priorities (the status line, the GUI's header); None when it has them or
+/// is the simulated robot.
+pub fn not_realtime(backend: Backend, priorities_refused: Option<&str>) -> Option<String> {
+    match (backend, priorities_refused) {
+        (Backend::Cards, Some(why)) => Some(format!(
+            "NOT REAL-TIME: the robot drives without real-time priorities ({why})"
+        )),
+        _ => None,
+    }
 }
 
 fn spawn<T: Send + 'static>(name: &str, f: impl FnOnce() -> T + Send + 'static) -> JoinHandle<T> {
@@ -204,14 +225,8 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         (port, _) => (port.clone(), None),
     };
     let clock = Instant::now();
-    let rt_warnings = rt_setup(&s.rt);
-    let priority = |p: u8| {
-        if rt_warnings.iter().any(|w| w.contains("priority")) {
-            0
-        } else {
-            p
-        }
-    };
+    let (rt_warnings, priorities_refused) = rt_setup(&s.rt);
+    let priority = |p: u8| if priorities_refused.is_some() { 0 } else { p };
     let panics = Arc::new(PanicFlag::default());
     health::watch_this_thread(&panics, ThreadName::Console);
     let (record_tap, recorder) = record::start_for_run(&s.record, truth.clone());
@@ -295,6 +310,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         steer_settings: steer_settings_r,
         steer: steer_r,
         clock,
+        not_realtime: not_realtime(s.backend, priorities_refused.as_deref()),
     };
     let running = Running {
         supervisor,

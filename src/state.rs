@@ -4,6 +4,11 @@
 //! at start, so the type system says who may write) and a `Reader` that any thread may
 //! clone. Values are `Copy`: a reader copies a snapshot out and never holds the lock
 //! across I/O, a sleep or a GUI frame; the writer holds it only to copy a value in.
+//!
+//! The supervisor runs at the highest priority and must never wait for a thread of
+//! lower priority that holds a lock and is preempted (the lock has no priority
+//! inheritance): it uses `try_snapshot` and `try_publish`, which never wait, keeps its
+//! last copy when the lock is busy, and counts how often it was.
 
 use std::sync::Arc;
 
@@ -44,6 +49,18 @@ impl<T: Copy> Writer<T> {
         *self.cell.write() = *value;
     }
 
+    /// Replace the value unless a reader holds the lock right now; never waits.
+    /// Returns false if the lock was busy (the caller publishes again next time).
+    pub fn try_publish(&self, value: &T) -> bool {
+        match self.cell.try_write() {
+            Some(mut cell) => {
+                *cell = *value;
+                true
+            }
+            None => false,
+        }
+    }
+
     /// Another reader of the same object.
     pub fn reader(&self) -> Reader<T> {
         Reader {
@@ -56,6 +73,35 @@ impl<T: Copy> Reader<T> {
     /// A copy of the object's value now.
     pub fn snapshot(&self) -> T {
         *self.cell.read()
+    }
+
+    /// A copy of the value, or None if the writer holds the lock right now; never waits.
+    pub fn try_snapshot(&self) -> Option<T> {
+        self.cell.try_read().map(|cell| *cell)
+    }
+}
+
+/// The latest value of an object written by a thread of lower priority, read without
+/// ever waiting: a busy lock gives the copy from last time, and is counted.
+pub struct Latest<T: Copy> {
+    reader: Reader<T>,
+    last: T,
+}
+
+impl<T: Copy> Latest<T> {
+    pub fn new(reader: Reader<T>) -> Latest<T> {
+        let last = reader.snapshot();
+        Latest { reader, last }
+    }
+
+    /// The newest value there is to be had without waiting; adds 1 to `busy` if the
+    /// lock was held.
+    pub fn get(&mut self, busy: &mut u64) -> T {
+        match self.reader.try_snapshot() {
+            Some(value) => self.last = value,
+            None => *busy += 1,
+        }
+        self.last
     }
 }
 
@@ -72,5 +118,28 @@ mod tests {
         assert_eq!(other.snapshot(), 7);
         let from_thread = std::thread::spawn(move || other.snapshot()).join().unwrap();
         assert_eq!(from_thread, 7);
+    }
+
+    #[test]
+    fn the_supervisors_reads_and_writes_never_wait_for_a_lock_holder() {
+        let (writer, reader) = shared(1u32);
+        let mut latest = Latest::new(reader.clone());
+        let mut busy = 0;
+        writer.publish(&2);
+        assert_eq!(latest.get(&mut busy), 2);
+        {
+            // A lower-priority writer preempted while it holds the lock.
+            let _held = writer.cell.write();
+            assert_eq!(latest.get(&mut busy), 2, "the last copy, at once");
+            assert_eq!(busy, 1);
+        }
+        {
+            // A lower-priority reader preempted while it holds the lock.
+            let _held = reader.cell.read();
+            assert!(!writer.try_publish(&3), "gave up at once");
+        }
+        assert!(writer.try_publish(&3));
+        assert_eq!(latest.get(&mut busy), 3);
+        assert_eq!(busy, 1);
     }
 }

@@ -15,7 +15,7 @@ use crate::health::{self, PanicFlag, ThreadHealth, ThreadName};
 use crate::record::RecordTap;
 use crate::rt::{self, LoopSummary, Periodic};
 use crate::run::{Envelope, Fail, Injection};
-use crate::state::{Reader, Writer};
+use crate::state::{Latest, Reader, Writer};
 use crate::status::Status;
 use crate::steer::{SteerCommand, SteerCore};
 use crate::supervisor::Supervisor;
@@ -82,9 +82,15 @@ impl SupervisorThread {
         }
         let mut hw = SafeOnDrop(hw);
         let mut periodic = Periodic::new(rate_hz);
+        // Every object below is written by a thread of lower priority: read without
+        // waiting (state.rs), the busy locks counted.
+        let (mut steer, mut link, mut gui_beat) =
+            (Latest::new(steer), Latest::new(link), Latest::new(gui_beat));
+        let mut paused = false;
         while !stop.load(Ordering::Relaxed) {
             periodic.wait();
             let now_s = clock.elapsed().as_secs_f64();
+            let lock_start = rt::monotonic_ns();
             while let Ok((request, reply)) = requests.try_recv() {
                 let _ = reply.try_send(core.handle(request));
                 if let Some(accepted) = core.take_steer_settings() {
@@ -92,11 +98,11 @@ impl SupervisorThread {
                     let _ = steer_settings.try_send(accepted);
                 }
             }
-            // The only waits on other threads: copying their objects in and ours out.
-            let lock_start = rt::monotonic_ns();
-            let (steer_now, link_now) = (steer.snapshot(), link.snapshot());
+            // The only meetings with other threads: copying their objects in and ours out.
+            let busy = &mut periodic.stats.locks_busy;
+            let (steer_now, link_now) = (steer.get(busy), link.get(busy));
+            let gui_beat_s = gui_beat.get(busy);
             let mut lock_ns = rt::monotonic_ns() - lock_start;
-            let gui_beat_s = gui_beat.snapshot();
             let health = ThreadHealth {
                 gui_beat_s: (!gui_beat_s.is_nan()).then_some(gui_beat_s),
                 panicked: panics.panicked(),
@@ -118,18 +124,28 @@ impl SupervisorThread {
                 panics.safe_outputs_written();
             }
             let publish_start = rt::monotonic_ns();
-            status.publish(core.status());
+            if !status.try_publish(core.status()) {
+                // A reader holds it: the next tick publishes a newer status anyway.
+                periodic.stats.locks_busy += 1;
+            }
             lock_ns = lock_ns.max(rt::monotonic_ns() - publish_start);
             periodic.stats.worst_lock_us = periodic.stats.worst_lock_us.max(lock_ns / 1000);
             record.after_tick(core.status(), &steer_now, &link_now);
             if let Some(Injection {
                 thread: ThreadName::Supervisor,
                 at_s,
-                action: Fail::Slow { ms },
+                action,
             }) = inject
                 && now_s >= at_s
             {
-                std::thread::sleep(Duration::from_millis(ms));
+                match action {
+                    Fail::Slow { ms } => std::thread::sleep(Duration::from_millis(ms)),
+                    Fail::Pause { ms } if !paused => {
+                        paused = true;
+                        std::thread::sleep(Duration::from_millis(ms));
+                    }
+                    _ => {}
+                }
             }
             periodic.done();
             publish_figures_now_and_then(&periodic, &figures);

@@ -15,7 +15,12 @@ fn run_with_report(args: &[&str]) -> (String, serde_json::Value) {
     let out = mechweed()
         .args(["run", "--headless"])
         // A busy test machine may overrun now and then; that fault has its own test.
-        .args(["--set", "rt.max_overruns=1000000"])
+        .args([
+            "--set",
+            "rt.max_overruns=1000000",
+            "--set",
+            "rt.max_late_periods=100",
+        ])
         // The run's record goes to the temporary folder, not into the repository.
         .arg("--set")
         .arg(format!("record.folder={}", dir.path().display()))
@@ -234,4 +239,63 @@ fn run_on_the_cards_without_them_refuses_to_start() {
     assert_eq!(out.status.code(), Some(1));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("cannot start: no PCI-DAS08"), "{stderr}");
+}
+
+/// The shipped robot.ini on the I/O cards, with `[sim] events` as given, in a folder.
+fn cards_ini(events: &str) -> (tempfile::TempDir, std::path::PathBuf) {
+    let shipped =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/config/robot.ini")).unwrap();
+    let text = shipped
+        .replacen("\nbackend = sim\n", "\nbackend = cards\n", 1)
+        .replacen("\nport = sim\n", "\nport = /dev/ttyS0\n", 1)
+        .replacen("\nevents =\n", &format!("\nevents = {events}\n"), 1);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("robot.ini");
+    std::fs::write(&path, text).unwrap();
+    (dir, path)
+}
+
+#[test]
+fn check_config_refuses_a_scripted_operator_on_the_real_robot() {
+    let (_dir, path) = cards_ini("");
+    let out = mechweed().arg("check-config").arg(&path).output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    let (_dir, path) = cards_ini("2 estop_front, 5 power_up, 6 mode autonomous");
+    let out = mechweed().arg("check-config").arg(&path).output().unwrap();
+    let said =
+        String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(said.contains("[sim] events"), "{said}");
+    assert!(said.contains("5 power_up, 6 mode autonomous"), "{said}");
+    assert!(said.contains("with nobody there"), "{said}");
+}
+
+#[test]
+fn a_moving_start_mode_on_the_real_robot_waits_for_a_yes_at_the_console() {
+    // No terminal, no yes: the run starts in halt (here it then finds no cards).
+    let (_dir, path) = cards_ini("");
+    let out = mechweed()
+        .args([
+            "run",
+            "--headless",
+            "--mode",
+            "autonomous",
+            "--duration",
+            "1",
+        ])
+        .arg("--config")
+        .arg(&path)
+        .stdin(std::process::Stdio::null())
+        .output()
+        .unwrap();
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        said.contains("will power up the REAL robot and drive it"),
+        "{said}"
+    );
+    assert!(said.contains("not confirmed: starting in halt"), "{said}");
 }

@@ -92,7 +92,12 @@ fn scenario(port: &str, serve: impl FnOnce(Instant, Log, Arc<AtomicBool>) -> Joi
         .args(["--set", &format!("camera.port={port}")])
         .args(["--set", "sim.events=3 mode halt, 3.6 mode autonomous"])
         // A busy test machine may overrun now and then; that fault has its own test.
-        .args(["--set", "rt.max_overruns=1000000"])
+        .args([
+            "--set",
+            "rt.max_overruns=1000000",
+            "--set",
+            "rt.max_late_periods=100",
+        ])
         // The run's record goes to the temporary folder, not into the repository.
         .arg("--set")
         .arg(format!(

@@ -14,7 +14,7 @@ use mechweed::faults::{FaultCause, PowerState};
 use mechweed::gui::app::Tab;
 use mechweed::gui::{Controller, GuiApp};
 use mechweed::modes::Mode;
-use mechweed::run::{RunOptions, RunOutcome, Running, start};
+use mechweed::run::{Handles, RunOptions, RunOutcome, Running, start};
 use mechweed_hw::Outputs;
 
 struct Gui {
@@ -23,15 +23,24 @@ struct Gui {
 }
 
 fn gui_with(settings_file: Option<PathBuf>) -> Gui {
+    gui_customised(settings_file, |_| {})
+}
+
+/// The GUI over a controller whose handles `adjust` may change first.
+fn gui_customised(settings_file: Option<PathBuf>, adjust: impl FnOnce(&mut Handles)) -> Gui {
+    let mut settings = Settings::shipped();
+    // Software rendering is slow: a late tick now and then is not these tests' subject.
+    settings.rt.max_late_periods = 100.0;
     let opts = RunOptions {
-        settings: Settings::shipped(),
+        settings,
         start_mode: Mode::Halt,
         duration_s: None,
         status_every_s: 0.0,
         inject: None,
     };
     let stop = Arc::new(AtomicBool::new(false));
-    let (handles, running) = start(&opts, stop.clone()).expect("the controller starts");
+    let (mut handles, running) = start(&opts, stop.clone()).expect("the controller starts");
+    adjust(&mut handles);
     let controller: Controller = Arc::new(Mutex::new(Some(running)));
     let app = GuiApp::new(handles, &opts, settings_file, stop, controller.clone());
     let harness = Harness::builder()
@@ -289,5 +298,37 @@ fn in_test_an_amplifier_follows_the_panel_and_an_estop_still_stops_everything() 
     gui.wait_until("fault with safe outputs", |app| {
         app.view.status.mode == Mode::Fault && app.view.status.outputs == Outputs::SAFE
     });
+    gui.finish();
+}
+
+#[test]
+fn a_start_mode_waits_for_the_operators_confirmation() {
+    // As `--mode autonomous` on the real robot: nothing powers up until a person says so.
+    let mut gui = gui_with(None);
+    gui.harness.state_mut().ask_to_start(Mode::Autonomous);
+    gui.wait_until("calibrated", |app| app.view.status.measured.calibrated);
+    for _ in 0..20 {
+        gui.harness.step();
+    }
+    let st = gui.harness.state().view.status;
+    assert_eq!((st.mode, st.power), (Mode::Halt, PowerState::Off));
+    assert!(gui.shows("will power up the real robot and drive it"));
+    gui.click("Power up and start autonomous");
+    gui.wait_until("autonomous", |app| app.view.status.mode == Mode::Autonomous);
+    gui.finish();
+}
+
+#[test]
+fn the_header_says_when_the_robot_runs_without_real_time_priorities() {
+    let warning =
+        mechweed::run::not_realtime(mechweed::config::Backend::Cards, Some("SCHED_FIFO refused"));
+    assert!(warning.as_deref().unwrap().contains("NOT REAL-TIME"));
+    assert_eq!(
+        mechweed::run::not_realtime(mechweed::config::Backend::Sim, Some("refused")),
+        None
+    );
+    let mut gui = gui_customised(None, |handles| handles.not_realtime = warning);
+    gui.wait_until("the first status", |app| app.view.status.tick > 0);
+    assert!(gui.shows("NOT REAL-TIME: the robot drives without real-time priorities"));
     gui.finish();
 }

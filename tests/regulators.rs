@@ -109,6 +109,29 @@ fn gains_change_only_in_halt() {
 }
 
 #[test]
+fn gains_and_steering_law_are_applied_together_or_not_at_all() {
+    let s = settings_with("", &[]);
+    let mut sim = Lockstep::new(&s, Mode::Autonomous);
+    record(&mut sim, 3.0);
+    let mut gains = sim.supervisor.gains();
+    gains.steer.kp *= 1.5;
+    let mut law = sim.steer.law_settings();
+    law.lookahead_m += 0.2;
+    let tuning = Request::Tuning(gains, law);
+    assert_eq!(sim.request(tuning), Err(Refusal::OnlyInHalt));
+    assert_eq!(
+        sim.supervisor.gains().steer.kp,
+        s.pid_steer.kp,
+        "gains taken"
+    );
+    assert_eq!(sim.steer.law_settings().lookahead_m, s.steer.lookahead_m);
+    sim.request(Request::Mode(Mode::Halt)).unwrap();
+    sim.request(tuning).expect("halted");
+    assert_eq!(sim.supervisor.gains(), gains);
+    assert_eq!(sim.steer.law_settings().lookahead_m, law.lookahead_m);
+}
+
+#[test]
 fn steering_lock_to_lock_does_not_trip_the_potentiometer_check() {
     // The steering at its fastest; the potentiometer is filtered against its noise,
     // and that filter's lag must not look like a disagreement with the encoder.

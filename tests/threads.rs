@@ -24,6 +24,10 @@ fn run_with(thread: ThreadName, action: Fail, seconds: f64) -> RunOutcome {
         // A busy test machine may overrun now and then; that fault has its own test.
         settings.rt.max_overruns = 1_000_000;
     }
+    if !matches!(action, Fail::Pause { .. }) {
+        // Nor is a single late tick, here.
+        settings.rt.max_late_periods = 100.0;
+    }
     let options = RunOptions {
         settings,
         start_mode: Mode::Autonomous,
@@ -112,4 +116,19 @@ fn overruns_past_the_limit_are_a_fault() {
     // the slow loop ends in this fault soon.
     let ticks_to_fault = rt.max_overruns as f64 + 1.0;
     assert!(t_s < 1.5 + 0.02 * ticks_to_fault + 0.5, "fault at {t_s}");
+}
+
+#[test]
+fn one_stalled_supervisor_tick_is_a_fault() {
+    // A hung card read: one tick of 200 ms, far fewer overruns than their limit.
+    let rt = Settings::shipped().rt;
+    assert!(rt.max_overruns > 1);
+    let outcome = run_with(ThreadName::Supervisor, Fail::Pause { ms: 200 }, 3.0);
+    let (cause, t_s) = first_fault(&outcome);
+    let FaultCause::LateTick { late_ms, limit_ms } = cause else {
+        panic!("{cause:?}");
+    };
+    assert!(late_ms >= 150.0 && limit_ms < late_ms, "{cause:?}");
+    assert!((1.5..2.0).contains(&t_s), "fault at {t_s}");
+    assert!(cause.to_string().contains("stalled"), "{cause}");
 }

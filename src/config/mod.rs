@@ -74,6 +74,7 @@ pub struct FaultSettings {
     pub encoder_stuck_s: f64,
     pub endswitch_unhandled_s: f64,
     pub endswitch_timeout_s: f64,
+    pub contactor_drop_s: f64,
 }
 
 /// PI speed regulator of one drive wheel, with feed-forward.
@@ -119,6 +120,7 @@ pub struct JoystickSettings {
     pub deadband_v: f64,
     pub max_speed_mps: f64,
     pub max_angle_deg: f64,
+    pub axis_fault_v: f64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -140,6 +142,7 @@ pub struct RtSettings {
     pub gui_heartbeat_timeout_s: f64,
     pub max_overruns: u32,
     pub overrun_window_s: f64,
+    pub max_late_periods: f64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -218,12 +221,35 @@ impl Settings {
             sim: sim::load(&mut r),
             record: record::load(&mut r),
         };
+        no_script_on_the_real_robot(&settings, &mut r);
         let errors = r.finish(SECTIONS);
         if errors.is_empty() {
             Ok(settings)
         } else {
             Err(errors)
         }
+    }
+}
+
+/// Nothing powers the real robot up without a person: the scripted operator of
+/// [sim] events (power_up, mode) is for the simulated robot only.
+fn no_script_on_the_real_robot(settings: &Settings, r: &mut Reader) {
+    if settings.backend != Backend::Cards {
+        return;
+    }
+    let scripted: Vec<String> = (settings.sim.events.iter())
+        .filter(|e| e.action.is_operator())
+        .map(|e| e.to_string())
+        .collect();
+    if !scripted.is_empty() {
+        r.error_at(
+            "sim",
+            "events",
+            format!(
+                "{} would power up or drive the real robot with nobody there ([hw] backend = cards): remove the operator events (power_up, mode)",
+                scripted.join(", ")
+            ),
+        );
     }
 }
 
@@ -268,6 +294,7 @@ fn faults(r: &mut Reader) -> FaultSettings {
         encoder_stuck_s: r.f64(s, "encoder_stuck_s", 0.05, 10.0),
         endswitch_unhandled_s: r.f64(s, "endswitch_unhandled_s", 0.01, 5.0),
         endswitch_timeout_s: r.f64(s, "endswitch_timeout_s", 0.1, 60.0),
+        contactor_drop_s: r.f64(s, "contactor_drop_s", 0.02, 2.0),
     }
 }
 
@@ -310,6 +337,7 @@ fn joystick(r: &mut Reader) -> JoystickSettings {
         deadband_v: r.f64(s, "deadband_v", 0.0, 5.0),
         max_speed_mps: r.f64(s, "max_speed_mps", 0.0, 3.0),
         max_angle_deg: r.f64(s, "max_angle_deg", 0.0, 45.0),
+        axis_fault_v: r.f64(s, "axis_fault_v", 0.1, 12.0),
     }
 }
 
@@ -325,6 +353,7 @@ fn rt(r: &mut Reader) -> RtSettings {
         gui_heartbeat_timeout_s: r.f64(s, "gui_heartbeat_timeout_s", 0.1, 60.0),
         max_overruns: r.u64(s, "max_overruns", 0, 1_000_000) as u32,
         overrun_window_s: r.f64(s, "overrun_window_s", 0.1, 3600.0),
+        max_late_periods: r.f64(s, "max_late_periods", 1.0, 100.0),
     }
 }
 

@@ -19,7 +19,7 @@ use super::{header, modes, status};
 use crate::camlink::LinkStatus;
 use crate::config::Settings;
 use crate::modes::{Mode, Request};
-use crate::operator::OperatorScript;
+use crate::operator::{OperatorScript, needs_confirmation};
 use crate::rt::LoopSummary;
 use crate::run::{Handles, RunOptions, start};
 use crate::state::Reader;
@@ -101,6 +101,8 @@ pub struct GuiApp {
     duration_s: Option<f64>,
     /// `--mode` and the operator actions of [sim] events, as the console follows them.
     script: OperatorScript,
+    /// `--mode` on the real robot, waiting for the operator's confirmation.
+    pub confirm_start: Option<Mode>,
     stop: Arc<AtomicBool>,
     controller: Controller,
 }
@@ -114,7 +116,7 @@ impl GuiApp {
         controller: Controller,
     ) -> GuiApp {
         let settings = &opts.settings;
-        GuiApp {
+        let mut app = GuiApp {
             handles,
             view: View::default(),
             tab: first_tab(),
@@ -125,9 +127,48 @@ impl GuiApp {
             sim: SimPanel::new(settings),
             duration_s: opts.duration_s,
             script: OperatorScript::new(&settings.sim.events, opts.start_mode),
+            confirm_start: None,
             stop,
             controller,
+        };
+        if needs_confirmation(settings.backend, opts.start_mode) {
+            app.ask_to_start(opts.start_mode);
         }
+        app
+    }
+
+    /// Stand in Halt until the operator confirms that `mode` may power the robot up
+    /// (`--mode` on the real robot).
+    pub fn ask_to_start(&mut self, mode: Mode) {
+        self.script = OperatorScript::new(&[], Mode::Halt);
+        self.confirm_start = Some(mode);
+    }
+
+    /// The confirmation window of `--mode` on the real robot.
+    fn show_confirmation(&mut self, ctx: &egui::Context) {
+        let Some(mode) = self.confirm_start else {
+            return;
+        };
+        egui::Window::new("Confirm the start")
+            .collapsible(false)
+            .resizable(false)
+            .anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0])
+            .show(ctx, |ui| {
+                ui.label(format!(
+                    "The program was started with --mode {mode}: it will power up the real robot{}.",
+                    if mode.drives() { " and drive it" } else { "" }
+                ));
+                ui.label("Is the area clear and a person at an emergency stop?");
+                ui.horizontal(|ui| {
+                    if ui.button(format!("Power up and start {mode}")).clicked() {
+                        self.script = OperatorScript::new(&[], mode);
+                        self.confirm_start = None;
+                    }
+                    if ui.button("Stay in halt").clicked() {
+                        self.confirm_start = None;
+                    }
+                });
+            });
     }
 
     /// Reset the simulated robot to the row start with `settings`: stop the controller
@@ -218,6 +259,7 @@ impl GuiApp {
         if ui.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::Space)) {
             header::halt(&self.handles, &self.view, &mut self.feedback);
         }
+        self.show_confirmation(&ui.ctx().clone());
         egui::Panel::top("header").show(ui, |ui| {
             header::show(ui, &self.view, &self.handles, &mut self.feedback);
         });

@@ -73,6 +73,13 @@ pub fn show(ui: &mut egui::Ui, view: &View, handles: &Handles, feedback: &mut Op
                     view.now_s
                 ));
             });
+            if let Some(warning) = &handles.not_realtime {
+                ui.label(
+                    RichText::new(warning)
+                        .strong()
+                        .color(Color32::from_rgb(255, 150, 40)),
+                );
+            }
             match st.fault {
                 Some(fault) => {
                     ui.label(

@@ -5,8 +5,9 @@
 //! The panel computes the amplifier voltages at its own pass rate (10 to 30 a second)
 //! and sends them as `Request::TestOutputs`. Safety does not rest on it: the supervisor
 //! takes test outputs only in Test, limits every amplifier to +-10 V, keeps the end-switch
-//! guard, starts Test with the safe outputs, and on leaving Test (HALT) or any fault
-//! writes the safe outputs in that same tick; e-stops and every fault check keep working.
+//! guard, starts Test with the safe outputs (the motor contactor as it was: the relay
+//! switch is then the power switch, watched by the power checks), and on leaving Test
+//! (HALT) or any fault writes the safe outputs in that same tick; e-stops and every fault check keep working.
 //! If the GUI stops, its heartbeat fault does the same. When the mode is not Test the
 //! panel forgets its switches, so re-entering Test starts from safe outputs.
 
@@ -117,6 +118,11 @@ impl TestPanel {
                 };
             }
             return;
+        }
+        if self.last_sent.is_none() {
+            // Test keeps the contactor as it was: the relay switch starts where the
+            // supervisor has it, so entering Test after Power up leaves power on.
+            self.outputs.main_power_on = view.status.outputs.main_power_on;
         }
         let wanted = self.wanted(view.now_s);
         if self.last_sent == Some(wanted) {

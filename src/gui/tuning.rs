@@ -142,15 +142,13 @@ impl Tuning {
             right: s.pid_right,
             steer: s.pid_steer,
         };
-        ask(handles, Request::Gains(gains), "gains applied", feedback);
-        if feedback.as_ref().is_some_and(|f| !f.refused) {
-            ask(
-                handles,
-                Request::SteerLaw(s.steer),
-                "gains and steering law applied",
-                feedback,
-            );
-        }
+        // One request: the supervisor takes both or neither.
+        ask(
+            handles,
+            Request::Tuning(gains, s.steer),
+            "gains and steering law applied",
+            feedback,
+        );
     }
 
     /// Rewrite only the values that differ from the file's, atomically.

@@ -22,6 +22,8 @@ use law::{LawOutput, Motion, RowFollower};
 pub struct SteerCommand {
     /// When this command was made, s (the supervisor watches that it keeps coming).
     pub t_s: f64,
+    /// The mode it was made for: the supervisor uses it in that mode only.
+    pub mode: Mode,
     pub speed_mps: f64,
     pub wheel_angle_rad: f64,
     /// The camera link should stream row frames: while driving, so that switching
@@ -118,6 +120,7 @@ impl SteerCore {
         };
         SteerCommand {
             t_s: now_s,
+            mode,
             speed_mps,
             wheel_angle_rad,
             wants_rows: mode.drives(),

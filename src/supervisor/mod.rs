@@ -7,7 +7,10 @@
 //! Autonomous directly, bumpless); any fault latches Fault with safe outputs in the
 //! same tick, until the cause is gone and the operator powers up again.
 
-use mechweed_hw::sim::Side;
+mod endswitch;
+mod requests;
+pub mod test_mode;
+
 use mechweed_hw::{Inputs, Outputs};
 
 use crate::camlink::LinkStatus;
@@ -16,9 +19,10 @@ use crate::config::SteerSettings;
 use crate::faults::{CheckContext, FaultCause, FaultChecks, PowerState};
 use crate::health::ThreadHealth;
 use crate::measure::Measurement;
-use crate::modes::{Gains, Mode, Refusal, Request, mode_refusal, power_up_refusal};
+use crate::modes::{Gains, Mode};
 use crate::pid::{Pd, Pi};
 use crate::steer::SteerCommand;
+use endswitch::{EndSwitchLatch, guard_steering};
 
 pub use crate::status::{FaultRecord, Notice, Status};
 
@@ -34,9 +38,8 @@ pub struct Supervisor {
     right: Pi,
     steering: Pd,
     mode_since_s: f64,
-    endswitch_hit_s: f64,
+    endswitch: EndSwitchLatch,
     test_outputs: Outputs,
-    endswitch_done_seen: u32,
     /// Steering-law parameters accepted in Halt, not yet passed to the steer thread.
     steer_settings: Option<SteerSettings>,
     status: Status,
@@ -56,19 +59,13 @@ impl Supervisor {
             settings: s.clone(),
             period_s: 1.0 / s.supervisor.rate_hz,
             measure: Measurement::new(&s.robot, &s.supervisor, &s.faults),
-            checks: FaultChecks::new(
-                s.faults.clone(),
-                s.camera,
-                s.rt,
-                s.supervisor.power_up_timeout_s,
-            ),
+            checks: FaultChecks::new(s),
             left: Pi::new(s.pid_left),
             right: Pi::new(s.pid_right),
             steering: Pd::new(s.pid_steer),
             mode_since_s: 0.0,
-            endswitch_hit_s: 0.0,
+            endswitch: EndSwitchLatch::default(),
             test_outputs: Outputs::SAFE,
-            endswitch_done_seen: 0,
             steer_settings: None,
             status: Status::default(),
             fault_log: Vec::with_capacity(LOG_CAPACITY),
@@ -90,66 +87,6 @@ impl Supervisor {
             left: self.left.gains,
             right: self.right.gains,
             steer: self.steering.gains,
-        }
-    }
-
-    /// Act on a request from another thread; the answer says why not, if not.
-    pub fn handle(&mut self, request: Request) -> Result<(), Refusal> {
-        let st = &self.status;
-        if st.tick == 0 {
-            return Err(Refusal::NotStarted);
-        }
-        match request {
-            Request::PowerUp => {
-                if let Some(refusal) = power_up_refusal(st) {
-                    return Err(refusal);
-                }
-                if st.mode == Mode::Fault {
-                    self.set_mode(Mode::Halt);
-                    self.status.fault = None;
-                }
-                self.status.power = PowerState::Closing {
-                    since_s: self.status.t_s,
-                };
-                Ok(())
-            }
-            Request::Mode(mode) => {
-                if let Some(refusal) = mode_refusal(mode, st) {
-                    return Err(refusal);
-                }
-                match mode {
-                    Mode::Test => self.test_outputs = Outputs::SAFE,
-                    Mode::Joystick | Mode::Autonomous if st.mode == Mode::Halt => {
-                        self.start_driving()
-                    }
-                    _ => {}
-                }
-                self.set_mode(mode);
-                Ok(())
-            }
-            Request::Gains(gains) => {
-                if st.mode != Mode::Halt {
-                    return Err(Refusal::OnlyInHalt);
-                }
-                self.left.gains = gains.left;
-                self.right.gains = gains.right;
-                self.steering.gains = gains.steer;
-                Ok(())
-            }
-            Request::SteerLaw(settings) => {
-                if st.mode != Mode::Halt {
-                    return Err(Refusal::OnlyInHalt);
-                }
-                self.steer_settings = Some(settings);
-                Ok(())
-            }
-            Request::TestOutputs(outputs) => {
-                if st.mode != Mode::Test {
-                    return Err(Refusal::NotInTest);
-                }
-                self.test_outputs = outputs;
-                Ok(())
-            }
         }
     }
 
@@ -212,7 +149,7 @@ impl Supervisor {
         link: &LinkStatus,
         health: &ThreadHealth,
     ) -> Outputs {
-        let dt_s = if self.status.tick == 0 {
+        let gap_s = if self.status.tick == 0 {
             self.period_s
         } else {
             now_s - self.status.t_s
@@ -221,9 +158,17 @@ impl Supervisor {
         self.status.tick += 1;
         self.status.inputs = *inputs;
         self.status.standing_cause = self.checks.standing_cause(inputs);
-        let measured = self.measure.update(inputs, dt_s);
+        // Speeds are counts over the true interval.
+        let measured = self.measure.update(inputs, gap_s);
         self.status.measured = measured;
 
+        if self.status.mode == Mode::Test {
+            self.status.power = test_mode::power_after_panel(
+                self.test_outputs.main_power_on,
+                self.status.power,
+                now_s,
+            );
+        }
         if let PowerState::Closing { .. } = self.status.power
             && inputs.motor_power_present
         {
@@ -232,21 +177,27 @@ impl Supervisor {
 
         // A finished end-switch procedure first, so the latch it clears is not checked.
         self.follow_endswitch_procedure(steer, now_s);
-        self.latch_endswitch(inputs, now_s);
+        let driving = self.status.mode.drives();
+        self.endswitch
+            .latch(&mut self.status.endswitch_hit, driving, inputs, now_s);
         let last = self.status.outputs;
+        let expected_mps = match self.status.mode {
+            Mode::Test => test_mode::expected_mps(&last, &self.left.gains, &self.right.gains),
+            _ => [self.status.v_left_ref_mps, self.status.v_right_ref_mps],
+        };
         let context = CheckContext {
             now_s,
+            tick_gap_s: gap_s,
             mode: self.status.mode,
             mode_since_s: self.mode_since_s,
             power: self.status.power,
             inputs,
             measured: &measured,
             driven_v: [last.amp_left_v, last.amp_right_v, last.amp_steer_v],
+            relay_closed: last.main_power_on,
+            expected_mps,
             counts_moved: self.measure.counts_moved,
-            endswitch_hit: self
-                .status
-                .endswitch_hit
-                .map(|side| (side, self.endswitch_hit_s)),
+            endswitch_hit: self.endswitch.hit(self.status.endswitch_hit),
             steer,
             link,
             health,
@@ -260,8 +211,8 @@ impl Supervisor {
         let outputs = match self.status.mode {
             Mode::Fault => Outputs::SAFE,
             Mode::Halt => self.standing_outputs(),
-            Mode::Test => self.guard_steering(limit_amplifiers(self.test_outputs), inputs),
-            Mode::Joystick | Mode::Autonomous => self.drive(steer, inputs, dt_s),
+            Mode::Test => guard_steering(test_mode::limit_amplifiers(self.test_outputs), inputs),
+            Mode::Joystick | Mode::Autonomous => self.drive(now_s, steer, inputs, gap_s),
         };
         if !self.status.mode.drives() {
             // Standing: no speed is asked of either wheel, and the steering holds.
@@ -274,36 +225,13 @@ impl Supervisor {
         outputs
     }
 
-    /// Remember an end switch that closed while driving, however briefly.
-    fn latch_endswitch(&mut self, inputs: &Inputs, now_s: f64) {
-        if !self.status.mode.drives() {
-            self.status.endswitch_hit = None;
-            return;
-        }
-        if self.status.endswitch_hit.is_none() {
-            let side = if inputs.end_switch_left {
-                Some(Side::Left)
-            } else if inputs.end_switch_right {
-                Some(Side::Right)
-            } else {
-                None
-            };
-            if side.is_some() {
-                self.status.endswitch_hit = side;
-                self.endswitch_hit_s = now_s;
-            }
-        }
-    }
-
     /// The steer thread finished an end-switch procedure: stop in Halt and say so.
     fn follow_endswitch_procedure(&mut self, steer: &SteerCommand, now_s: f64) {
-        if steer.endswitch_done_count == self.endswitch_done_seen {
-            return;
-        }
-        self.endswitch_done_seen = steer.endswitch_done_count;
-        self.status.endswitch_hit = None;
+        let finished = self
+            .endswitch
+            .finished(&mut self.status.endswitch_hit, steer);
         if self.status.mode.drives()
-            && let Some(side) = steer.endswitch_last_side
+            && let Some(side) = finished
         {
             let notice = Notice::EndSwitchRecovered { side, t_s: now_s };
             self.status.notice = Some(notice);
@@ -321,37 +249,46 @@ impl Supervisor {
         }
     }
 
-    /// Never drive the steering further into a closed end switch.
-    fn guard_steering(&self, mut outputs: Outputs, inputs: &Inputs) -> Outputs {
-        if inputs.end_switch_left {
-            outputs.amp_steer_v = outputs.amp_steer_v.min(0.0);
-        }
-        if inputs.end_switch_right {
-            outputs.amp_steer_v = outputs.amp_steer_v.max(0.0);
-        }
-        outputs
-    }
-
     /// Joystick and Autonomous: references from the steer thread, ramped; the
     /// regulators turn them into amplifier voltages.
-    fn drive(&mut self, steer: &SteerCommand, inputs: &Inputs, dt_s: f64) -> Outputs {
+    fn drive(&mut self, now_s: f64, steer: &SteerCommand, inputs: &Inputs, gap_s: f64) -> Outputs {
+        if self.status.mode == Mode::Joystick && !inputs.joystick_enable {
+            // The dead-man let go: stop as HALT does, brakes on at once. A person who
+            // lets go may have fallen; the spring brakes stop the robot in the shortest
+            // distance, where a ramp would roll on for up to a metre. Pressed again, the
+            // robot starts from rest.
+            self.start_driving();
+            self.status.v_left_ref_mps = 0.0;
+            self.status.v_right_ref_mps = 0.0;
+            return self.standing_outputs();
+        }
+        // Ramps and integrators take at most two periods at once: after a stall (itself
+        // a fault) none of them jumps by the whole gap.
+        let dt_s = gap_s.min(MAX_STEP_PERIODS * self.period_s);
         let s = &self.settings;
         let m = self.status.measured;
         let end_switch = inputs.end_switch_left
             || inputs.end_switch_right
             || self.status.endswitch_hit.is_some();
+        // A command the steer thread made for another mode, or one it stopped renewing,
+        // asks for nothing: stand, and hold the wheel where its reference is.
+        let steer_age_s = now_s - steer.t_s;
+        let fresh = steer.mode == self.status.mode
+            && steer_age_s <= STEER_MAX_AGE_PERIODS / s.steer.rate_hz;
         let max_speed = s.supervisor.max_speed_mps;
-        let target_speed = if end_switch {
+        let target_speed = if end_switch || !fresh {
             0.0
         } else {
             steer.speed_mps.clamp(-max_speed, max_speed)
         };
-        let max_angle = s
-            .robot
-            .max_wheel_angle_deg
-            .to_radians()
-            .max(s.steer.endswitch_back_deg.to_radians());
-        let target_angle = steer.wheel_angle_rad.clamp(-max_angle, max_angle);
+        // One limit in every mode; the end-switch procedure's angle lies within it
+        // (check-config refuses one that does not).
+        let max_angle = s.robot.max_wheel_angle_deg.to_radians();
+        let target_angle = if fresh {
+            steer.wheel_angle_rad.clamp(-max_angle, max_angle)
+        } else {
+            self.status.wheel_angle_ref_rad
+        };
 
         let st = &mut self.status;
         st.speed_ref_mps = ramp(
@@ -373,36 +310,24 @@ impl Supervisor {
         let outputs = Outputs {
             amp_left_v: self.left.update(st.v_left_ref_mps, m.v_left_mps, dt_s),
             amp_right_v: self.right.update(st.v_right_ref_mps, m.v_right_mps, dt_s),
+            // A derivative is a rate: over the true interval, not the capped one.
             amp_steer_v: self
                 .steering
-                .update(st.wheel_angle_ref_rad, m.wheel_angle_rad, dt_s),
+                .update(st.wheel_angle_ref_rad, m.wheel_angle_rad, gap_s),
             main_power_on: true,
             brake_release_left: true,
             brake_release_right: true,
             tool_on: st.mode == Mode::Autonomous && st.speed_ref_mps > TOOL_MIN_SPEED_MPS,
         };
-        self.guard_steering(outputs, inputs)
+        guard_steering(outputs, inputs)
     }
 }
 
 /// The weeding tool runs only while the robot moves along the row, m/s.
 const TOOL_MIN_SPEED_MPS: f64 = 0.05;
 
-/// The amplifiers take -10..+10 V: whatever the test panel asks, never more.
-const AMPLIFIER_MAX_V: f64 = 10.0;
+/// The longest interval ramps and integrators take in one tick, in supervisor periods.
+const MAX_STEP_PERIODS: f64 = 2.0;
 
-fn limit_amplifiers(mut outputs: Outputs) -> Outputs {
-    for v in [
-        &mut outputs.amp_left_v,
-        &mut outputs.amp_right_v,
-        &mut outputs.amp_steer_v,
-    ] {
-        // NaN (from a broken sender) becomes 0 V, not a pass-through.
-        *v = if v.is_finite() {
-            v.clamp(-AMPLIFIER_MAX_V, AMPLIFIER_MAX_V)
-        } else {
-            0.0
-        };
-    }
-    outputs
-}
+/// A steer command older than this many steer periods is stale: target speed 0.
+const STEER_MAX_AGE_PERIODS: f64 = 2.0;

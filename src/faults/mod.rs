@@ -5,129 +5,19 @@
 //! Checks that must see a condition for some time (a battery sagging, an encoder not
 //! counting) keep a timer here; their times are settings in robot.ini [faults].
 
-use std::fmt;
+mod cause;
 
 use mechweed_hw::Inputs;
 use mechweed_hw::sim::{EncoderId, Side};
 
+pub use cause::{FaultCause, JoystickAxis};
+
 use crate::camlink::LinkStatus;
-use crate::config::{CameraSettings, FaultSettings, RtSettings};
+use crate::config::{CameraSettings, FaultSettings, RtSettings, Settings};
 use crate::health::{ThreadHealth, ThreadName};
 use crate::measure::Measured;
 use crate::modes::Mode;
 use crate::steer::{EndSwitchState, SteerCommand};
-
-/// Why the robot stopped, in words a field technician understands.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum FaultCause {
-    EstopFront,
-    EstopBack,
-    MotorPowerLost,
-    PowerUpFailed,
-    BatteryLow { volts: f64 },
-    PotOutOfRange { volts: f64 },
-    PotDisagrees { pot_deg: f64, encoder_deg: f64 },
-    BothEndSwitches,
-    EndSwitchUnhandled(Side),
-    EndSwitchStuck(Side),
-    EncoderStuck(EncoderId),
-    CameraLinkLost { silent_s: f64 },
-    CameraSeesNoRow { for_s: f64 },
-    ThreadStopped { thread: ThreadName, for_s: f64 },
-    ThreadPanicked { thread: ThreadName },
-    Overruns { count: u32, window_s: f64 },
-    Hardware { card: &'static str },
-}
-
-fn side_name(side: Side) -> &'static str {
-    match side {
-        Side::Left => "left",
-        Side::Right => "right",
-    }
-}
-
-impl fmt::Display for FaultCause {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match *self {
-            FaultCause::EstopFront => {
-                write!(f, "front emergency stop pressed (or its wire is broken)")
-            }
-            FaultCause::EstopBack => {
-                write!(f, "back emergency stop pressed (or its wire is broken)")
-            }
-            FaultCause::MotorPowerLost => write!(f, "motor power lost: the motor contactor opened"),
-            FaultCause::PowerUpFailed => write!(f, "motor power did not come on after power-up"),
-            FaultCause::BatteryLow { volts } => write!(f, "battery low: {volts:.1} V"),
-            FaultCause::PotOutOfRange { volts } => {
-                write!(
-                    f,
-                    "steering potentiometer reads {volts:.2} V: wire broken or loose?"
-                )
-            }
-            FaultCause::PotDisagrees {
-                pot_deg,
-                encoder_deg,
-            } => write!(
-                f,
-                "steering potentiometer ({pot_deg:.1} deg) and steering encoder ({encoder_deg:.1} deg) disagree"
-            ),
-            FaultCause::BothEndSwitches => {
-                write!(
-                    f,
-                    "both steering end switches closed at once: check their wiring"
-                )
-            }
-            FaultCause::EndSwitchUnhandled(s) => {
-                write!(
-                    f,
-                    "{} steering end switch closed and the steer thread did not react",
-                    side_name(s)
-                )
-            }
-            FaultCause::EndSwitchStuck(s) => write!(
-                f,
-                "could not steer off the {} end switch: steering jammed or switch stuck",
-                side_name(s)
-            ),
-            FaultCause::EncoderStuck(e) => {
-                let which = match e {
-                    EncoderId::Left => "left wheel",
-                    EncoderId::Right => "right wheel",
-                    EncoderId::Steer => "steering",
-                };
-                write!(
-                    f,
-                    "{which} encoder does not count while its motor is driven"
-                )
-            }
-            FaultCause::CameraLinkLost { silent_s } => {
-                write!(f, "camera link lost: no row frame for {silent_s:.2} s")
-            }
-            FaultCause::CameraSeesNoRow { for_s } => {
-                write!(f, "camera sees no row: no usable estimate for {for_s:.2} s")
-            }
-            FaultCause::ThreadStopped { thread, for_s } => {
-                write!(
-                    f,
-                    "the {} thread stopped: no sign of life for {for_s:.2} s",
-                    thread.label()
-                )
-            }
-            FaultCause::ThreadPanicked { thread } => {
-                write!(
-                    f,
-                    "the {} thread failed (a program error): see the log",
-                    thread.label()
-                )
-            }
-            FaultCause::Overruns { count, window_s } => write!(
-                f,
-                "the supervisor missed {count} deadlines within {window_s:.0} s: the computer is overloaded"
-            ),
-            FaultCause::Hardware { card } => write!(f, "I/O card {card} stopped answering"),
-        }
-    }
-}
 
 /// The motor contactor as the supervisor commands it.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -143,6 +33,8 @@ pub enum PowerState {
 /// What the checks look at, gathered by the supervisor each tick.
 pub struct CheckContext<'a> {
     pub now_s: f64,
+    /// Time since the previous supervisor tick, s (one period on the first tick).
+    pub tick_gap_s: f64,
     pub mode: Mode,
     /// When the current mode was entered, s.
     pub mode_since_s: f64,
@@ -151,6 +43,11 @@ pub struct CheckContext<'a> {
     pub measured: &'a Measured,
     /// Amplifier voltages written last tick: left, right, steering.
     pub driven_v: [f64; 3],
+    /// The motor contactor's relay as written last tick (true = commanded closed).
+    pub relay_closed: bool,
+    /// The speed each drive wheel was asked to move at last tick, m/s: its reference
+    /// while driving; in Test, what the panel's voltage gives with the brake released.
+    pub expected_mps: [f64; 2],
     /// Encoder counts moved since last tick: left, right, steering.
     pub counts_moved: [bool; 3],
     /// An end switch closed while driving, and when (latched by the supervisor).
@@ -166,12 +63,19 @@ pub struct FaultChecks {
     camera: CameraSettings,
     rt: RtSettings,
     power_up_timeout_s: f64,
+    period_s: f64,
+    joystick_axis_fault_v: f64,
     /// Times of the most recent supervisor overruns (at most max_overruns + 1).
     overrun_times_s: std::collections::VecDeque<f64>,
     overruns_seen: u64,
     battery_low_since_s: Option<f64>,
     pot_disagree_since_s: Option<f64>,
     encoder_idle_since_s: [Option<f64>; 3],
+    /// The potentiometer's angle when the steering encoder's idle time began, deg.
+    steer_idle_pot_deg: f64,
+    contactor_open_since_s: Option<f64>,
+    /// Motor power has stayed on past the drop time with the relay open.
+    contactor_welded: bool,
 }
 
 /// Starts a timer when `condition` becomes true; returns how long it has been true.
@@ -185,18 +89,23 @@ fn held_for(timer: &mut Option<f64>, condition: bool, now_s: f64) -> f64 {
 
 const ENCODERS: [EncoderId; 3] = [EncoderId::Left, EncoderId::Right, EncoderId::Steer];
 
+/// A drive wheel asked to move slower than this may rightly stand (held on a slope by
+/// its integrator), m/s.
+const EXPECTED_MOTION_MPS: f64 = 0.05;
+/// The potentiometer must show the steering turned at least this much while its encoder
+/// stood still, deg: a wheel held by ground friction turns neither.
+const STEER_TURNED_DEG: f64 = 1.0;
+
 impl FaultChecks {
-    pub fn new(
-        s: FaultSettings,
-        camera: CameraSettings,
-        rt: RtSettings,
-        power_up_timeout_s: f64,
-    ) -> FaultChecks {
+    pub fn new(settings: &Settings) -> FaultChecks {
+        let rt = settings.rt;
         FaultChecks {
-            s,
-            camera,
+            s: settings.faults.clone(),
+            camera: settings.camera,
             rt,
-            power_up_timeout_s,
+            power_up_timeout_s: settings.supervisor.power_up_timeout_s,
+            period_s: 1.0 / settings.supervisor.rate_hz,
+            joystick_axis_fault_v: settings.joystick.axis_fault_v,
             overrun_times_s: std::collections::VecDeque::with_capacity(
                 rt.max_overruns as usize + 1,
             ),
@@ -204,6 +113,9 @@ impl FaultChecks {
             battery_low_since_s: None,
             pot_disagree_since_s: None,
             encoder_idle_since_s: [None; 3],
+            steer_idle_pot_deg: 0.0,
+            contactor_open_since_s: None,
+            contactor_welded: false,
         }
     }
 
@@ -227,6 +139,9 @@ impl FaultChecks {
         }
         if inputs.end_switch_left && inputs.end_switch_right {
             return Some(FaultCause::BothEndSwitches);
+        }
+        if self.contactor_welded && inputs.motor_power_present {
+            return Some(FaultCause::ContactorWelded);
         }
         None
     }
@@ -255,6 +170,15 @@ impl FaultChecks {
                 report(FaultCause::PowerUpFailed)
             }
             _ => {}
+        }
+        // ... and open when commanded: power that stays on is a welded contactor, which
+        // no software can switch off (the e-stop chain may not either).
+        let stays_on = !c.relay_closed && i.motor_power_present;
+        self.contactor_welded = held_for(&mut self.contactor_open_since_s, stays_on, now)
+            >= self.s.contactor_drop_s
+            && stays_on;
+        if self.contactor_welded {
+            report(FaultCause::ContactorWelded);
         }
 
         // Battery: sagging briefly under load is normal; staying low is not.
@@ -296,14 +220,45 @@ impl FaultChecks {
             }
         }
 
-        // Encoders: a motor driven hard enough to move must make its encoder count.
+        // Encoders: an encoder that does not count while its motor should be moving.
+        // Not the voltage alone: standing on a slope, a wheel's integrator rightly holds
+        // a voltage while the wheel stands, and ground friction can hold the steering.
         for (k, id) in ENCODERS.iter().enumerate() {
             let driven = c.driven_v[k].abs() > self.s.encoder_stuck_v && c.power == PowerState::On;
             let idle = driven && !c.counts_moved[k];
-            if held_for(&mut self.encoder_idle_since_s[k], idle, now) >= self.s.encoder_stuck_s
-                && idle
-            {
+            let was_idle = self.encoder_idle_since_s[k].is_some();
+            let idle_s = held_for(&mut self.encoder_idle_since_s[k], idle, now);
+            let should_move = match id {
+                // A drive wheel asked to move, pushed in that direction.
+                EncoderId::Left | EncoderId::Right => {
+                    let expected = c.expected_mps[k];
+                    expected.abs() > EXPECTED_MOTION_MPS && expected * c.driven_v[k] > 0.0
+                }
+                // The steering: the potentiometer saw it turn while the encoder stood.
+                EncoderId::Steer => {
+                    let pot_deg = c.measured.pot_angle_filtered_rad.to_degrees();
+                    if !was_idle {
+                        self.steer_idle_pot_deg = pot_deg;
+                    }
+                    (pot_deg - self.steer_idle_pot_deg).abs() > STEER_TURNED_DEG
+                }
+            };
+            if idle && should_move && idle_s >= self.s.encoder_stuck_s {
                 report(FaultCause::EncoderStuck(*id));
+            }
+        }
+
+        // Joystick: an axis beyond what the joystick can give is a broken wiper, which
+        // would otherwise read as full deflection.
+        if c.mode == Mode::Joystick {
+            let axes = [
+                (JoystickAxis::Speed, i.joystick_speed_v),
+                (JoystickAxis::Steer, i.joystick_steer_v),
+            ];
+            for (axis, volts) in axes {
+                if volts.is_nan() || volts.abs() > self.joystick_axis_fault_v {
+                    report(FaultCause::JoystickAxis { axis, volts });
+                }
             }
         }
 
@@ -345,6 +300,16 @@ impl FaultChecks {
             }
         }
 
+        // One stall is enough: for that long the amplifiers drove unwatched.
+        let late_s = c.tick_gap_s - self.period_s;
+        let limit_s = self.rt.max_late_periods * self.period_s;
+        if late_s > limit_s {
+            report(FaultCause::LateTick {
+                late_ms: late_s * 1e3,
+                limit_ms: limit_s * 1e3,
+            });
+        }
+
         // Deadline overruns: a few are tolerated, a burst means an overloaded computer.
         let new_overruns = c
             .health
@@ -371,5 +336,4 @@ impl FaultChecks {
 }
 
 #[cfg(test)]
-#[path = "faults_tests.rs"]
 mod tests;

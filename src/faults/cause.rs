@@ -1,0 +1,178 @@
+//! Why the robot stopped: every fault cause, in words a field technician understands.
+//! The checks that find them are in the module above (faults/mod.rs).
+
+use std::fmt;
+
+use mechweed_hw::sim::{EncoderId, Side};
+
+use crate::health::ThreadName;
+
+/// Why the robot stopped, in words a field technician understands.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FaultCause {
+    EstopFront,
+    EstopBack,
+    MotorPowerLost,
+    PowerUpFailed,
+    /// Motor power stayed on after the contactor was commanded open (welded contacts).
+    ContactorWelded,
+    BatteryLow {
+        volts: f64,
+    },
+    PotOutOfRange {
+        volts: f64,
+    },
+    PotDisagrees {
+        pot_deg: f64,
+        encoder_deg: f64,
+    },
+    BothEndSwitches,
+    EndSwitchUnhandled(Side),
+    EndSwitchStuck(Side),
+    EncoderStuck(EncoderId),
+    CameraLinkLost {
+        silent_s: f64,
+    },
+    CameraSeesNoRow {
+        for_s: f64,
+    },
+    ThreadStopped {
+        thread: ThreadName,
+        for_s: f64,
+    },
+    ThreadPanicked {
+        thread: ThreadName,
+    },
+    Overruns {
+        count: u32,
+        window_s: f64,
+    },
+    /// One supervisor tick started this late after its deadline.
+    LateTick {
+        late_ms: f64,
+        limit_ms: f64,
+    },
+    /// A joystick axis read beyond what the joystick can give: a broken wiper.
+    JoystickAxis {
+        axis: JoystickAxis,
+        volts: f64,
+    },
+    Hardware {
+        card: &'static str,
+    },
+}
+
+/// The joystick's two axes, for the fault that names one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JoystickAxis {
+    Speed,
+    Steer,
+}
+
+fn side_name(side: Side) -> &'static str {
+    match side {
+        Side::Left => "left",
+        Side::Right => "right",
+    }
+}
+
+impl fmt::Display for FaultCause {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            FaultCause::EstopFront => {
+                write!(f, "front emergency stop pressed (or its wire is broken)")
+            }
+            FaultCause::EstopBack => {
+                write!(f, "back emergency stop pressed (or its wire is broken)")
+            }
+            FaultCause::MotorPowerLost => write!(f, "motor power lost: the motor contactor opened"),
+            FaultCause::PowerUpFailed => write!(f, "motor power did not come on after power-up"),
+            FaultCause::ContactorWelded => write!(
+                f,
+                "the motor contactor did not open: motor power stays on although it was switched off (welded contacts?)"
+            ),
+            FaultCause::BatteryLow { volts } => write!(f, "battery low: {volts:.1} V"),
+            FaultCause::PotOutOfRange { volts } => {
+                write!(
+                    f,
+                    "steering potentiometer reads {volts:.2} V: wire broken or loose?"
+                )
+            }
+            FaultCause::PotDisagrees {
+                pot_deg,
+                encoder_deg,
+            } => write!(
+                f,
+                "steering potentiometer ({pot_deg:.1} deg) and steering encoder ({encoder_deg:.1} deg) disagree"
+            ),
+            FaultCause::BothEndSwitches => {
+                write!(
+                    f,
+                    "both steering end switches closed at once: check their wiring"
+                )
+            }
+            FaultCause::EndSwitchUnhandled(s) => {
+                write!(
+                    f,
+                    "{} steering end switch closed and the steer thread did not react",
+                    side_name(s)
+                )
+            }
+            FaultCause::EndSwitchStuck(s) => write!(
+                f,
+                "could not steer off the {} end switch: steering jammed or switch stuck",
+                side_name(s)
+            ),
+            FaultCause::EncoderStuck(e) => {
+                let which = match e {
+                    EncoderId::Left => "left wheel",
+                    EncoderId::Right => "right wheel",
+                    EncoderId::Steer => "steering",
+                };
+                write!(
+                    f,
+                    "{which} encoder does not count while its motor is driven"
+                )
+            }
+            FaultCause::CameraLinkLost { silent_s } => {
+                write!(f, "camera link lost: no row frame for {silent_s:.2} s")
+            }
+            FaultCause::CameraSeesNoRow { for_s } => {
+                write!(f, "camera sees no row: no usable estimate for {for_s:.2} s")
+            }
+            FaultCause::ThreadStopped { thread, for_s } => {
+                write!(
+                    f,
+                    "the {} thread stopped: no sign of life for {for_s:.2} s",
+                    thread.label()
+                )
+            }
+            FaultCause::ThreadPanicked { thread } => {
+                write!(
+                    f,
+                    "the {} thread failed (a program error): see the log",
+                    thread.label()
+                )
+            }
+            FaultCause::Overruns { count, window_s } => write!(
+                f,
+                "the supervisor missed {count} deadlines within {window_s:.0} s: the computer is overloaded"
+            ),
+            FaultCause::LateTick { late_ms, limit_ms } => write!(
+                f,
+                "the supervisor stalled: one tick started {late_ms:.0} ms late (limit {limit_ms:.0} ms)"
+            ),
+            FaultCause::JoystickAxis { axis, volts } => {
+                let which = match axis {
+                    JoystickAxis::Speed => "speed",
+                    JoystickAxis::Steer => "steer",
+                };
+                write!(
+                    f,
+                    "joystick {which} axis reads {volts:.2} V, beyond its full scale: wiper broken or loose?"
+                )
+            }
+            FaultCause::Hardware { card } => write!(f, "I/O card {card} stopped answering"),
+        }
+    }
+}

@@ -1,0 +1,230 @@
+//! Unit tests of the fault checks that need a constructed context.
+
+use super::*;
+use crate::config::Settings;
+
+/// The checks on a healthy, powered, standing robot, with `overruns` so far at `now_s`.
+fn check_overruns(checks: &mut FaultChecks, now_s: f64, overruns: u64) -> Option<FaultCause> {
+    let inputs = healthy_inputs();
+    let steer = SteerCommand {
+        t_s: now_s,
+        ..SteerCommand::default()
+    };
+    let link = LinkStatus {
+        beat_s: now_s,
+        ..LinkStatus::default()
+    };
+    let health = ThreadHealth {
+        supervisor_overruns: overruns,
+        ..ThreadHealth::default()
+    };
+    checks.check(&CheckContext {
+        now_s,
+        tick_gap_s: 0.01,
+        mode: Mode::Halt,
+        mode_since_s: 0.0,
+        power: PowerState::On,
+        inputs: &inputs,
+        measured: &Measured::default(),
+        driven_v: [0.0; 3],
+        relay_closed: true,
+        expected_mps: [0.0; 2],
+        counts_moved: [false; 3],
+        endswitch_hit: None,
+        steer: &steer,
+        link: &link,
+        health: &health,
+    })
+}
+
+fn checks() -> (FaultChecks, RtSettings) {
+    let s = Settings::shipped();
+    (FaultChecks::new(&s), s.rt)
+}
+
+#[test]
+fn overruns_up_to_the_limit_are_tolerated_one_more_in_the_window_is_not() {
+    let (mut checks, rt) = checks();
+    let limit = rt.max_overruns as u64;
+    assert_eq!(check_overruns(&mut checks, 1.0, limit), None);
+    assert_eq!(check_overruns(&mut checks, 1.01, limit), None);
+    assert!(matches!(
+        check_overruns(&mut checks, 1.02, limit + 1),
+        Some(FaultCause::Overruns { .. })
+    ));
+}
+
+#[test]
+fn overruns_spread_wider_than_the_window_are_tolerated() {
+    let (mut checks, rt) = checks();
+    let spacing_s = rt.overrun_window_s / rt.max_overruns as f64 + 0.01;
+    for k in 1..=(3 * rt.max_overruns as u64) {
+        let cause = check_overruns(&mut checks, k as f64 * spacing_s, k);
+        assert_eq!(cause, None, "overrun {k}");
+    }
+}
+
+/// A powered robot whose encoders all stand still, its motors driven with `driven_v`
+/// and asked for `expected_mps`, the potentiometer turning at `pot_dps`, checked every
+/// 10 ms for `seconds`: the first cause found.
+fn still_encoders(
+    driven_v: [f64; 3],
+    expected_mps: [f64; 2],
+    pot_dps: f64,
+    seconds: f64,
+) -> Option<FaultCause> {
+    let (mut checks, _) = checks();
+    let inputs = healthy_inputs();
+    let link = LinkStatus::default();
+    let health = ThreadHealth::default();
+    for k in 1..=(seconds * 100.0) as usize {
+        let now_s = k as f64 * 0.01;
+        let measured = Measured {
+            pot_angle_filtered_rad: (pot_dps * now_s).to_radians(),
+            ..Measured::default()
+        };
+        let steer = SteerCommand {
+            t_s: now_s,
+            ..SteerCommand::default()
+        };
+        let link = LinkStatus {
+            beat_s: now_s,
+            ..link
+        };
+        let found = checks.check(&CheckContext {
+            now_s,
+            tick_gap_s: 0.01,
+            mode: Mode::Joystick,
+            mode_since_s: 0.0,
+            power: PowerState::On,
+            inputs: &inputs,
+            measured: &measured,
+            driven_v,
+            relay_closed: true,
+            expected_mps,
+            counts_moved: [false; 3],
+            endswitch_hit: None,
+            steer: &steer,
+            link: &link,
+            health: &health,
+        });
+        if found.is_some() {
+            return found;
+        }
+    }
+    None
+}
+
+fn healthy_inputs() -> Inputs {
+    Inputs {
+        pot_v: 2.5,
+        battery_v: 25.0,
+        estop_front_released: true,
+        estop_back_released: true,
+        motor_power_present: true,
+        ..Inputs::default()
+    }
+}
+
+#[test]
+fn a_wheel_held_on_a_slope_by_its_integrator_is_no_stuck_encoder() {
+    // 3 V held, nothing asked: the robot rightly stands.
+    assert_eq!(still_encoders([3.0, 3.0, 0.0], [0.0, 0.0], 0.0, 2.0), None);
+}
+
+#[test]
+fn a_wheel_asked_to_move_whose_encoder_stands_is_a_stuck_encoder() {
+    assert_eq!(
+        still_encoders([4.0, 4.0, 0.0], [0.5, 0.5], 0.0, 2.0),
+        Some(FaultCause::EncoderStuck(EncoderId::Left))
+    );
+}
+
+#[test]
+fn steering_held_by_ground_friction_is_no_stuck_encoder() {
+    // Driven hard, but the potentiometer says the wheel does not turn either.
+    assert_eq!(still_encoders([0.0, 0.0, 6.0], [0.0, 0.0], 0.0, 2.0), None);
+}
+
+#[test]
+fn steering_that_turns_while_its_encoder_stands_is_a_stuck_encoder() {
+    assert_eq!(
+        still_encoders([0.0, 0.0, 6.0], [0.0, 0.0], 20.0, 2.0),
+        Some(FaultCause::EncoderStuck(EncoderId::Steer))
+    );
+}
+
+/// One tick `gap_s` after the previous one, the relay as given: the cause found.
+fn tick_after(checks: &mut FaultChecks, now_s: f64, gap_s: f64, relay: bool) -> Option<FaultCause> {
+    let inputs = healthy_inputs();
+    let steer = SteerCommand {
+        t_s: now_s,
+        ..SteerCommand::default()
+    };
+    let link = LinkStatus {
+        beat_s: now_s,
+        ..LinkStatus::default()
+    };
+    checks.check(&CheckContext {
+        now_s,
+        tick_gap_s: gap_s,
+        mode: Mode::Halt,
+        mode_since_s: 0.0,
+        power: if relay {
+            PowerState::On
+        } else {
+            PowerState::Off
+        },
+        inputs: &inputs,
+        measured: &Measured::default(),
+        driven_v: [0.0; 3],
+        relay_closed: relay,
+        expected_mps: [0.0; 2],
+        counts_moved: [false; 3],
+        endswitch_hit: None,
+        steer: &steer,
+        link: &link,
+        health: &ThreadHealth::default(),
+    })
+}
+
+#[test]
+fn one_tick_later_than_its_limit_is_a_fault() {
+    let s = Settings::shipped();
+    let period_s = 1.0 / s.supervisor.rate_hz;
+    let limit_s = s.rt.max_late_periods * period_s;
+    let (mut checks, _) = checks();
+    assert_eq!(
+        tick_after(&mut checks, 1.0, period_s + limit_s * 0.9, true),
+        None
+    );
+    assert!(matches!(
+        tick_after(&mut checks, 2.0, period_s + limit_s * 1.1, true),
+        Some(FaultCause::LateTick { .. })
+    ));
+}
+
+#[test]
+fn motor_power_that_stays_on_after_the_relay_opened_is_a_welded_contactor() {
+    let drop_s = Settings::shipped().faults.contactor_drop_s;
+    let (mut checks, _) = checks();
+    let inputs = healthy_inputs();
+    let mut t = 1.0;
+    // Within the drop time, a contactor may still be opening.
+    while t < 1.0 + drop_s * 0.9 {
+        assert_eq!(tick_after(&mut checks, t, 0.01, false), None, "at {t}");
+        assert_eq!(checks.standing_cause(&inputs), None);
+        t += 0.01;
+    }
+    while t < 1.0 + drop_s * 1.1 {
+        t += 0.01;
+    }
+    assert_eq!(
+        tick_after(&mut checks, t, 0.01, false),
+        Some(FaultCause::ContactorWelded)
+    );
+    assert_eq!(
+        checks.standing_cause(&inputs),
+        Some(FaultCause::ContactorWelded)
+    );
+}
