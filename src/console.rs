@@ -73,7 +73,10 @@ pub fn operate(
             let errors = c.crc_errors + c.bad_values + c.unknown_kinds;
             let link_state = match l.problem {
                 Some(problem) => format!("DOWN: {problem}"),
-                None => format!("{rate:4.1} frames/s, {errors} errors, {} gaps", c.seq_gaps),
+                None => format!(
+                    "{rate:4.1} frames/s, {errors} errors, {} gaps, {} duplicates",
+                    c.seq_gaps, c.duplicates
+                ),
             };
             println!(
                 "{now_s:7.2} s  {:<10} speed {:5.2} m/s  wheel {:5.1} deg  tool off row {:5.1} cm  camera {link_state}",

@@ -242,4 +242,22 @@ mod tests {
         assert_eq!(link.status().last_row_s, 1.0);
         assert_eq!(link.status().last_usable_s, f64::NEG_INFINITY);
     }
+
+    #[test]
+    fn a_duplicated_frame_does_not_make_the_link_look_fresh() {
+        let mut link = LinkCore::new(&Settings::shipped().camera);
+        let frame = encode_row(&RowEstimate {
+            seq: 4,
+            angle_rad: 0.0,
+            offset_m: 0.0,
+            quality: 90,
+        });
+        assert!(link.receive(&frame, 1.0));
+        // The same frame again, later: not news, not steered by.
+        assert!(!link.receive(&frame, 1.4));
+        let st = link.status();
+        assert_eq!((st.last_row_s, st.last_usable_s), (1.0, 1.0));
+        assert_eq!(st.counters.duplicates, 1);
+        assert_eq!(st.counters.seq_gaps, 0);
+    }
 }

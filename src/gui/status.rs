@@ -128,8 +128,8 @@ fn link_grid(ui: &mut egui::Ui, view: &View, handles: &Handles) {
             ui,
             "Errors",
             format!(
-                "{} CRC, {} bad values, {} unknown kinds, {} gaps, {} resyncs",
-                c.crc_errors, c.bad_values, c.unknown_kinds, c.seq_gaps, c.resyncs
+                "{} CRC, {} bad values, {} unknown kinds, {} gaps, {} duplicates, {} resyncs",
+                c.crc_errors, c.bad_values, c.unknown_kinds, c.seq_gaps, c.duplicates, c.resyncs
             ),
         );
         ui.label("Ping round trip");
