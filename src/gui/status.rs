@@ -101,10 +101,11 @@ fn link_grid(ui: &mut egui::Ui, view: &View, handles: &Handles) {
     let l = &view.link;
     let c = &l.counters;
     egui::Grid::new("link").striped(true).show(ui, |ui| {
-        let state = match l.problem {
-            Some(problem) => format!("DOWN: {problem}"),
-            None if l.streaming => "streaming".to_string(),
-            None => "connected, idle".to_string(),
+        let state = match (l.problem, l.opening) {
+            (Some(problem), _) => format!("DOWN: {problem}"),
+            (None, Some(step)) => step.to_string(),
+            (None, None) if l.streaming => "streaming".to_string(),
+            (None, None) => "connected, idle".to_string(),
         };
         row(ui, "State", state);
         let age_s = view.now_s - l.last_row_s;
