@@ -41,6 +41,7 @@ fn main() {
             path: slave.name().unwrap(),
             baud: 115200,
         },
+        resolve: mechweed::camlink::transport::system_resolver,
         clock: Instant::now(),
         new_estimate: estimate_tx,
         ping_requests: ping_rx,

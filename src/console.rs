@@ -71,9 +71,13 @@ pub fn operate(
             let t = truth.truth();
             let c = &l.counters;
             let errors = c.crc_errors + c.bad_values + c.unknown_kinds;
-            let link_state = match l.problem {
-                Some(problem) => format!("DOWN: {problem}"),
-                None => format!("{rate:4.1} frames/s, {errors} errors, {} gaps", c.seq_gaps),
+            let link_state = match (l.problem, l.opening) {
+                (Some(problem), _) => format!("DOWN: {problem}"),
+                (None, Some(step)) => step.to_string(),
+                (None, None) => format!(
+                    "{rate:4.1} frames/s, {errors} errors, {} gaps, {} duplicates",
+                    c.seq_gaps, c.duplicates
+                ),
             };
             println!(
                 "{now_s:7.2} s  {:<10} speed {:5.2} m/s  wheel {:5.1} deg  tool off row {:5.1} cm  camera {link_state}",

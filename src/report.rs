@@ -191,11 +191,12 @@ impl Report {
         }
         let k = &self.link.counters;
         out += &format!(
-            "camera link: {} frames, {} CRC errors, {} resyncs, {} sequence gaps, {} bytes skipped, {} bad estimates, {} reconnects, ping {}\n",
+            "camera link: {} frames, {} CRC errors, {} resyncs, {} sequence gaps, {} duplicates, {} bytes skipped, {} bad estimates, {} reconnects, ping {}\n",
             k.frames_ok,
             k.crc_errors,
             k.resyncs,
             k.seq_gaps,
+            k.duplicates,
             k.bytes_skipped,
             k.bad_values,
             self.link.reconnects,

@@ -285,6 +285,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
     let link = LinkThread {
         core: LinkCore::new(&s.camera),
         port: camera_port,
+        resolve: crate::camlink::transport::system_resolver,
         clock,
         new_estimate: estimate_tx,
         ping_requests: ping_rx,

@@ -165,6 +165,12 @@ fn scenario(port: &str, serve: impl FnOnce(Instant, Log, Arc<AtomicBool>) -> Joi
     assert!(link["frames_ok"].as_u64().unwrap() > 25, "{link:#}");
     assert!(link["starts_sent"].as_u64().unwrap() >= 3, "{link:#}");
     assert!(link["ping_rtt_ms"].as_f64().unwrap() < 100.0, "{link:#}");
+    // Duplicated frames are counted beside the gaps, in the report and the summary.
+    assert_eq!(link["duplicates"].as_u64(), Some(0), "{link:#}");
+    assert!(
+        stdout.contains(" sequence gaps, 0 duplicates, "),
+        "no duplicates in the summary: {stdout}"
+    );
 }
 
 #[test]

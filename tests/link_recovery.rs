@@ -1,17 +1,17 @@
 //! The camera-link thread when its transport fails: a serial device that vanishes and
-//! a TCP peer that closes are named in the link's status, nothing stalls, and the link
-//! opens again by itself when it can.
+//! a TCP peer that closes are named in the link's status, nothing stalls (not even a
+//! name look-up that hangs), and the link opens again by itself when it can.
 
 use std::io::{Read, Write};
-use std::net::TcpListener;
+use std::net::{SocketAddr, TcpListener, ToSocketAddrs};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use crossbeam_channel::bounded;
 use mechweed::camlink::thread::LinkThread;
-use mechweed::camlink::transport::CameraPort;
-use mechweed::camlink::{LinkCore, LinkProblem, LinkStatus};
+use mechweed::camlink::transport::{CameraPort, Resolver, system_resolver};
+use mechweed::camlink::{LinkCore, LinkProblem, LinkStatus, OpenStep};
 use mechweed::config::Settings;
 use mechweed::state::{Reader, shared};
 use mechweed::steer::SteerCommand;
@@ -20,6 +20,14 @@ use serialport::{SerialPort, TTYPort};
 
 /// Start a link thread on `port` that wants rows; returns its status and its stop flag.
 fn start_link(port: CameraPort) -> (Reader<LinkStatus>, Arc<AtomicBool>) {
+    start_link_resolving(port, system_resolver)
+}
+
+/// The same, looking host names up with `resolve`.
+fn start_link_resolving(
+    port: CameraPort,
+    resolve: Resolver,
+) -> (Reader<LinkStatus>, Arc<AtomicBool>) {
     let (status_w, status_r) = shared(LinkStatus::default());
     let (steer_w, steer_r) = shared(SteerCommand::default());
     steer_w.publish(&SteerCommand {
@@ -32,6 +40,7 @@ fn start_link(port: CameraPort) -> (Reader<LinkStatus>, Arc<AtomicBool>) {
     let link = LinkThread {
         core: LinkCore::new(&Settings::shipped().camera),
         port,
+        resolve,
         clock: Instant::now(),
         new_estimate: estimate_tx,
         ping_requests: ping_rx,
@@ -155,5 +164,83 @@ fn a_closed_tcp_peer_is_named_and_the_link_reconnects() {
         up.starts_sent >= 2,
         "no START on the new connection: {up:?}"
     );
+    stop.store(true, Ordering::Relaxed);
+}
+
+/// How long the look-up of `slow_resolver` hangs, s.
+const LOOK_UP_S: f64 = 2.0;
+
+/// A name look-up that hangs, as one does without a network, then finds the camera
+/// computer on this machine: "HOST:PORT" -> 127.0.0.1:PORT (no real DNS in tests).
+fn slow_resolver(address: &str) -> std::io::Result<Vec<SocketAddr>> {
+    std::thread::sleep(Duration::from_secs_f64(LOOK_UP_S));
+    let (_host, port) = address.rsplit_once(':').unwrap();
+    Ok(format!("127.0.0.1:{port}").to_socket_addrs()?.collect())
+}
+
+#[test]
+fn a_hanging_name_look_up_does_not_stop_the_link_thread() {
+    let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = listener.local_addr().unwrap().port();
+    let start = Instant::now();
+    let (status, stop) = start_link_resolving(
+        CameraPort::Tcp {
+            address: format!("camera-computer.invalid:{port}"),
+        },
+        slow_resolver,
+    );
+
+    // While the name is looked up, the thread beats as often as the supervisor expects
+    // (else: "the camera link thread stopped", in every mode) and says what it waits for.
+    let timeout_s = Settings::shipped().rt.heartbeat_timeout_s;
+    let first = wait_for(&status, 1.0, |s| s.opening.is_some());
+    assert_eq!(first.opening, Some(OpenStep::LookingUp), "{first:?}");
+    let (mut beat_s, mut longest_silence_s) = (first.beat_s, 0.0f64);
+    while start.elapsed().as_secs_f64() < LOOK_UP_S - 0.2 {
+        std::thread::sleep(Duration::from_millis(20));
+        let s = status.snapshot();
+        assert!(!s.connected, "connected before the name was found: {s:?}");
+        assert_eq!(s.opening, Some(OpenStep::LookingUp), "{s:?}");
+        longest_silence_s = longest_silence_s.max(s.beat_s - beat_s);
+        beat_s = s.beat_s;
+    }
+    assert!(
+        beat_s - first.beat_s > LOOK_UP_S / 2.0,
+        "the link thread did not beat during the look-up (last beat at {beat_s} s)"
+    );
+    assert!(
+        longest_silence_s < timeout_s,
+        "the link thread was silent for {longest_silence_s} s (the supervisor allows {timeout_s} s)"
+    );
+
+    // Once the name is found, the link connects and the frames come.
+    let up = wait_for(&status, LOOK_UP_S + 2.0, |s| s.connected);
+    assert!(up.connected && up.opening.is_none(), "{up:?}");
+    let (mut camera, _) = listener.accept().unwrap();
+    camera
+        .set_read_timeout(Some(Duration::from_millis(5)))
+        .unwrap();
+    play_camera(&mut camera, 0.4);
+    let rows = wait_for(&status, 1.0, |s| s.counters.frames_ok > 5);
+    assert!(rows.counters.frames_ok > 5, "{rows:?}");
+    stop.store(true, Ordering::Relaxed);
+}
+
+#[test]
+fn a_camera_computer_named_localhost_is_found() {
+    let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = listener.local_addr().unwrap().port();
+    let (status, stop) = start_link(CameraPort::Tcp {
+        address: format!("localhost:{port}"),
+    });
+    let up = wait_for(&status, 5.0, |s| s.connected);
+    assert!(up.connected, "{up:?}");
+    let (mut camera, _) = listener.accept().unwrap();
+    camera
+        .set_read_timeout(Some(Duration::from_millis(5)))
+        .unwrap();
+    play_camera(&mut camera, 0.4);
+    let rows = wait_for(&status, 1.0, |s| s.counters.frames_ok > 5);
+    assert!(rows.counters.frames_ok > 5, "{rows:?}");
     stop.store(true, Ordering::Relaxed);
 }

@@ -118,6 +118,19 @@ pub struct LinkCounters {
     pub bad_values: u64,
     /// Frames with a good CRC but a kind this program does not know (skipped).
     pub unknown_kinds: u64,
+    /// Frames whose sequence number repeats the previous one: the same frame twice on
+    /// a noisy line, ignored (it is no news, so it must not look like a fresh one).
+    pub duplicates: u64,
+}
+
+/// What ten bytes with a good CRC turned out to be.
+enum Verdict {
+    /// A new frame to pass on.
+    Use(Frame),
+    /// A frame already seen: consumed, not passed on.
+    Repeat,
+    /// No use (unknown kind, impossible values): perhaps a false sync in noise.
+    Useless,
 }
 
 /// Streaming decoder: feed it bytes one at a time as they arrive.
@@ -151,15 +164,22 @@ impl Decoder {
             self.resync();
             return None;
         }
-        let frame = self.interpret();
-        if frame.is_some() {
-            self.len = 0;
-        } else {
-            // A good CRC on a frame that is no use (unknown kind, impossible values) is
-            // more likely a false sync in noise than a frame: look for a real one inside.
-            self.resync();
+        match self.interpret() {
+            Verdict::Use(frame) => {
+                self.len = 0;
+                Some(frame)
+            }
+            Verdict::Repeat => {
+                self.len = 0;
+                None
+            }
+            Verdict::Useless => {
+                // A good CRC on a frame that is no use is more likely a false sync in
+                // noise than a frame: look for a real one inside.
+                self.resync();
+                None
+            }
         }
-        frame
     }
 
     /// The 0xA5 we started from was not a frame start (or the frame was damaged):
@@ -173,7 +193,7 @@ impl Decoder {
         self.len = FRAME_LEN - start;
     }
 
-    /// Count a sequence gap against the last accepted frame.
+    /// Count a sequence gap against the last frame the camera computer sent.
     fn follow_seq(&mut self, seq: u8) {
         if let Some(last) = self.last_seq
             && seq != last.wrapping_add(1)
@@ -183,39 +203,43 @@ impl Decoder {
         self.last_seq = Some(seq);
     }
 
-    fn interpret(&mut self) -> Option<Frame> {
+    fn interpret(&mut self) -> Verdict {
         let b = self.buf;
-        let seq = b[2];
-        match b[1] {
-            KIND_ROW => {
-                let est = RowEstimate {
-                    seq,
-                    angle_rad: i16::from_le_bytes([b[3], b[4]]) as f64 / ANGLE_UNITS_PER_RAD,
-                    offset_m: i16::from_le_bytes([b[5], b[6]]) as f64 / OFFSET_UNITS_PER_M,
-                    quality: b[7],
-                };
-                if est.angle_rad.abs() > MAX_ANGLE_RAD
-                    || est.offset_m.abs() > MAX_OFFSET_M
-                    || est.quality > 100
-                {
-                    self.counters.bad_values += 1;
-                    return None;
-                }
-                self.follow_seq(seq);
-                self.counters.frames_ok += 1;
-                Some(Frame::Row(est))
-            }
-            KIND_PONG => {
-                self.follow_seq(seq);
-                self.counters.frames_ok += 1;
-                self.counters.pongs += 1;
-                Some(Frame::Pong { seq })
-            }
-            _ => {
-                self.counters.unknown_kinds += 1;
-                None
-            }
+        let (kind, seq) = (b[1], b[2]);
+        if kind != KIND_ROW && kind != KIND_PONG {
+            // The camera computer sends only these two kinds: this is noise, and its
+            // sequence number means nothing.
+            self.counters.unknown_kinds += 1;
+            return Verdict::Useless;
         }
+        // The seq counts up by one per frame sent (wrapping 255 -> 0): a frame with the
+        // previous one's seq is that frame again, duplicated on the way.
+        if self.last_seq == Some(seq) {
+            self.counters.duplicates += 1;
+            return Verdict::Repeat;
+        }
+        // A frame the camera computer sent, usable or not: the next one follows it.
+        self.follow_seq(seq);
+        if kind == KIND_PONG {
+            self.counters.frames_ok += 1;
+            self.counters.pongs += 1;
+            return Verdict::Use(Frame::Pong { seq });
+        }
+        let est = RowEstimate {
+            seq,
+            angle_rad: i16::from_le_bytes([b[3], b[4]]) as f64 / ANGLE_UNITS_PER_RAD,
+            offset_m: i16::from_le_bytes([b[5], b[6]]) as f64 / OFFSET_UNITS_PER_M,
+            quality: b[7],
+        };
+        if est.angle_rad.abs() > MAX_ANGLE_RAD
+            || est.offset_m.abs() > MAX_OFFSET_M
+            || est.quality > 100
+        {
+            self.counters.bad_values += 1;
+            return Verdict::Useless;
+        }
+        self.counters.frames_ok += 1;
+        Verdict::Use(Frame::Row(est))
     }
 }
 
@@ -317,5 +341,58 @@ mod tests {
         assert_eq!(dec.counters.seq_gaps, 1);
         assert_eq!(dec.counters.bad_values, 2);
         assert_eq!(dec.counters.frames_ok, 2);
+    }
+
+    fn row(seq: u8) -> RowEstimate {
+        RowEstimate {
+            seq,
+            angle_rad: 0.01,
+            offset_m: -0.02,
+            quality: 80,
+        }
+    }
+
+    /// Decode `frames` one after the other; returns the frames passed on.
+    fn decode(dec: &mut Decoder, frames: &[RowEstimate]) -> Vec<Frame> {
+        let bytes: Vec<u8> = frames.iter().flat_map(encode_row).collect();
+        bytes.iter().filter_map(|&b| dec.push(b)).collect()
+    }
+
+    #[test]
+    fn a_frame_with_impossible_values_still_counts_in_the_sequence() {
+        let mut dec = Decoder::new();
+        let bad = RowEstimate {
+            offset_m: 0.9,
+            ..row(8)
+        };
+        let passed = decode(&mut dec, &[row(7), bad, row(9)]);
+        assert_eq!(passed, vec![Frame::Row(row(7)), Frame::Row(row(9))]);
+        assert_eq!(dec.counters.bad_values, 1);
+        assert_eq!(dec.counters.seq_gaps, 0, "{:?}", dec.counters);
+    }
+
+    #[test]
+    fn a_duplicated_frame_is_counted_and_not_passed_on() {
+        let mut dec = Decoder::new();
+        let passed = decode(&mut dec, &[row(255), row(255), row(0)]);
+        assert_eq!(passed, vec![Frame::Row(row(255)), Frame::Row(row(0))]);
+        assert_eq!(dec.counters.duplicates, 1);
+        assert_eq!(dec.counters.seq_gaps, 0, "{:?}", dec.counters);
+        assert_eq!(dec.counters.frames_ok, 2);
+        assert_eq!(dec.counters.crc_errors + dec.counters.resyncs, 0);
+        // A PONG sent twice is a duplicate too.
+        let pongs: Vec<u8> = [encode_pong(1), encode_pong(1)].concat();
+        let passed: Vec<_> = pongs.iter().filter_map(|&b| dec.push(b)).collect();
+        assert_eq!(passed, vec![Frame::Pong { seq: 1 }]);
+        assert_eq!(dec.counters.duplicates, 2);
+    }
+
+    #[test]
+    fn lost_frames_still_count_as_a_gap_also_across_the_wrap() {
+        let mut dec = Decoder::new();
+        let passed = decode(&mut dec, &[row(254), row(1), row(2), row(4)]);
+        assert_eq!(passed.len(), 4);
+        assert_eq!(dec.counters.seq_gaps, 2);
+        assert_eq!(dec.counters.duplicates, 0);
     }
 }

@@ -4,6 +4,7 @@
 //! (thread.rs, over a serial port or TCP) and the lockstep simulation feed it bytes
 //! and send the command bytes it asks for.
 
+pub mod opener;
 pub mod simwire;
 pub mod thread;
 pub mod transport;
@@ -39,6 +40,26 @@ impl fmt::Display for LinkProblem {
     }
 }
 
+/// What the link thread waits for while the camera port is being opened (on a helper
+/// thread, so that the link thread keeps beating: opener.rs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OpenStep {
+    /// Looking up the camera computer's host name (tcp://HOST:PORT): without a network
+    /// this can take seconds.
+    LookingUp,
+    /// Opening the serial device, or connecting to the camera computer's address.
+    Opening,
+}
+
+impl fmt::Display for OpenStep {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            OpenStep::LookingUp => write!(f, "looking up the camera computer's name"),
+            OpenStep::Opening => write!(f, "opening the camera port"),
+        }
+    }
+}
+
 /// The link as the other threads see it. Times are s since start; -inf = never.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LinkStatus {
@@ -59,6 +80,8 @@ pub struct LinkStatus {
     pub reconnects: u64,
     /// The latest transport problem, if the link is not connected.
     pub problem: Option<LinkProblem>,
+    /// What the link thread waits for while it opens the port (None: not opening).
+    pub opening: Option<OpenStep>,
     pub pings_sent: u64,
     /// Round trip of the last PING, ms (NaN until a PONG has come back).
     pub ping_rtt_ms: f64,
@@ -80,6 +103,7 @@ impl Default for LinkStatus {
             connected: false,
             reconnects: 0,
             problem: None,
+            opening: None,
             pings_sent: 0,
             ping_rtt_ms: f64::NAN,
             beat_s: 0.0,
@@ -141,6 +165,11 @@ impl LinkCore {
         self.status.beat_s = now_s;
     }
 
+    /// The link thread is opening the port and waits for `step`.
+    pub fn opening(&mut self, step: OpenStep) {
+        self.status.opening = Some(step);
+    }
+
     /// The transport opened (again): the camera computer has not heard START on it.
     pub fn connected(&mut self) {
         if self.status.problem.is_some() {
@@ -148,6 +177,7 @@ impl LinkCore {
         }
         self.status.connected = true;
         self.status.problem = None;
+        self.status.opening = None;
         self.status.streaming = false;
     }
 
@@ -155,6 +185,7 @@ impl LinkCore {
     pub fn disconnected(&mut self, problem: LinkProblem) {
         self.status.connected = false;
         self.status.problem = Some(problem);
+        self.status.opening = None;
         self.status.streaming = false;
         self.ping_sent_s = None;
     }
@@ -241,5 +272,23 @@ mod tests {
         assert!(!link.receive(&frame, 1.0));
         assert_eq!(link.status().last_row_s, 1.0);
         assert_eq!(link.status().last_usable_s, f64::NEG_INFINITY);
+    }
+
+    #[test]
+    fn a_duplicated_frame_does_not_make_the_link_look_fresh() {
+        let mut link = LinkCore::new(&Settings::shipped().camera);
+        let frame = encode_row(&RowEstimate {
+            seq: 4,
+            angle_rad: 0.0,
+            offset_m: 0.0,
+            quality: 90,
+        });
+        assert!(link.receive(&frame, 1.0));
+        // The same frame again, later: not news, not steered by.
+        assert!(!link.receive(&frame, 1.4));
+        let st = link.status();
+        assert_eq!((st.last_row_s, st.last_usable_s), (1.0, 1.0));
+        assert_eq!(st.counters.duplicates, 1);
+        assert_eq!(st.counters.seq_gaps, 0);
     }
 }

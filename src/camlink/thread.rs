@@ -2,17 +2,19 @@
 //! decoder, publishes the link's state, wakes the steer thread on each usable row
 //! estimate, and sends the command bytes the link asks for. A transport that fails is
 //! opened again with back-off; whether the robot faults is the supervisor's decision
-//! (only when it relies on the camera, in autonomous mode).
+//! (only when it relies on the camera, in autonomous mode). The thread beats at least
+//! every 10 ms, also while the port is being opened (opener.rs).
 
-use std::io::{ErrorKind, Read, Write};
+use std::io::{self, ErrorKind, Read, Write};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use crossbeam_channel::{Receiver, Sender};
 
-use super::transport::{ByteStream, CameraPort, open};
-use super::{LinkCore, LinkProblem, LinkStatus};
+use super::opener::{Heard, Opening};
+use super::transport::{ByteStream, CameraPort, Resolver};
+use super::{LinkCore, LinkProblem, LinkStatus, OpenStep};
 use crate::health::{self, PanicFlag, ThreadName};
 use crate::rt;
 use crate::run::Injection;
@@ -28,6 +30,8 @@ const BACKOFF_MAX: Duration = Duration::from_secs(2);
 pub struct LinkThread {
     pub core: LinkCore,
     pub port: CameraPort,
+    /// How a host name in the port is looked up (`transport::system_resolver`).
+    pub resolve: Resolver,
     pub clock: Instant,
     pub new_estimate: Sender<()>,
     /// Link tests asked for (the GUI's "Test link" button).
@@ -57,7 +61,11 @@ impl LinkThread {
         let mut backoff = BACKOFF_MIN;
         let mut last_problem = None;
         while !self.stop.load(Ordering::Relaxed) {
-            match open(&self.port, READ_TIMEOUT) {
+            let opened = self.open_beating();
+            if self.stop.load(Ordering::Relaxed) {
+                break;
+            }
+            match opened {
                 Ok(stream) => {
                     tracing::info!("camera link open on {}", self.port.describe());
                     self.core.connected();
@@ -92,6 +100,30 @@ impl LinkThread {
             self.sleep(backoff);
             backoff = (backoff * 2).min(BACKOFF_MAX);
         }
+    }
+
+    /// Open the port on a helper thread, beating and publishing what it waits for
+    /// meanwhile; gives up at once when the program stops.
+    fn open_beating(&mut self) -> io::Result<Box<dyn ByteStream>> {
+        let opening = Opening::start(&self.port, self.resolve, READ_TIMEOUT)?;
+        while !self.stop.load(Ordering::Relaxed) {
+            match opening.poll(READ_TIMEOUT) {
+                Heard::Done(result) => return result,
+                Heard::Step(step) => {
+                    if step == OpenStep::LookingUp {
+                        tracing::debug!("camera link: looking up {}", self.port.describe());
+                    }
+                    self.core.opening(step);
+                }
+                Heard::Nothing => {}
+            }
+            self.core.beat(self.now_s());
+            self.status.publish(self.core.status());
+        }
+        Err(io::Error::new(
+            ErrorKind::Interrupted,
+            "the program is stopping",
+        ))
     }
 
     /// Sleep, beating, and wake at once when the program stops.

@@ -3,8 +3,10 @@
 //! computer on Ethernet. The bytes are the same on both (camera-link.md).
 
 use std::io::{self, Read, Write};
-use std::net::{TcpStream, ToSocketAddrs};
+use std::net::{SocketAddr, TcpStream, ToSocketAddrs};
 use std::time::Duration;
+
+use super::OpenStep;
 
 /// Baud rates the camera computer can be set to (camera-link.md).
 pub const BAUD_RATES: [u32; 5] = [9600, 19200, 38400, 57600, 115200];
@@ -64,14 +66,35 @@ impl CameraPort {
 pub trait ByteStream: Read + Write + Send {}
 impl<T: Read + Write + Send> ByteStream for T {}
 
-/// Open the transport; reads wait at most `read_timeout` for a byte.
-pub fn open(port: &CameraPort, read_timeout: Duration) -> io::Result<Box<dyn ByteStream>> {
+/// Turns "HOST:PORT" into addresses. A plain function, so that a test can put in one
+/// that hangs as a name look-up does without a network.
+pub type Resolver = fn(&str) -> io::Result<Vec<SocketAddr>>;
+
+/// The system's name look-up (/etc/hosts, DNS): it may block for seconds.
+pub fn system_resolver(address: &str) -> io::Result<Vec<SocketAddr>> {
+    Ok(address.to_socket_addrs()?.collect())
+}
+
+/// A camera computer that does not answer gives up after this long. The connect runs
+/// off the link thread (opener.rs), so this can allow for a slow network.
+const CONNECT_TIMEOUT: Duration = Duration::from_secs(1);
+
+/// Open the transport; reads wait at most `read_timeout` for a byte. This blocks (a
+/// name look-up, a connect): the link thread calls it through opener.rs. `step` hears
+/// what it is waiting for.
+pub fn open(
+    port: &CameraPort,
+    resolve: Resolver,
+    read_timeout: Duration,
+    step: &dyn Fn(OpenStep),
+) -> io::Result<Box<dyn ByteStream>> {
     match port {
         CameraPort::Sim => Err(io::Error::new(
             io::ErrorKind::InvalidInput,
             "the simulated camera computer is reached through its pseudo-terminal",
         )),
         CameraPort::Serial { path, baud } => {
+            step(OpenStep::Opening);
             // 8 data bits, no parity, 1 stop bit, no flow control: serialport's defaults.
             let serial = serialport::new(path.as_str(), *baud)
                 .timeout(read_timeout)
@@ -79,14 +102,24 @@ pub fn open(port: &CameraPort, read_timeout: Duration) -> io::Result<Box<dyn Byt
             Ok(Box::new(serial))
         }
         CameraPort::Tcp { address } => {
-            let target = address.to_socket_addrs()?.next().ok_or_else(|| {
-                io::Error::new(io::ErrorKind::NotFound, "the address resolves to nothing")
-            })?;
-            // Short, so the link thread keeps beating while a camera computer is away.
-            let stream = TcpStream::connect_timeout(&target, Duration::from_millis(250))?;
-            stream.set_read_timeout(Some(read_timeout))?;
-            stream.set_nodelay(true)?;
-            Ok(Box::new(stream))
+            step(OpenStep::LookingUp);
+            let targets = resolve(address)?;
+            step(OpenStep::Opening);
+            // A name may stand for several addresses ("localhost": ::1 and 127.0.0.1):
+            // the first that answers is the camera computer.
+            let mut why =
+                io::Error::new(io::ErrorKind::NotFound, "the address resolves to nothing");
+            for target in targets {
+                match TcpStream::connect_timeout(&target, CONNECT_TIMEOUT) {
+                    Ok(stream) => {
+                        stream.set_read_timeout(Some(read_timeout))?;
+                        stream.set_nodelay(true)?;
+                        return Ok(Box::new(stream));
+                    }
+                    Err(e) => why = e,
+                }
+            }
+            Err(why)
         }
     }
 }
@@ -121,9 +154,33 @@ mod tests {
             path: "/dev/does-not-exist".into(),
             baud: 115200,
         };
-        let err = open(&port, Duration::from_millis(10))
+        let err = open(&port, system_resolver, Duration::from_millis(10), &|_| {})
             .err()
             .expect("no such device");
         assert_eq!(err.kind(), io::ErrorKind::NotFound, "{err}");
+    }
+
+    #[test]
+    fn a_name_with_several_addresses_connects_to_the_one_that_answers() {
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        let port = listener.local_addr().unwrap().port();
+        // Nothing listens on the first address (the listener's port on IPv6 loopback,
+        // or refused where there is none).
+        fn two_addresses(address: &str) -> io::Result<Vec<SocketAddr>> {
+            let port = address.rsplit_once(':').unwrap().1;
+            Ok(vec![
+                format!("[::1]:{port}").parse().unwrap(),
+                format!("127.0.0.1:{port}").parse().unwrap(),
+            ])
+        }
+        let tcp = CameraPort::Tcp {
+            address: format!("camera:{port}"),
+        };
+        let steps = std::cell::RefCell::new(Vec::new());
+        let opened = open(&tcp, two_addresses, Duration::from_millis(10), &|s| {
+            steps.borrow_mut().push(s)
+        });
+        assert!(opened.is_ok(), "{:?}", opened.err());
+        assert_eq!(*steps.borrow(), [OpenStep::LookingUp, OpenStep::Opening]);
     }
 }

@@ -101,10 +101,11 @@ fn link_grid(ui: &mut egui::Ui, view: &View, handles: &Handles) {
     let l = &view.link;
     let c = &l.counters;
     egui::Grid::new("link").striped(true).show(ui, |ui| {
-        let state = match l.problem {
-            Some(problem) => format!("DOWN: {problem}"),
-            None if l.streaming => "streaming".to_string(),
-            None => "connected, idle".to_string(),
+        let state = match (l.problem, l.opening) {
+            (Some(problem), _) => format!("DOWN: {problem}"),
+            (None, Some(step)) => step.to_string(),
+            (None, None) if l.streaming => "streaming".to_string(),
+            (None, None) => "connected, idle".to_string(),
         };
         row(ui, "State", state);
         let age_s = view.now_s - l.last_row_s;
@@ -128,8 +129,8 @@ fn link_grid(ui: &mut egui::Ui, view: &View, handles: &Handles) {
             ui,
             "Errors",
             format!(
-                "{} CRC, {} bad values, {} unknown kinds, {} gaps, {} resyncs",
-                c.crc_errors, c.bad_values, c.unknown_kinds, c.seq_gaps, c.resyncs
+                "{} CRC, {} bad values, {} unknown kinds, {} gaps, {} duplicates, {} resyncs",
+                c.crc_errors, c.bad_values, c.unknown_kinds, c.seq_gaps, c.duplicates, c.resyncs
             ),
         );
         ui.label("Ping round trip");

@@ -161,6 +161,8 @@ pub const COLUMNS: &[Column] = &[
     col("cam_frames_ok", "count", "valid frames so far", |r| Value::Int(r.link.counters.frames_ok as i64)),
     col("cam_crc_errors", "count", "frames with a bad CRC so far", |r| Value::Int(r.link.counters.crc_errors as i64)),
     col("cam_seq_gaps", "count", "frames lost (sequence gaps) so far", |r| Value::Int(r.link.counters.seq_gaps as i64)),
+    col("cam_duplicates", "count", "frames received twice (ignored) so far",
+        |r| Value::Int(r.link.counters.duplicates as i64)),
     col("cam_connected", "0/1", "1 = camera port open", |r| flag(r.link.connected)),
     // The simulated robot's truth (empty on the real robot).
     col("sim_tool_cross_track_m", "m", "tool offset from the row, + = tool left", |r| sim(r, |t| t.tool_cross_track_m)),
