@@ -1,7 +1,8 @@
 //! Opening the hardware that robot.ini [hw] asks for. The simulated robot is built in
 //! run.rs, as it comes with its camera computer and its truth; here is the real one:
 //! the three I/O cards, found on the PCI bus (or through /dev/port), started with safe
-//! outputs, and joined by the wiring of [io].
+//! outputs, and joined by the wiring of [io]. If a card is missing, the others still
+//! get their safe outputs before the run stops.
 
 use std::path::Path;
 
@@ -30,7 +31,7 @@ pub fn open_cards(
     pci_root: &Path,
     dev_port: &Path,
 ) -> Result<(CardsHw, [String; 3]), String> {
-    let ports = CardPorts::open(&settings.cards, pci_root, dev_port)?;
+    let ports = CardPorts::open(&settings.cards, &settings.io, pci_root, dev_port)?;
     let found = ports.descriptions.clone();
     let hw = CardsHw::open(ports, &settings.cards, &settings.io).map_err(|e| {
         format!("{e} (while starting the cards; the ones that answered have safe outputs)")

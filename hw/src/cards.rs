@@ -2,20 +2,25 @@
 //! each card, joined by the wiring of robot.ini [io].
 //!
 //! Safety first. At open, before anything else, every card that has outputs gets its
-//! safe state (every DAC at 0 V, relay open, brakes on, tool off), and only then are
-//! the counters initialised; a card that is missing or does not answer is an error at
-//! open, never a half-started robot. A write that fails on one card writes the safe
-//! outputs to every card before it returns the error, and so does dropping `CardsHw`.
+//! safe state (every DAC at 0 V, relay open, brakes on, tool off, watchdog stopped),
+//! and only then are the counters initialised. A card that is missing or does not
+//! answer is an error at open, never a half-started robot; and the cards that did open
+//! get their safe outputs before that error is reported, because a run that was killed
+//! left them as they were (contactor closed, brakes released, amplifiers driven). A
+//! write that fails on one card writes the safe outputs to every card before it
+//! returns the error, and so does dropping `CardsHw`. The watchdog output (watchdog.rs)
+//! changes on every write while every card answers.
 //! `read` and `write` do no heap allocation (only an error message allocates).
 
 use std::path::Path;
 use std::time::Duration;
 
-use crate::das08::Das08;
-use crate::dda06::{DACS, DacRange, Dda06};
-use crate::pci::{self, CardKind, CardLocation};
-use crate::port::PortIo;
+use crate::das08::{self, Das08};
+use crate::dda06::{self, DACS, DacRange, Dda06};
+use crate::pci::{self, CardKind, CardLocation, OpenedCard};
+use crate::port::{DevPortFile, PortIo};
 use crate::quad04::Quad04;
+use crate::watchdog::Watchdog;
 use crate::wiring::{CardInputs, CardOutputs, Wiring};
 use crate::{Hw, HwError, Inputs, Outputs};
 
@@ -42,6 +47,37 @@ impl CardsSettings {
             CardKind::Quad04 => &self.quad04,
         }
     }
+
+    fn das08_eoc_timeout(&self) -> Duration {
+        Duration::from_secs_f64(self.das08_eoc_timeout_us.max(0.0) * 1e-6)
+    }
+}
+
+/// The safe outputs in card values, the watchdog line stopped.
+fn safe_outputs(wiring: &Wiring) -> CardOutputs {
+    let mut safe = wiring.card_outputs(&Outputs::SAFE);
+    Watchdog::new(wiring.watchdog).hold(&mut safe);
+    safe
+}
+
+/// Take the DAS08: its safe outputs first, then whether it answers.
+fn open_das08(
+    port: Box<dyn PortIo>,
+    settings: &CardsSettings,
+    safe: &CardOutputs,
+) -> Result<Das08, HwError> {
+    Das08::open(port, safe.das08_op, settings.das08_eoc_timeout())
+}
+
+/// Take the DDA06: every DAC at 0 V, then the 8255 with its safe outputs.
+fn open_dda06(
+    port: Box<dyn PortIo>,
+    settings: &CardsSettings,
+    wiring: &Wiring,
+    safe: &CardOutputs,
+) -> Result<Dda06, HwError> {
+    let directions = wiring.dda06_directions();
+    Dda06::open(port, settings.dda06_ranges, directions, safe.dda06_ports)
 }
 
 /// The three cards' register windows, however they were reached.
@@ -55,30 +91,64 @@ pub struct CardPorts {
 
 impl CardPorts {
     /// Find and open all three cards as robot.ini says: through sysfs under `pci_root`
-    /// (normally /sys/bus/pci/devices) or through `dev_port`. Every card's problem is
-    /// reported, not just the first.
+    /// (normally /sys/bus/pci/devices) or through `dev_port` (opened once for all the
+    /// cards that use it). If one cannot be opened, see [`CardPorts::all_or_safe`].
     pub fn open(
         settings: &CardsSettings,
+        wiring: &Wiring,
         pci_root: &Path,
         dev_port: &Path,
     ) -> Result<CardPorts, String> {
-        let [das08, dda06, quad04] =
-            CardKind::ALL.map(|kind| pci::open(pci_root, dev_port, kind, settings.location(kind)));
-        match (das08, dda06, quad04) {
-            (Ok(das08), Ok(dda06), Ok(quad04)) => Ok(CardPorts {
-                descriptions: [das08.description, dda06.description, quad04.description],
-                das08: das08.port,
-                dda06: dda06.port,
-                quad04: quad04.port,
-            }),
-            (das08, dda06, quad04) => {
-                let errors: Vec<String> = [das08.err(), dda06.err(), quad04.err()]
-                    .into_iter()
-                    .flatten()
-                    .collect();
-                Err(errors.join("\n"))
+        let mut dev_port = DevPortFile::new(dev_port);
+        let found = CardKind::ALL
+            .map(|kind| pci::open(pci_root, &mut dev_port, kind, settings.location(kind)));
+        CardPorts::all_or_safe(found, settings, wiring)
+    }
+
+    /// The three cards (DAS08, DDA06, QUAD04) if all of them opened. Otherwise the
+    /// DAS08 and the DDA06, whichever opened, get their safe outputs now, and the error
+    /// gives every card's problem, one per line, then which cards were made safe.
+    pub fn all_or_safe(
+        found: [Result<OpenedCard, String>; 3],
+        settings: &CardsSettings,
+        wiring: &Wiring,
+    ) -> Result<CardPorts, String> {
+        let (das08, dda06, quad04) = match found {
+            [Ok(das08), Ok(dda06), Ok(quad04)] => {
+                return Ok(CardPorts {
+                    descriptions: [das08.description, dda06.description, quad04.description],
+                    das08: das08.port,
+                    dda06: dda06.port,
+                    quad04: quad04.port,
+                });
+            }
+            [das08, dda06, quad04] => (das08, dda06, quad04),
+        };
+        let mut problems: Vec<String> = [&das08, &dda06, &quad04]
+            .into_iter()
+            .filter_map(|card| card.as_ref().err().cloned())
+            .collect();
+        let safe = safe_outputs(wiring);
+        let mut made_safe = Vec::new();
+        if let Ok(card) = das08 {
+            match open_das08(card.port, settings, &safe) {
+                Ok(_) => made_safe.push(das08::NAME),
+                Err(e) => problems.push(e.to_string()),
             }
         }
+        if let Ok(card) = dda06 {
+            match open_dda06(card.port, settings, wiring, &safe) {
+                Ok(_) => made_safe.push(dda06::NAME),
+                Err(e) => problems.push(e.to_string()),
+            }
+        }
+        if !made_safe.is_empty() {
+            problems.push(format!(
+                "(safe outputs written to the {}, which opened)",
+                made_safe.join(" and the ")
+            ));
+        }
+        Err(problems.join("\n"))
     }
 }
 
@@ -93,6 +163,9 @@ pub struct CardsHw {
     dda06_reads: [bool; 3],
     dda06_writes: [bool; 3],
     reads_das08_inputs: bool,
+    watchdog: Watchdog,
+    /// The last read and write found every card answering; else the watchdog holds.
+    answering: bool,
 }
 
 /// The first error of several attempts, so that every attempt is made.
@@ -108,16 +181,9 @@ impl CardsHw {
         settings: &CardsSettings,
         wiring: &Wiring,
     ) -> Result<CardsHw, HwError> {
-        let safe = wiring.card_outputs(&Outputs::SAFE);
-        let timeout = Duration::from_secs_f64(settings.das08_eoc_timeout_us.max(0.0) * 1e-6);
-        let directions = wiring.dda06_directions();
-        let das08 = Das08::open(ports.das08, safe.das08_op, timeout);
-        let dda06 = Dda06::open(
-            ports.dda06,
-            settings.dda06_ranges,
-            directions,
-            safe.dda06_ports,
-        );
+        let safe = safe_outputs(wiring);
+        let das08 = open_das08(ports.das08, settings, &safe);
+        let dda06 = open_dda06(ports.dda06, settings, wiring, &safe);
         let (das08, dda06) = (das08?, dda06?);
         let quad04 = Quad04::open(ports.quad04)?;
         Ok(CardsHw {
@@ -127,8 +193,10 @@ impl CardsHw {
             wiring: *wiring,
             safe,
             dda06_reads: wiring.dda06_input_ports(),
-            dda06_writes: directions.output_bits.map(|bits| bits != 0),
+            dda06_writes: wiring.dda06_directions().output_bits.map(|bits| bits != 0),
             reads_das08_inputs: wiring.reads_das08_inputs(),
+            watchdog: Watchdog::new(wiring.watchdog),
+            answering: true,
         })
     }
 
@@ -169,8 +237,9 @@ impl CardsHw {
     }
 
     /// The safe outputs on every card, each tried even if another fails: every DAC at
-    /// 0 V (wired or not), switched outputs off.
+    /// 0 V (wired or not), switched outputs off, the watchdog stopped.
     pub fn write_safe(&mut self) -> Result<(), HwError> {
+        self.watchdog.hold(&mut self.safe);
         let das08 = self.das08.write_outputs(self.safe.das08_op);
         let dacs = self.dda06.write_all_zero();
         let mut ports = Ok(());
@@ -194,14 +263,24 @@ impl CardsHw {
 
 impl Hw for CardsHw {
     fn read(&mut self) -> Result<Inputs, HwError> {
-        let cards = self.read_cards()?;
-        Ok(self.wiring.inputs(&cards))
+        let cards = self.read_cards();
+        // A card that stopped answering may still hold its last outputs: only the
+        // watchdog relay can then cut the motor power, so it holds until all answer.
+        self.answering = cards.is_ok();
+        Ok(self.wiring.inputs(&cards?))
     }
 
+    /// Called once per supervisor tick: the watchdog changes with every write.
     fn write(&mut self, outputs: &Outputs) -> Result<(), HwError> {
-        let cards = self.wiring.card_outputs(outputs);
+        let mut cards = self.wiring.card_outputs(outputs);
+        if self.answering {
+            self.watchdog.toggle(&mut cards);
+        } else {
+            self.watchdog.hold(&mut cards);
+        }
         let result = self.write_cards(&cards);
         if result.is_err() {
+            self.answering = false;
             // Whatever answers gets the safe outputs now, not a tick later.
             let _ = self.write_safe();
         }
@@ -222,3 +301,11 @@ impl Drop for CardsHw {
 #[cfg(test)]
 #[path = "cards_tests.rs"]
 mod tests;
+
+#[cfg(test)]
+#[path = "cards_open_tests.rs"]
+mod open_tests;
+
+#[cfg(test)]
+#[path = "cards_watchdog_tests.rs"]
+mod watchdog_tests;

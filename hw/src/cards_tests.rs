@@ -22,11 +22,11 @@ pub(crate) fn settings() -> CardsSettings {
     }
 }
 
-fn rig() -> CardRig {
+pub(super) fn rig() -> CardRig {
     CardRig::new(&settings(), &robot()).unwrap()
 }
 
-fn driving() -> Outputs {
+pub(super) fn driving() -> Outputs {
     Outputs {
         amp_left_v: 6.0,
         amp_right_v: 5.5,
@@ -190,9 +190,9 @@ fn a_dead_das08_or_quad04_is_an_error_naming_it() {
 }
 
 /// A port whose accesses fail once `broken` is set (a card gone from the bus).
-struct Breakable<P> {
-    inner: P,
-    broken: Arc<AtomicBool>,
+pub(super) struct Breakable<P> {
+    pub(super) inner: P,
+    pub(super) broken: Arc<AtomicBool>,
 }
 
 impl<P: PortIo> PortIo for Breakable<P> {
@@ -295,7 +295,8 @@ fn read_and_write_do_not_allocate() {
 #[test]
 fn cards_not_on_the_bus_are_all_reported_at_once() {
     let root = tempfile::tempdir().unwrap();
-    let Err(err) = CardPorts::open(&settings(), root.path(), Path::new("/nonexistent/port")) else {
+    let nowhere = Path::new("/nonexistent/port");
+    let Err(err) = CardPorts::open(&settings(), &robot(), root.path(), nowhere) else {
         panic!("found cards in an empty directory")
     };
     for name in ["PCI-DAS08", "PCIM-DDA06/16", "PCI-QUAD04"] {

@@ -16,6 +16,7 @@ pub mod pci;
 pub mod port;
 pub mod quad04;
 pub mod sim;
+pub mod watchdog;
 pub mod wiring;
 
 /// Every input of the robot, read once per supervisor tick.

@@ -10,7 +10,7 @@
 use std::io;
 use std::path::{Path, PathBuf};
 
-use crate::port::{DevPort, PortIo, SysfsBar, kernel_locked_down};
+use crate::port::{DevPortFile, PortIo, SysfsBar, kernel_locked_down};
 
 /// Measurement Computing's PCI vendor id.
 pub const VENDOR_MCC: u16 = 0x1307;
@@ -234,22 +234,24 @@ fn enable(card: &FoundCard) -> Result<(), String> {
     std::fs::write(&path, "1").map_err(|e| explain(card.kind, &path, &e))
 }
 
-/// Open a card's register window as robot.ini says: sysfs under `root`, or `dev_port`.
+/// Open a card's register window as robot.ini says: sysfs under `root`, or through
+/// `dev_port` (the program's one handle of /dev/port, shared by its cards).
 pub fn open(
     root: &Path,
-    dev_port: &Path,
+    dev_port: &mut DevPortFile,
     kind: CardKind,
     location: &CardLocation,
 ) -> Result<OpenedCard, String> {
     if let CardLocation::PortBase(base) = location {
-        let port = DevPort::open(dev_port, *base, kind.window_len())
-            .map_err(|e| explain(kind, dev_port, &e))?;
+        let port = dev_port
+            .card(*base, kind.window_len())
+            .map_err(|e| explain(kind, dev_port.path(), &e))?;
         return Ok(OpenedCard {
             port: Box::new(port),
             description: format!(
                 "{} at I/O port {base:#06x} through {}",
                 kind.name(),
-                dev_port.display()
+                dev_port.path().display()
             ),
         });
     }
@@ -281,4 +283,4 @@ pub fn open(
 
 #[cfg(test)]
 #[path = "pci_tests.rs"]
-mod tests;
+pub(crate) mod tests;

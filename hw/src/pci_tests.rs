@@ -3,7 +3,7 @@
 use super::*;
 
 /// A fake PCI device directory as Linux shows it.
-fn device(root: &Path, address: &str, vendor: u16, device: u16, bar_line: &str) {
+pub(crate) fn device(root: &Path, address: &str, vendor: u16, device: u16, bar_line: &str) {
     let dir = root.join(address);
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("vendor"), format!("0x{vendor:04x}\n")).unwrap();
@@ -16,7 +16,7 @@ fn device(root: &Path, address: &str, vendor: u16, device: u16, bar_line: &str) 
     std::fs::write(dir.join("resource3"), [0u8; 16]).unwrap();
 }
 
-const IO_BAR: &str = "0x000000000000e000 0x000000000000e00f 0x0000000000040101";
+pub(crate) const IO_BAR: &str = "0x000000000000e000 0x000000000000e00f 0x0000000000040101";
 const MEM_BAR: &str = "0x00000000fe000000 0x00000000fe00ffff 0x0000000000040200";
 
 #[test]
@@ -31,7 +31,7 @@ fn finds_the_card_by_vendor_and_device_and_switches_it_on() {
 
     let mut opened = open(
         root.path(),
-        Path::new("/nonexistent"),
+        &mut DevPortFile::new(Path::new("/nonexistent")),
         CardKind::Das08,
         &CardLocation::PciAuto,
     )

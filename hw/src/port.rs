@@ -9,6 +9,10 @@
 //! file offset is the register offset) and [`DevPort`] (`/dev/port`, where the file
 //! offset is the port number). [`CountingPort`] wraps either to count accesses. The
 //! emulated cards (emulated/) implement the same trait for tests.
+//!
+//! Each card's file is locked, so that a second program is refused. /dev/port is one
+//! file for every card: it is opened and locked once per program ([`DevPortFile`]),
+//! and each card reached through it is a view of that one handle at its own base.
 
 use std::fs::{File, OpenOptions};
 use std::io;
@@ -55,7 +59,8 @@ fn refused(path: &Path, e: io::Error) -> io::Error {
 
 /// A file whose byte at `base + offset` is the card's register at `offset`.
 struct ByteFile {
-    file: File,
+    /// Shared by the cards reached through /dev/port; one owner for a sysfs BAR.
+    file: Arc<File>,
     path: PathBuf,
     base: u64,
     len: u16,
@@ -116,7 +121,7 @@ impl SysfsBar {
     /// Open the BAR file; `len` is the card's register window (bytes).
     pub fn open(path: &Path, len: u16) -> io::Result<SysfsBar> {
         Ok(SysfsBar(ByteFile {
-            file: open_locked(path)?,
+            file: Arc::new(open_locked(path)?),
             path: path.to_path_buf(),
             base: 0,
             len,
@@ -133,20 +138,46 @@ impl PortIo for SysfsBar {
     }
 }
 
-/// A card's ports through `/dev/port`, from a base port set in robot.ini.
-pub struct DevPort(ByteFile);
+/// `/dev/port` for this program: opened and locked by the first card that needs it,
+/// shared by the others. A lock per card would refuse the second card as "in use by
+/// another program"; one lock still refuses a second program.
+pub struct DevPortFile {
+    path: PathBuf,
+    file: Option<Arc<File>>,
+}
 
-impl DevPort {
-    /// `path` is normally /dev/port; `base` the card's first port; `len` its window.
-    pub fn open(path: &Path, base: u16, len: u16) -> io::Result<DevPort> {
-        Ok(DevPort(ByteFile {
-            file: open_locked(path)?,
+impl DevPortFile {
+    /// Nothing is opened yet: a program whose cards are all on sysfs never opens it.
+    pub fn new(path: &Path) -> DevPortFile {
+        DevPortFile {
             path: path.to_path_buf(),
+            file: None,
+        }
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// A card's window: `base` its first port, `len` its registers. The first call
+    /// opens and locks the file; a failed open is tried again by the next card, so
+    /// that each card reports it.
+    pub fn card(&mut self, base: u16, len: u16) -> io::Result<DevPort> {
+        let file = match &self.file {
+            Some(file) => file.clone(),
+            None => self.file.insert(Arc::new(open_locked(&self.path)?)).clone(),
+        };
+        Ok(DevPort(ByteFile {
+            file,
+            path: self.path.clone(),
             base: u64::from(base),
             len,
         }))
     }
 }
+
+/// A card's ports through `/dev/port`, from a base port set in robot.ini.
+pub struct DevPort(ByteFile);
 
 impl PortIo for DevPort {
     fn read_u8(&mut self, offset: u16) -> io::Result<u8> {
@@ -210,86 +241,5 @@ impl PortIo for Box<dyn PortIo> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A plain file stands in for a BAR: one byte per register.
-    fn bar_file(dir: &Path, len: usize) -> PathBuf {
-        let path = dir.join("resource2");
-        std::fs::write(&path, vec![0u8; len]).unwrap();
-        path
-    }
-
-    #[test]
-    fn sysfs_bar_reads_and_writes_one_byte_at_the_registers_offset() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = bar_file(dir.path(), 8);
-        let mut bar = SysfsBar::open(&path, 8).unwrap();
-        bar.write_u8(2, 0xA5).unwrap();
-        bar.write_u8(7, 0x3C).unwrap();
-        assert_eq!(bar.read_u8(2).unwrap(), 0xA5);
-        assert_eq!(bar.read_u8(7).unwrap(), 0x3C);
-        assert_eq!(
-            std::fs::read(&path).unwrap(),
-            [0, 0, 0xA5, 0, 0, 0, 0, 0x3C]
-        );
-        let err = bar.read_u8(8).unwrap_err();
-        assert!(err.to_string().contains("outside the card's 8-byte window"));
-    }
-
-    #[test]
-    fn dev_port_adds_the_base_port() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("port");
-        std::fs::write(&path, vec![0u8; 0x120]).unwrap();
-        let mut port = DevPort::open(&path, 0x100, 16).unwrap();
-        port.write_u8(0x0F, 0x90).unwrap();
-        assert_eq!(std::fs::read(&path).unwrap()[0x10F], 0x90);
-        assert_eq!(port.read_u8(0x0F).unwrap(), 0x90);
-        assert!(port.write_u8(16, 0).is_err());
-    }
-
-    #[test]
-    fn a_second_program_cannot_open_a_card_in_use() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = bar_file(dir.path(), 8);
-        let _first = SysfsBar::open(&path, 8).unwrap();
-        let Err(err) = SysfsBar::open(&path, 8) else {
-            panic!("opened twice")
-        };
-        assert_eq!(err.kind(), io::ErrorKind::ResourceBusy);
-        assert!(err.to_string().contains("in use by another program"));
-    }
-
-    #[test]
-    fn a_refused_access_says_the_kernel_refused_it() {
-        let path = Path::new("/sys/bus/pci/devices/0000:03:00.0/resource2");
-        let e = refused(path, io::Error::from(io::ErrorKind::PermissionDenied));
-        let text = e.to_string();
-        assert!(
-            text.starts_with("/sys/bus/pci/devices/0000:03:00.0/resource2: "),
-            "{text}"
-        );
-        let why = if kernel_locked_down() {
-            "lockdown"
-        } else {
-            "the kernel refused"
-        };
-        assert!(text.contains(why), "{text}");
-        let other = refused(path, io::Error::from(io::ErrorKind::NotFound));
-        assert_eq!(other.kind(), io::ErrorKind::NotFound);
-    }
-
-    #[test]
-    fn counting_port_counts_reads_and_writes() {
-        let dir = tempfile::tempdir().unwrap();
-        let count = AccessCount::default();
-        let bar = SysfsBar::open(&bar_file(dir.path(), 8), 8).unwrap();
-        let mut port = CountingPort::new(bar, count.clone());
-        port.write_u8(1, 1).unwrap();
-        for _ in 0..3 {
-            port.read_u8(0).unwrap();
-        }
-        assert_eq!((count.reads(), count.writes(), count.total()), (3, 1, 4));
-    }
-}
+#[path = "port_tests.rs"]
+mod tests;

@@ -11,6 +11,7 @@
 //! | encoder | `quad04 ch N` (1..4) | `scale 1` or `scale -1` (counts reversed) |
 //! | analog output | `dda06 ao N` (0..5) | `scale S`: volts at the card per commanded volt |
 //! | switched output | `das08 op N` (1..4), `dda06 port X bit N` | `active high` or `active low` |
+//! | watchdog output | as a switched output, or `none` | `active high` or `active low` |
 //!
 //! `active high`: 1 at the card means true. The conversions run every tick and do not
 //! allocate. The inverse conversions (what the wires carry for given physical signals,
@@ -124,6 +125,9 @@ pub struct Wiring {
     pub brake_release_left: Switch,
     pub brake_release_right: Switch,
     pub tool_on: Switch,
+    /// The charge-pump line for an external watchdog relay, if one is fitted; the
+    /// cards' backend toggles it (watchdog.rs), it is no signal of [`Outputs`].
+    pub watchdog: Option<Switch>,
 }
 
 /// What the cards gave in one tick, in card units.
@@ -148,6 +152,13 @@ pub struct CardOutputs {
     pub das08_op: u8,
     /// DDA06 8255 ports A, B, C (only output bits matter).
     pub dda06_ports: [u8; 3],
+}
+
+impl CardOutputs {
+    /// Set one output line to `level`.
+    pub fn set_line(&mut self, bit: Bit, level: bool) {
+        set_level(bit, level, &mut self.das08_op, &mut self.dda06_ports);
+    }
 }
 
 /// One line's level: from `das08` (the IP or the OP byte) or the DDA06 `ports`.
@@ -229,6 +240,12 @@ impl Wiring {
         ]
     }
 
+    /// Every line the cards drive, with its key: the switched outputs and the watchdog.
+    pub fn driven_lines(&self) -> impl Iterator<Item = (&'static str, Switch)> {
+        let watchdog = self.watchdog.map(|w| ("watchdog", w));
+        self.switch_outputs().into_iter().chain(watchdog)
+    }
+
     pub fn analog_inputs(&self) -> [AnalogIn; 4] {
         [
             self.pot_v,
@@ -256,10 +273,10 @@ impl Wiring {
         self.switch_inputs().iter().any(on_das08)
     }
 
-    /// The 8255 directions: every bit that carries a switched output.
+    /// The 8255 directions: every bit that carries a switched output or the watchdog.
     pub fn dda06_directions(&self) -> PortDirections {
         let mut output_bits = [0u8; 3];
-        for (_, s) in self.switch_outputs() {
+        for (_, s) in self.driven_lines() {
             if let Bit::Dda06 { port, bit } = s.bit {
                 output_bits[usize::from(port % 3)] |= 1 << (bit % 8);
             }
@@ -372,6 +389,7 @@ impl Wiring {
 mod parse;
 pub use parse::{
     check, parse_analog_in, parse_analog_out, parse_encoder, parse_switch_in, parse_switch_out,
+    parse_watchdog,
 };
 
 #[cfg(test)]

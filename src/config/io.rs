@@ -2,14 +2,14 @@
 //! the A/D time-out) and the robot's wiring in [io]. The text of each [io] line is
 //! parsed by the hardware crate (mechweed_hw::wiring), which knows the cards; errors
 //! here name the key, and a wiring that puts two signals on one channel blames the
-//! second key.
+//! second key (the watchdog output, last, for its clashes).
 
 use mechweed_hw::cards::CardsSettings;
 use mechweed_hw::dda06::{DACS, DacRange};
 use mechweed_hw::pci::{CardLocation, parse_pci_address};
 use mechweed_hw::wiring::{
     self, AnalogIn, AnalogOut, Bit, Encoder, Switch, Wiring, parse_analog_in, parse_analog_out,
-    parse_encoder, parse_switch_in, parse_switch_out,
+    parse_encoder, parse_switch_in, parse_switch_out, parse_watchdog,
 };
 
 use super::reader::Reader;
@@ -148,6 +148,7 @@ pub(super) fn wiring(r: &mut Reader) -> Wiring {
         brake_release_left: line(r, "brake_release_left", sw_out, NO_SWITCH, ok),
         brake_release_right: line(r, "brake_release_right", sw_out, NO_SWITCH, ok),
         tool_on: line(r, "tool_on", sw_out, NO_SWITCH, ok),
+        watchdog: line(r, "watchdog", parse_watchdog, None, ok),
     };
     // Clashes between lines mean something only when every line could be read.
     if *ok {

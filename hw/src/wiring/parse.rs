@@ -195,6 +195,16 @@ pub fn parse_switch_out(text: &str) -> Result<Switch, String> {
     Ok(switch(place, opt))
 }
 
+/// The watchdog line: a switched output, or `none` for no watchdog output.
+pub fn parse_watchdog(text: &str) -> Result<Option<Switch>, String> {
+    if text.trim().eq_ignore_ascii_case("none") {
+        return Ok(None);
+    }
+    parse_switch_out(text)
+        .map(Some)
+        .map_err(|e| format!("{e}; or none for no watchdog output"))
+}
+
 /// The 8255 group of a DDA06 line: A, B, upper C or lower C switch direction together.
 fn group(bit: Bit) -> Option<(u8, bool)> {
     match bit {
@@ -204,10 +214,18 @@ fn group(bit: Bit) -> Option<(u8, bool)> {
     }
 }
 
+/// Why an input and an output cannot share an 8255 group.
+const ONE_DIRECTION: &str = "a group (port a, port b, port c bits 4..7, port c bits 0..3) is \
+                             all inputs or all outputs";
+
 /// Problems of the wiring as a whole, each with the key to blame: two signals on one
-/// channel or bit, or an input in an 8255 group that also drives an output.
+/// channel or bit, or an input in an 8255 group that also drives an output. The
+/// watchdog, added last, is the key blamed for its clashes.
 pub fn check(wiring: &Wiring) -> Vec<(&'static str, String)> {
-    let places = wiring.places();
+    let mut places = wiring.places().to_vec();
+    if let Some(w) = wiring.watchdog {
+        places.push(("watchdog", Place::Bit(w.bit)));
+    }
     let mut problems = Vec::new();
     for (i, (key, place)) in places.iter().enumerate() {
         if let Some((other, _)) = places[..i].iter().find(|(_, p)| p == place) {
@@ -222,10 +240,22 @@ pub fn check(wiring: &Wiring) -> Vec<(&'static str, String)> {
             problems.push((
                 key,
                 format!(
-                    "{} is in the same 8255 port group as the output {out_key}: a group \
-                     (port a, port b, port c bits 4..7, port c bits 0..3) is all inputs \
-                     or all outputs",
+                    "{} is in the same 8255 port group as the output {out_key}: {ONE_DIRECTION}",
                     Place::Bit(input.bit)
+                ),
+            ));
+        }
+    }
+    if let Some(w) = wiring.watchdog {
+        let same_group = |(_, input): &(&str, Switch)| {
+            group(input.bit).is_some() && group(input.bit) == group(w.bit)
+        };
+        if let Some((in_key, _)) = wiring.switch_inputs().into_iter().find(same_group) {
+            let place = Place::Bit(w.bit);
+            problems.push((
+                "watchdog",
+                format!(
+                    "{place} is in the same 8255 port group as the input {in_key}: {ONE_DIRECTION}"
                 ),
             ));
         }

@@ -31,6 +31,7 @@ pub(crate) fn robot() -> Wiring {
         brake_release_left: sw_out("das08 op 2, active high"),
         brake_release_right: sw_out("das08 op 3, active high"),
         tool_on: sw_out("das08 op 4, active high"),
+        watchdog: parse_watchdog("dda06 port b bit 0, active high").unwrap(),
     }
 }
 
@@ -87,6 +88,8 @@ fn outputs_become_card_values_and_safe_is_all_off_at_zero_volts() {
 #[test]
 fn polarity_and_scale_apply_both_ways() {
     let mut w = robot();
+    // Port b to main_power_on alone: no watchdog line beside it.
+    w.watchdog = None;
     w.estop_front_released = parse_switch_in("das08 ip 1, active low").unwrap();
     w.main_power_on = parse_switch_out("dda06 port b bit 7, active low").unwrap();
     w.amp_right_v = parse_analog_out("dda06 ao 5, scale -1").unwrap();
@@ -149,6 +152,15 @@ fn the_reads_needed_follow_the_wiring() {
     assert_eq!(w.dda06_input_ports(), [true, false, false]);
     assert_eq!(
         w.dda06_directions().control_word(),
+        0x99,
+        "port b an output for the watchdog, every other 8255 line an input"
+    );
+    let no_watchdog = Wiring {
+        watchdog: None,
+        ..w
+    };
+    assert_eq!(
+        no_watchdog.dda06_directions().control_word(),
         0x9B,
         "every 8255 line an input"
     );
@@ -264,5 +276,48 @@ fn an_input_in_an_8255_group_that_drives_an_output_is_refused() {
     assert!(
         check(&w).is_empty(),
         "upper and lower port C are separate groups"
+    );
+}
+
+#[test]
+fn the_watchdog_is_a_free_output_line_or_none() {
+    assert_eq!(parse_watchdog(" None ").unwrap(), None);
+    let line = parse_watchdog("dda06 port b bit 0, active high").unwrap();
+    assert_eq!(
+        line,
+        Some(Switch {
+            bit: Bit::Dda06 { port: 1, bit: 0 },
+            active_high: true
+        })
+    );
+    let not_an_output = parse_watchdog("das08 ip 1, active high").unwrap_err();
+    assert!(
+        not_an_output.contains("cannot carry this signal"),
+        "{not_an_output}"
+    );
+    let nonsense = parse_watchdog("blink").unwrap_err();
+    assert!(
+        nonsense.ends_with("; or none for no watchdog output"),
+        "{nonsense}"
+    );
+
+    let mut w = robot();
+    w.watchdog = parse_watchdog("das08 op 1, active high").unwrap();
+    assert_eq!(
+        check(&w),
+        [(
+            "watchdog",
+            "das08 op 1 is already wired to main_power_on".to_string()
+        )]
+    );
+    w.watchdog = parse_watchdog("dda06 port a bit 7, active low").unwrap();
+    let problems = check(&w);
+    assert_eq!(problems.len(), 1, "{problems:?}");
+    assert_eq!(problems[0].0, "watchdog");
+    assert!(
+        problems[0].1.starts_with(
+            "dda06 port a bit 7 is in the same 8255 port group as the input end_switch_left"
+        ),
+        "{problems:?}"
     );
 }
