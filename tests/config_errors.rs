@@ -221,3 +221,20 @@ fn dac_ranges_are_six_known_ranges() {
     );
     assert!(odd[0].contains("AO5: '0..20' is not one of"), "{odd:?}");
 }
+
+#[test]
+fn a_check_across_settings_is_placed_at_the_set_that_broke_it() {
+    // As the tuning panel checks its values: a lower amplifier limit would blind the
+    // encoder-stuck check.
+    assert_eq!(
+        errors(SHIPPED, &["pid.left.out_max_v=1.5"]),
+        vec![
+            "--set pid.left.out_max_v=1.5: [faults] encoder_stuck_v = 2 must be below \
+             [pid.left] out_max_v = 1.5: the amplifier never gets there, so a stuck left \
+             wheel encoder would never be noticed"
+                .to_string()
+        ]
+    );
+    // A value that is wrong on its own is not also reported by the checks across.
+    assert_eq!(errors(SHIPPED, &["steer.speed_mps=fast"]).len(), 1);
+}

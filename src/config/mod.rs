@@ -2,7 +2,9 @@
 //! and its unit; there are no hidden defaults in the code, so what the file says is
 //! what the robot does. Errors name the file, line, section and key.
 
+mod checks;
 mod io;
+mod lines;
 mod reader;
 mod record;
 mod sim;
@@ -181,10 +183,16 @@ impl Settings {
     /// Read and check a settings file, with `--set SECTION.KEY=VALUE` overrides.
     pub fn load(path: &Path, overrides: &[String]) -> Result<Settings, Vec<ConfigError>> {
         let label = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| {
+        let bytes = std::fs::read(path).map_err(|e| {
             vec![ConfigError {
                 place: label.clone(),
                 what: format!("cannot read the settings file: {e}"),
+            }]
+        })?;
+        let text = lines::decode(&bytes).map_err(|(line, what)| {
+            vec![ConfigError {
+                place: format!("{label} line {line}"),
+                what,
             }]
         })?;
         Settings::parse(&label, &text, overrides)
@@ -221,35 +229,13 @@ impl Settings {
             sim: sim::load(&mut r),
             record: record::load(&mut r),
         };
-        no_script_on_the_real_robot(&settings, &mut r);
+        checks::across(&settings, &mut r);
         let errors = r.finish(SECTIONS);
         if errors.is_empty() {
             Ok(settings)
         } else {
             Err(errors)
         }
-    }
-}
-
-/// Nothing powers the real robot up without a person: the scripted operator of
-/// [sim] events (power_up, mode) is for the simulated robot only.
-fn no_script_on_the_real_robot(settings: &Settings, r: &mut Reader) {
-    if settings.backend != Backend::Cards {
-        return;
-    }
-    let scripted: Vec<String> = (settings.sim.events.iter())
-        .filter(|e| e.action.is_operator())
-        .map(|e| e.to_string())
-        .collect();
-    if !scripted.is_empty() {
-        r.error_at(
-            "sim",
-            "events",
-            format!(
-                "{} would power up or drive the real robot with nobody there ([hw] backend = cards): remove the operator events (power_up, mode)",
-                scripted.join(", ")
-            ),
-        );
     }
 }
 
@@ -285,16 +271,22 @@ fn faults(r: &mut Reader) -> FaultSettings {
     let s = "faults";
     FaultSettings {
         battery_min_v: r.f64(s, "battery_min_v", 0.0, 60.0),
-        battery_low_s: r.f64(s, "battery_low_s", 0.0, 60.0),
+        // The robot drives on a low battery this long: enough to ride out a load dip.
+        battery_low_s: r.f64(s, "battery_low_s", 0.0, 10.0),
         pot_min_v: r.f64(s, "pot_min_v", 0.0, 5.0),
         pot_max_v: r.f64(s, "pot_max_v", 0.0, 5.0),
-        pot_disagree_deg: r.f64(s, "pot_disagree_deg", 0.1, 30.0),
-        pot_disagree_s: r.f64(s, "pot_disagree_s", 0.0, 10.0),
+        // 30 deg of disagreement would hide a slipping steering encoder on a 25 deg robot.
+        pot_disagree_deg: r.f64(s, "pot_disagree_deg", 0.1, 10.0),
+        // Times that guard motion (a wrong wheel angle, a wheel without feedback, a
+        // steering at its end switch): at most about a second of driving.
+        pot_disagree_s: r.f64(s, "pot_disagree_s", 0.0, 1.0),
         encoder_stuck_v: r.f64(s, "encoder_stuck_v", 0.5, 10.0),
-        encoder_stuck_s: r.f64(s, "encoder_stuck_s", 0.05, 10.0),
-        endswitch_unhandled_s: r.f64(s, "endswitch_unhandled_s", 0.01, 5.0),
-        endswitch_timeout_s: r.f64(s, "endswitch_timeout_s", 0.1, 60.0),
-        contactor_drop_s: r.f64(s, "contactor_drop_s", 0.02, 2.0),
+        encoder_stuck_s: r.f64(s, "encoder_stuck_s", 0.05, 1.0),
+        endswitch_unhandled_s: r.f64(s, "endswitch_unhandled_s", 0.01, 1.0),
+        // The robot stands while the procedure steers back, so this one may be longer.
+        endswitch_timeout_s: r.f64(s, "endswitch_timeout_s", 0.1, 10.0),
+        // A real contactor drops in tens of milliseconds; a second is plenty.
+        contactor_drop_s: r.f64(s, "contactor_drop_s", 0.02, 1.0),
     }
 }
 
@@ -348,9 +340,15 @@ fn rt(r: &mut Reader) -> RtSettings {
         steer_priority: r.u64(s, "steer_priority", 0, 99) as u8,
         camlink_priority: r.u64(s, "camlink_priority", 0, 99) as u8,
         lock_memory: r.choice(s, "lock_memory", &["no", "yes"]) == 1,
-        supervisor_cpu: r.f64(s, "supervisor_cpu", -1.0, 1023.0) as i32,
-        heartbeat_timeout_s: r.f64(s, "heartbeat_timeout_s", 0.05, 60.0),
-        gui_heartbeat_timeout_s: r.f64(s, "gui_heartbeat_timeout_s", 0.1, 60.0),
+        // A CPU number is whole: 1.7 is an error, not CPU 1. The range fits i32.
+        supervisor_cpu: r.i64(s, "supervisor_cpu", -1, 1023) as i32,
+        // A stopped steer or camera-link thread leaves its last command standing: the
+        // robot must not drive on it for more than about a second.
+        heartbeat_timeout_s: r.f64(s, "heartbeat_timeout_s", 0.05, 1.0),
+        // The GUI runs at normal priority and may stall a few frames on a loaded computer
+        // (and beats only 10 times a second when minimised); it holds the HALT button but
+        // not the driving (the e-stops are wired), so it may take up to 5 s.
+        gui_heartbeat_timeout_s: r.f64(s, "gui_heartbeat_timeout_s", 0.1, 5.0),
         max_overruns: r.u64(s, "max_overruns", 0, 1_000_000) as u32,
         overrun_window_s: r.f64(s, "overrun_window_s", 0.1, 3600.0),
         max_late_periods: r.f64(s, "max_late_periods", 1.0, 100.0),
@@ -368,8 +366,12 @@ fn camera_port(r: &mut Reader) -> CameraPort {
 fn camera(r: &mut Reader) -> CameraSettings {
     let s = "camera";
     CameraSettings {
-        link_timeout_s: r.f64(s, "link_timeout_s", 0.05, 60.0),
-        restart_after_s: r.f64(s, "restart_after_s", 0.05, 60.0),
-        min_quality: r.u64(s, "min_quality", 0, 100) as u8,
+        // The oldest estimate the robot steers by: at most about a second of driving.
+        link_timeout_s: r.f64(s, "link_timeout_s", 0.05, 1.0),
+        // Only when START is sent again (link_timeout_s guards the driving); longer than a
+        // few seconds just delays finding a rebooted camera computer.
+        restart_after_s: r.f64(s, "restart_after_s", 0.05, 5.0),
+        // Quality 0 means "no row seen" (camera-link.md): such a frame must never steer.
+        min_quality: r.u64(s, "min_quality", 1, 100) as u8,
     }
 }

@@ -4,7 +4,9 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt;
 
-use ini::Ini;
+use ini::{Ini, ParseOption};
+
+use super::lines;
 
 /// One thing wrong with the settings, said so that a person can fix it.
 #[derive(Debug, Clone, PartialEq)]
@@ -38,55 +40,53 @@ pub struct Reader {
     /// (section, key) -> the `--set` text that changed it.
     overrides: BTreeMap<(String, String), String>,
     used: BTreeSet<(String, String)>,
+    /// Settings that are missing or could not be read: checks across settings skip them.
+    failed: BTreeSet<(String, String)>,
     pub errors: Vec<ConfigError>,
 }
 
 impl Reader {
     /// Parse `text` (named `file` in messages) and apply `--set SECTION.KEY=VALUE` items.
     pub fn new(file: &str, text: &str, overrides: &[String]) -> Reader {
-        let mut errors = Vec::new();
-        let ini = match Ini::load_from_str(text) {
-            Ok(ini) => ini,
-            Err(e) => {
-                errors.push(ConfigError {
-                    place: format!("{file} line {}", e.line),
-                    what: format!("cannot read this line as ini ({})", e.msg),
-                });
-                Ini::new()
-            }
+        let layout = lines::scan(text);
+        let errors = layout
+            .errors
+            .iter()
+            .map(|(line, what)| ConfigError {
+                place: format!("{file} line {line}"),
+                what: what.clone(),
+            })
+            .collect();
+        // Values as written, to the end of the line: no quotes or backslash escapes that
+        // would silently change a folder name or a device path.
+        let literal = ParseOption {
+            enabled_quote: false,
+            enabled_escape: false,
+            ..ParseOption::default()
         };
-        let (lines, section_lines) = locate_keys(text);
         let mut reader = Reader {
             file: file.to_string(),
-            ini,
-            lines,
-            section_lines,
+            ini: Ini::new(),
+            lines: layout.keys,
+            section_lines: layout.sections,
             overrides: BTreeMap::new(),
             used: BTreeSet::new(),
+            failed: BTreeSet::new(),
             errors,
         };
-        reader.check_duplicates();
+        // The scan passed only lines rust-ini reads as the scan does, so this should not
+        // fail; if it does, say where.
+        match Ini::load_from_str_opt(&layout.clean, literal) {
+            Ok(ini) => reader.ini = ini,
+            Err(e) => reader.push(
+                Origin::Line(e.line),
+                format!("cannot read this line as ini ({})", e.msg),
+            ),
+        }
         for item in overrides {
             reader.apply_override(item);
         }
         reader
-    }
-
-    fn check_duplicates(&mut self) {
-        let mut found = Vec::new();
-        for (name, props) in self.ini.iter() {
-            let name = name.unwrap_or("");
-            for (key, _) in props.iter() {
-                if props.get_all(key).count() > 1 {
-                    found.push((name.to_string(), key.to_string()));
-                }
-            }
-        }
-        found.dedup();
-        for (section, key) in found {
-            let place = self.place_of(&section, &key);
-            self.push(place, format!("[{section}] {key} is set more than once"));
-        }
     }
 
     fn apply_override(&mut self, item: &str) {
@@ -142,11 +142,19 @@ impl Reader {
         self.errors.push(ConfigError { place, what });
     }
 
+    /// Record an error about one setting, which then counts as not read.
+    fn fail(&mut self, section: &str, key: &str, what: String) {
+        self.failed.insert((section.to_string(), key.to_string()));
+        let place = self.place_of(section, key);
+        self.push(place, what);
+    }
+
     /// The raw text of a setting, or None (with an error recorded) if it is missing.
     fn raw(&mut self, section: &str, key: &str) -> Option<String> {
         self.used.insert((section.to_string(), key.to_string()));
         let Some(props) = self.ini.section(Some(section)) else {
             // Reported once per section by `finish`.
+            self.failed.insert((section.to_string(), key.to_string()));
             return None;
         };
         match props.get(key) {
@@ -156,6 +164,7 @@ impl Reader {
                     Some(&line) => Origin::Line(line),
                     None => Origin::Nowhere,
                 };
+                self.failed.insert((section.to_string(), key.to_string()));
                 self.push(place, format!("[{section}] {key} is missing"));
                 None
             }
@@ -172,6 +181,11 @@ impl Reader {
         self.number(section, key, min, max, "a whole number")
     }
 
+    /// A whole number, perhaps negative, within `min..=max` (1.7 is an error, not 1).
+    pub fn i64(&mut self, section: &str, key: &str, min: i64, max: i64) -> i64 {
+        self.number(section, key, min, max, "a whole number")
+    }
+
     /// Parse a value and check its range; NaN and infinities fail the range check.
     fn number<T>(&mut self, section: &str, key: &str, min: T, max: T, kind: &str) -> T
     where
@@ -185,8 +199,7 @@ impl Reader {
             Ok(_) => format!("[{section}] {key} = {text} is out of range ({min} to {max})"),
             Err(_) => format!("[{section}] {key} = '{text}' is not {kind}"),
         };
-        let place = self.place_of(section, key);
-        self.push(place, what);
+        self.fail(section, key, what);
         min
     }
 
@@ -198,14 +211,11 @@ impl Reader {
         match choices.iter().position(|c| c.eq_ignore_ascii_case(&text)) {
             Some(i) => i,
             None => {
-                let place = self.place_of(section, key);
-                self.push(
-                    place,
-                    format!(
-                        "[{section}] {key} = '{text}' is not one of: {}",
-                        choices.join(", ")
-                    ),
+                let what = format!(
+                    "[{section}] {key} = '{text}' is not one of: {}",
+                    choices.join(", ")
                 );
+                self.fail(section, key, what);
                 0
             }
         }
@@ -222,8 +232,7 @@ impl Reader {
         match parse(&text) {
             Ok(v) => Some(v),
             Err(why) => {
-                let place = self.place_of(section, key);
-                self.push(place, format!("[{section}] {key}: {why}"));
+                self.fail(section, key, format!("[{section}] {key}: {why}"));
                 None
             }
         }
@@ -231,8 +240,28 @@ impl Reader {
 
     /// Record an error about a key that a check across several settings found.
     pub fn error_at(&mut self, section: &str, key: &str, what: String) {
-        let place = self.place_of(section, key);
-        self.push(place, format!("[{section}] {key}: {what}"));
+        self.fail(section, key, format!("[{section}] {key}: {what}"));
+    }
+
+    /// True if every one of `keys` (section, key) was read without an error: a check
+    /// across settings means something only then.
+    pub fn all_read(&self, keys: &[(&str, &str)]) -> bool {
+        keys.iter()
+            .all(|&(s, k)| !self.failed.contains(&(s.to_string(), k.to_string())))
+    }
+
+    /// Record an error that a check across `keys` found; `what` names them and their
+    /// values. It is placed where a `--set` changed one of them, else at the first.
+    pub fn cross_error(&mut self, keys: &[(&str, &str)], what: String) {
+        let overridden = keys
+            .iter()
+            .find_map(|&(s, k)| self.overrides.get(&(s.to_string(), k.to_string())).cloned());
+        let place = match (overridden, keys.first()) {
+            (Some(item), _) => Origin::Override(item),
+            (None, Some(&(s, k))) => self.place_of(s, k),
+            (None, None) => Origin::Nowhere,
+        };
+        self.push(place, what);
     }
 
     /// Report missing sections, unknown sections and unknown keys; return every error.
@@ -269,25 +298,4 @@ impl Reader {
         }
         self.errors
     }
-}
-
-/// Find the line of every `[section]` and `key =` in the text, as rust-ini does not keep them.
-fn locate_keys(text: &str) -> (BTreeMap<(String, String), usize>, BTreeMap<String, usize>) {
-    let mut keys = BTreeMap::new();
-    let mut sections = BTreeMap::new();
-    let mut section = String::new();
-    for (i, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if let Some(name) = line.strip_prefix('[').and_then(|l| l.strip_suffix(']')) {
-            section = name.trim().to_string();
-            sections.entry(section.clone()).or_insert(i + 1);
-        } else if let Some((key, _)) = line.split_once('=')
-            && !line.starts_with(';')
-            && !line.starts_with('#')
-        {
-            keys.entry((section.clone(), key.trim().to_string()))
-                .or_insert(i + 1);
-        }
-    }
-    (keys, sections)
 }

@@ -1,7 +1,9 @@
 //! Rewrites values in robot.ini and nothing else: every comment, blank line, the order
-//! of sections and keys, spacing and line endings stay byte-for-byte. The write is
-//! atomic (a temporary file in the same directory, then rename), so a crash or a full
-//! disk leaves either the old file or the new one, never half of one.
+//! of sections and keys, spacing and line endings (and a Windows byte-order mark) stay
+//! byte-for-byte. The write is atomic (a temporary file in the same directory, then
+//! rename, then the directory flushed to disk), so a crash, a power cut or a full disk
+//! leaves either the old file or the new one, never half of one. A robot.ini that is a
+//! symbolic link stays one: the file it points to is replaced.
 
 use std::fs;
 use std::io::Write;
@@ -26,7 +28,8 @@ pub fn set_values(text: &str, values: &[NewValue]) -> Result<String, String> {
     for line in text.split_inclusive('\n') {
         let body = line.trim_end_matches(['\n', '\r']);
         let ending = &line[body.len()..];
-        let trimmed = body.trim();
+        // A byte-order mark before the first heading is not part of the heading.
+        let trimmed = body.trim_start_matches('\u{feff}').trim();
         if let Some(name) = trimmed.strip_prefix('[').and_then(|t| t.strip_suffix(']')) {
             section = name.trim().to_string();
             out.push_str(line);
@@ -71,17 +74,21 @@ pub fn set_values(text: &str, values: &[NewValue]) -> Result<String, String> {
 
 /// Replace the file at `path` with `text`, atomically. A file that has vanished or is
 /// read-only is not replaced (a rename would otherwise succeed over a read-only file).
+/// If `path` is a symbolic link, the file it points to is replaced and the link kept.
 pub fn write_atomic(path: &Path, text: &str) -> Result<(), String> {
     let shown = path.display();
     let meta = fs::metadata(path).map_err(|e| format!("cannot find {shown} any more: {e}"))?;
     if meta.permissions().readonly() {
         return Err(format!("{shown} is read-only: nothing was written"));
     }
-    let dir = match path.parent() {
+    // Renaming onto the link itself would replace the link with a plain file.
+    let target =
+        fs::canonicalize(path).map_err(|e| format!("cannot find {shown} any more: {e}"))?;
+    let dir = match target.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    let name = path
+    let name = target
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "robot.ini".to_string());
@@ -91,13 +98,21 @@ pub fn write_atomic(path: &Path, text: &str) -> Result<(), String> {
         file.write_all(text.as_bytes())?;
         file.set_permissions(meta.permissions())?;
         file.sync_all()?;
-        fs::rename(&tmp, path)
+        fs::rename(&tmp, &target)
     })();
     if let Err(e) = written {
         let _ = fs::remove_file(&tmp);
         return Err(format!("cannot write {shown}: {e}"));
     }
-    Ok(())
+    // The rename lives in the directory: until the directory is on disk, a power cut
+    // can bring back the old file (or, on some file systems, none).
+    fs::File::open(dir)
+        .and_then(|d| d.sync_all())
+        .map_err(|e| {
+            format!(
+                "wrote {shown} but could not flush its folder to disk ({e}): a power cut now may lose the save"
+            )
+        })
 }
 
 #[cfg(test)]
@@ -146,6 +161,45 @@ mod tests {
     #[test]
     fn no_values_is_the_same_text() {
         assert_eq!(set_values(TEXT, &[]).unwrap(), TEXT);
+    }
+
+    #[test]
+    fn a_windows_file_with_a_byte_order_mark_keeps_it() {
+        let text = "\u{feff}[pid.left]\r\nkp = 16.7\r\n";
+        let out = set_values(text, &[v("pid.left", "kp", "20")]).unwrap();
+        assert_eq!(out, "\u{feff}[pid.left]\r\nkp = 20\r\n");
+    }
+
+    #[test]
+    fn a_symbolic_link_stays_a_link_to_the_new_text() {
+        let dir = tempfile::tempdir().unwrap();
+        let real_dir = dir.path().join("settings");
+        fs::create_dir(&real_dir).unwrap();
+        let target = real_dir.join("robot-2026.ini");
+        fs::write(&target, "a = 1\n").unwrap();
+        let link = dir.path().join("robot.ini");
+        std::os::unix::fs::symlink("settings/robot-2026.ini", &link).unwrap();
+
+        // The folder is flushed after the rename; that it does not fail is all a test
+        // can see of it.
+        write_atomic(&link, "a = 2\n").unwrap();
+        assert!(
+            fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(
+            fs::read_link(&link).unwrap(),
+            Path::new("settings/robot-2026.ini")
+        );
+        assert_eq!(fs::read_to_string(&target).unwrap(), "a = 2\n");
+        assert_eq!(
+            fs::read_dir(&real_dir).unwrap().count(),
+            1,
+            "no temporary file left"
+        );
+        assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 2);
     }
 
     #[test]
