@@ -3,38 +3,77 @@
 use super::*;
 use crate::config::Settings;
 
-/// The checks on a healthy, powered, standing robot, with `overruns` so far at `now_s`.
+/// What one tick's checks see; `Scene::at(now_s)` is a healthy, powered robot standing
+/// in Halt whose threads all beat at `now_s`.
+#[derive(Clone, Copy)]
+struct Scene {
+    now_s: f64,
+    tick_gap_s: f64,
+    mode: Mode,
+    power: PowerState,
+    measured: Measured,
+    driven_v: [f64; 3],
+    relay_closed: bool,
+    expected_mps: [f64; 2],
+    overruns: u64,
+}
+
+impl Scene {
+    fn at(now_s: f64) -> Scene {
+        Scene {
+            now_s,
+            tick_gap_s: 0.01,
+            mode: Mode::Halt,
+            power: PowerState::On,
+            measured: Measured::default(),
+            driven_v: [0.0; 3],
+            relay_closed: true,
+            expected_mps: [0.0; 2],
+            overruns: 0,
+        }
+    }
+
+    fn check(&self, checks: &mut FaultChecks) -> Option<FaultCause> {
+        let inputs = healthy_inputs();
+        let steer = SteerCommand {
+            t_s: self.now_s,
+            ..SteerCommand::default()
+        };
+        let link = LinkStatus {
+            beat_s: self.now_s,
+            ..LinkStatus::default()
+        };
+        let health = ThreadHealth {
+            supervisor_overruns: self.overruns,
+            ..ThreadHealth::default()
+        };
+        checks.check(&CheckContext {
+            now_s: self.now_s,
+            tick_gap_s: self.tick_gap_s,
+            mode: self.mode,
+            mode_since_s: 0.0,
+            power: self.power,
+            inputs: &inputs,
+            measured: &self.measured,
+            driven_v: self.driven_v,
+            relay_closed: self.relay_closed,
+            expected_mps: self.expected_mps,
+            counts_moved: [false; 3],
+            endswitch_hit: None,
+            steer: &steer,
+            link: &link,
+            health: &health,
+        })
+    }
+}
+
+/// The checks with `overruns` so far at `now_s`.
 fn check_overruns(checks: &mut FaultChecks, now_s: f64, overruns: u64) -> Option<FaultCause> {
-    let inputs = healthy_inputs();
-    let steer = SteerCommand {
-        t_s: now_s,
-        ..SteerCommand::default()
-    };
-    let link = LinkStatus {
-        beat_s: now_s,
-        ..LinkStatus::default()
-    };
-    let health = ThreadHealth {
-        supervisor_overruns: overruns,
-        ..ThreadHealth::default()
-    };
-    checks.check(&CheckContext {
-        now_s,
-        tick_gap_s: 0.01,
-        mode: Mode::Halt,
-        mode_since_s: 0.0,
-        power: PowerState::On,
-        inputs: &inputs,
-        measured: &Measured::default(),
-        driven_v: [0.0; 3],
-        relay_closed: true,
-        expected_mps: [0.0; 2],
-        counts_moved: [false; 3],
-        endswitch_hit: None,
-        steer: &steer,
-        link: &link,
-        health: &health,
-    })
+    Scene {
+        overruns,
+        ..Scene::at(now_s)
+    }
+    .check(checks)
 }
 
 fn checks() -> (FaultChecks, RtSettings) {
@@ -74,45 +113,20 @@ fn still_encoders(
     seconds: f64,
 ) -> Option<FaultCause> {
     let (mut checks, _) = checks();
-    let inputs = healthy_inputs();
-    let link = LinkStatus::default();
-    let health = ThreadHealth::default();
-    for k in 1..=(seconds * 100.0) as usize {
+    (1..=(seconds * 100.0) as usize).find_map(|k| {
         let now_s = k as f64 * 0.01;
-        let measured = Measured {
-            pot_angle_filtered_rad: (pot_dps * now_s).to_radians(),
-            ..Measured::default()
-        };
-        let steer = SteerCommand {
-            t_s: now_s,
-            ..SteerCommand::default()
-        };
-        let link = LinkStatus {
-            beat_s: now_s,
-            ..link
-        };
-        let found = checks.check(&CheckContext {
-            now_s,
-            tick_gap_s: 0.01,
+        let scene = Scene {
             mode: Mode::Joystick,
-            mode_since_s: 0.0,
-            power: PowerState::On,
-            inputs: &inputs,
-            measured: &measured,
+            measured: Measured {
+                pot_angle_filtered_rad: (pot_dps * now_s).to_radians(),
+                ..Measured::default()
+            },
             driven_v,
-            relay_closed: true,
             expected_mps,
-            counts_moved: [false; 3],
-            endswitch_hit: None,
-            steer: &steer,
-            link: &link,
-            health: &health,
-        });
-        if found.is_some() {
-            return found;
-        }
-    }
-    None
+            ..Scene::at(now_s)
+        };
+        scene.check(&mut checks)
+    })
 }
 
 fn healthy_inputs() -> Inputs {
@@ -156,36 +170,17 @@ fn steering_that_turns_while_its_encoder_stands_is_a_stuck_encoder() {
 
 /// One tick `gap_s` after the previous one, the relay as given: the cause found.
 fn tick_after(checks: &mut FaultChecks, now_s: f64, gap_s: f64, relay: bool) -> Option<FaultCause> {
-    let inputs = healthy_inputs();
-    let steer = SteerCommand {
-        t_s: now_s,
-        ..SteerCommand::default()
-    };
-    let link = LinkStatus {
-        beat_s: now_s,
-        ..LinkStatus::default()
-    };
-    checks.check(&CheckContext {
-        now_s,
+    Scene {
         tick_gap_s: gap_s,
-        mode: Mode::Halt,
-        mode_since_s: 0.0,
         power: if relay {
             PowerState::On
         } else {
             PowerState::Off
         },
-        inputs: &inputs,
-        measured: &Measured::default(),
-        driven_v: [0.0; 3],
         relay_closed: relay,
-        expected_mps: [0.0; 2],
-        counts_moved: [false; 3],
-        endswitch_hit: None,
-        steer: &steer,
-        link: &link,
-        health: &ThreadHealth::default(),
-    })
+        ..Scene::at(now_s)
+    }
+    .check(checks)
 }
 
 #[test]
