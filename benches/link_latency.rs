@@ -12,11 +12,11 @@ use std::time::{Duration, Instant};
 
 use crossbeam_channel::bounded;
 use mechweed::camlink::thread::LinkThread;
-use mechweed::camlink::transport::CameraPort;
 use mechweed::camlink::{LinkCore, LinkStatus};
+use mechweed::config::CameraPort;
 use mechweed::config::Settings;
 use mechweed::state::shared;
-use mechweed::steer::SteerCommand;
+use mechweed::status::Status;
 use mechweed_hw::camproto::{RowEstimate, encode_row};
 use serialport::{SerialPort, TTYPort};
 
@@ -31,7 +31,7 @@ fn main() {
     let (mut master, slave) = TTYPort::pair().expect("a pseudo-terminal");
     master.set_timeout(Duration::from_millis(5)).unwrap();
     let (status_w, status_r) = shared(LinkStatus::default());
-    let (_steer_w, steer_r) = shared(SteerCommand::default());
+    let (_robot_w, robot_r) = shared(Status::default());
     let (estimate_tx, estimate_rx) = bounded(1);
     let (_ping_tx, ping_rx) = bounded(1);
     let stop = Arc::new(AtomicBool::new(false));
@@ -46,7 +46,7 @@ fn main() {
         new_estimate: estimate_tx,
         ping_requests: ping_rx,
         status: status_w,
-        steer: steer_r,
+        robot: robot_r,
         panics: Default::default(),
         // As in the program (where the system grants it; it runs on without).
         priority: Settings::shipped().rt.camlink_priority,

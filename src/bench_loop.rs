@@ -9,10 +9,11 @@ use std::sync::atomic::AtomicBool;
 use serde::Serialize;
 
 use crate::config::Settings;
+use crate::console::run;
 use crate::modes::Mode;
 use crate::report::loop_line;
 use crate::rt::{LiuLayland, LoopSummary, liu_layland};
-use crate::run::{RunOptions, run};
+use crate::run::RunOptions;
 
 #[derive(Debug, Serialize)]
 pub struct LoopBench {
@@ -47,7 +48,7 @@ pub fn bench_loop(
     let outcome = if gui {
         crate::gui::run_gui(&options, None, stop)?
     } else {
-        run(&options, stop)?
+        run(&options, stop).map_err(|e| e.to_string())?
     };
     Ok(LoopBench {
         rate_hz,

@@ -7,8 +7,8 @@ use std::time::{Duration, Instant};
 
 use serialport::{SerialPort, TTYPort};
 
-use crate::camlink::transport::BAUD_RATES;
 use crate::camsim::{CamSim, CamSimOptions, Pattern, serve};
+use crate::config::BAUD_RATES;
 
 /// A read waits at most this long, so frames go out on time.
 const POLL: Duration = Duration::from_millis(5);

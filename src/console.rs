@@ -8,8 +8,17 @@ use std::time::Duration;
 
 use crate::operator::OperatorScript;
 use crate::rt::liu_layland;
-use crate::run::{Handles, RunOptions};
+use crate::run::{Handles, RunError, RunOptions, RunOutcome, start};
 use crate::state::Reader;
+
+/// Run the controller with the headless console until `duration_s` or until `stop` is
+/// set; an error if the hardware or the camera port cannot be set up (nothing has
+/// started then).
+pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, RunError> {
+    let (handles, running) = start(opts, stop.clone())?;
+    operate(opts, &handles, &stop, || running.any_thread_ended());
+    Ok(running.finish())
+}
 
 const POLL: Duration = Duration::from_millis(10);
 
@@ -60,7 +69,7 @@ pub fn operate(
         if status.notice != notice_seen {
             notice_seen = status.notice;
             if let Some(notice) = status.notice {
-                println!("{now_s:7.2} s  {}", crate::report::notice_text(&notice));
+                println!("{now_s:7.2} s  {}", notice);
             }
         }
         if opts.status_every_s > 0.0 && now_s >= next_line_s {

@@ -9,9 +9,10 @@ use clap::{Parser, Subcommand, ValueEnum};
 
 use mechweed::bench_rows;
 use mechweed::config::{Backend, ConfigError, DEFAULT_INI, Settings};
+use mechweed::console::run;
 use mechweed::modes::Mode;
 use mechweed::report::Report;
-use mechweed::run::{RunOptions, run};
+use mechweed::run::RunOptions;
 
 #[derive(Parser)]
 #[command(
@@ -234,7 +235,7 @@ fn run_command(args: RunArgs) -> ExitCode {
         inject: None,
     };
     let outcome = if args.headless {
-        run(&options, stop)
+        run(&options, stop).map_err(|e| e.to_string())
     } else {
         mechweed::gui::run_gui(&options, settings_file(args.config.as_deref()), stop)
     };

@@ -7,9 +7,9 @@ use std::io::{BufRead, Write};
 use mechweed_hw::sim::{EventAction, OperatorMode, SimEvent};
 
 use crate::config::Backend;
-use crate::faults::PowerState;
 use crate::modes::{Mode, Request};
-use crate::supervisor::Status;
+use crate::status::PowerState;
+use crate::status::Status;
 
 pub struct OperatorScript {
     events: Vec<SimEvent>,

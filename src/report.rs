@@ -1,13 +1,13 @@
 //! The run report: a short summary for a person at exit, and JSON for scripts.
 
 use mechweed_hw::camproto::LinkCounters;
-use mechweed_hw::sim::{CrossTrackSummary, Side};
+use mechweed_hw::sim::CrossTrackSummary;
 use serde::Serialize;
 
 use crate::record::RecordOutcome;
 use crate::rt::{LiuLayland, LoopSummary, liu_layland};
 use crate::run::RunOutcome;
-use crate::supervisor::Notice;
+use crate::status::Notice;
 
 #[derive(Debug, Serialize)]
 pub struct FaultEntry {
@@ -60,20 +60,6 @@ pub struct Report {
     pub record: RecordOutcome,
 }
 
-pub fn notice_text(notice: &Notice) -> String {
-    match notice {
-        Notice::EndSwitchRecovered { side, .. } => {
-            let side = match side {
-                Side::Left => "left",
-                Side::Right => "right",
-            };
-            format!(
-                "the steering hit the {side} end switch: robot stopped, steering moved back off it, now in halt"
-            )
-        }
-    }
-}
-
 /// One loop's figures on one line.
 pub fn loop_line(name: &str, l: &LoopSummary) -> String {
     let (late, exec) = (&l.late_us, &l.exec_us);
@@ -115,7 +101,7 @@ impl Report {
                     t_s: match n {
                         Notice::EndSwitchRecovered { t_s, .. } => *t_s,
                     },
-                    what: notice_text(n),
+                    what: n.to_string(),
                 })
                 .collect(),
             distance_m: run.final_status.measured.distance_m,

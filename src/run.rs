@@ -5,49 +5,27 @@
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::thread::JoinHandle;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use crossbeam_channel::{Sender, bounded};
 use mechweed_hw::Hw;
 use mechweed_hw::sim::{CrossTrackSummary, SimControl, SimHw, SimRobot, TruthHandle, byte_pipe};
 
 use crate::camlink::thread::LinkThread;
-use crate::camlink::transport::CameraPort;
 use crate::camlink::{LinkCore, LinkStatus, simwire};
+use crate::config::CameraPort;
 use crate::config::{Backend, RtSettings, Settings, SteerSettings};
-use crate::console;
 use crate::health::{self, PanicFlag, ThreadName};
-use crate::modes::{Mode, Refusal, Request};
+use crate::inject::Injection;
+use crate::modes::Mode;
 use crate::record::{self, RecordOutcome, Recorder};
+use crate::request_channel::{self, SupervisorHandle};
 use crate::rt::{self, LoopSummary};
 use crate::state::{Reader, Writer, shared};
+use crate::status::{FaultRecord, Notice, Status};
 use crate::steer::{SteerCommand, SteerCore};
-use crate::supervisor::{FaultRecord, Notice, Status, Supervisor};
+use crate::supervisor::Supervisor;
 use crate::threads::{SteerThread, SupervisorThread};
-
-/// A request and where to send the supervisor's answer.
-pub(crate) type Envelope = (Request, Sender<Result<(), Refusal>>);
-
-/// How other threads (the operator script, later the GUI) talk to the supervisor.
-#[derive(Clone)]
-pub struct SupervisorHandle {
-    requests: Sender<Envelope>,
-    pub status: Reader<Status>,
-}
-
-impl SupervisorHandle {
-    /// Ask, and wait (at most a second) for the answer.
-    pub fn request(&self, request: Request) -> Result<(), String> {
-        let (reply_tx, reply_rx) = bounded(1);
-        self.requests
-            .send_timeout((request, reply_tx), Duration::from_secs(1))
-            .map_err(|_| "the supervisor is not taking requests".to_string())?;
-        match reply_rx.recv_timeout(Duration::from_secs(1)) {
-            Ok(answer) => answer.map_err(|refusal| refusal.to_string()),
-            Err(_) => Err("the supervisor did not answer".to_string()),
-        }
-    }
-}
 
 /// What an operator interface (the console or the GUI) reads and sends.
 pub struct Handles {
@@ -83,42 +61,18 @@ pub struct RunOptions {
     pub inject: Option<Injection>,
 }
 
-/// A deliberate failure, to test that the supervisor catches it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Injection {
-    pub thread: ThreadName,
-    pub at_s: f64,
-    pub action: Fail,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Fail {
-    Panic,
-    /// Stop beating (hang) until the run ends.
-    Stall,
-    /// Make every tick this much longer (supervisor only).
-    Slow {
-        ms: u64,
-    },
-    /// Stall once, for this long, as a hung card read would (supervisor only).
-    Pause {
-        ms: u64,
-    },
-}
-
-impl Injection {
-    /// Fail now, from the thread named.
-    pub fn strike(&self, stop: &AtomicBool) {
-        match self.action {
-            Fail::Panic => panic!("injected failure of the {} thread", self.thread.label()),
-            Fail::Stall => {
-                while !stop.load(Ordering::Relaxed) {
-                    std::thread::sleep(Duration::from_millis(10));
-                }
-            }
-            Fail::Slow { ms } | Fail::Pause { ms } => std::thread::sleep(Duration::from_millis(ms)),
-        }
-    }
+/// Why a run could not start (nothing has started then).
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The I/O cards could not be found or opened (every card's problem, one per line).
+    #[error("{0}")]
+    Cards(String),
+    #[error("cannot make a pseudo-terminal for the simulated camera computer: {0}")]
+    SimulatedCameraWire(std::io::Error),
+    #[error(
+        "[camera] port = sim needs the simulated robot: set [camera] port to the camera computer's serial device (e.g. /dev/ttyS0) or tcp://HOST:PORT"
+    )]
+    SimulatedCameraOnRealRobot,
 }
 
 /// What a run leaves behind for the report.
@@ -187,18 +141,9 @@ pub struct Running {
     stop: Arc<AtomicBool>,
 }
 
-/// Run the controller with the headless console until `duration_s` or until `stop` is
-/// set; an error if the hardware or the camera port cannot be set up (nothing has
-/// started then).
-pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, String> {
-    let (handles, running) = start(opts, stop.clone())?;
-    console::operate(opts, &handles, &stop, || running.any_thread_ended());
-    Ok(running.finish())
-}
-
 /// Start the controller's threads on the simulated robot; the caller is the operator
 /// interface (console or GUI) and calls `Running::finish` at the end.
-pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Running), String> {
+pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Running), RunError> {
     let s = &opts.settings;
     let (camera_end, robot_end) = byte_pipe(4096);
     let (hw, truth, sim_control): (Box<dyn Hw>, TruthHandle, Option<SimControl>) = match s.backend {
@@ -208,19 +153,22 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
             (Box::new(sim), truth, Some(control))
         }
         // No simulated camera computer, no truth and no simulator panel on the real robot.
-        Backend::Cards => (crate::backend::open_hw(s)?, TruthHandle::none(), None),
+        Backend::Cards => (
+            crate::backend::open_hw(s).map_err(RunError::Cards)?,
+            TruthHandle::none(),
+            None,
+        ),
     };
     // The simulated camera computer speaks through a pseudo-terminal, unless robot.ini
     // names a real port: then it stays unplugged and the port's camera computer is used.
     let (camera_port, cable) = match (&s.camera_port, s.backend) {
         (CameraPort::Sim, Backend::Sim) => {
-            let (path, cable) = simwire::start(robot_end, stop.clone()).map_err(|e| {
-                format!("cannot make a pseudo-terminal for the simulated camera computer: {e}")
-            })?;
+            let (path, cable) =
+                simwire::start(robot_end, stop.clone()).map_err(RunError::SimulatedCameraWire)?;
             (CameraPort::Serial { path, baud: 115200 }, Some(cable))
         }
         (CameraPort::Sim, Backend::Cards) => {
-            return Err("[camera] port = sim needs the simulated robot: set [camera] port to the camera computer's serial device (e.g. /dev/ttyS0) or tcp://HOST:PORT".to_string());
+            return Err(RunError::SimulatedCameraOnRealRobot);
         }
         (port, _) => (port.clone(), None),
     };
@@ -236,16 +184,12 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
     let (link_w, link_r) = shared(LinkStatus::default());
     let (gui_beat_w, gui_beat_r) = shared(f64::NAN);
     let (steer_settings_w, steer_settings_r) = shared(s.steer);
-    let (request_tx, request_rx) = bounded(16);
     let (estimate_tx, estimate_rx) = bounded(1);
     let (ping_tx, ping_rx) = bounded(1);
     let (new_steer_settings_tx, new_steer_settings_rx) = bounded(1);
     let (supervisor_figures_w, supervisor_figures) = shared(LoopSummary::default());
     let (steer_figures_w, steer_figures) = shared(LoopSummary::default());
-    let handle = SupervisorHandle {
-        requests: request_tx,
-        status: status_r.clone(),
-    };
+    let (handle, request_rx) = request_channel::channel(status_r.clone());
 
     let supervisor = SupervisorThread {
         hw,
@@ -290,7 +234,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         new_estimate: estimate_tx,
         ping_requests: ping_rx,
         status: link_w,
-        steer: steer_r.clone(),
+        robot: status_r.clone(),
         panics: panics.clone(),
         priority: priority(s.rt.camlink_priority),
         inject: opts.inject,

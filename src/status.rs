@@ -4,9 +4,20 @@
 use mechweed_hw::sim::Side;
 use mechweed_hw::{Inputs, Outputs};
 
-use crate::faults::{FaultCause, PowerState};
+use crate::fault_cause::FaultCause;
 use crate::measure::Measured;
 use crate::modes::Mode;
+
+/// The motor contactor as the supervisor commands it.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub enum PowerState {
+    Off,
+    /// Relay commanded closed at this time; waiting for motor power to appear.
+    Closing {
+        since_s: f64,
+    },
+    On,
+}
 
 /// One fault, as the report lists it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -24,6 +35,23 @@ pub struct FaultRecord {
 pub enum Notice {
     /// The end-switch procedure stopped the robot and steered back off this switch.
     EndSwitchRecovered { side: Side, t_s: f64 },
+}
+
+impl std::fmt::Display for Notice {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Notice::EndSwitchRecovered { side, .. } => {
+                let side = match side {
+                    Side::Left => "left",
+                    Side::Right => "right",
+                };
+                write!(
+                    f,
+                    "the steering hit the {side} end switch: robot stopped, steering moved back off it, now in halt"
+                )
+            }
+        }
+    }
 }
 
 /// What the supervisor publishes every tick for the other threads.

@@ -12,9 +12,10 @@ use mechweed_hw::{Hw, Outputs};
 use crate::camlink::LinkStatus;
 use crate::config::SteerSettings;
 use crate::health::{self, PanicFlag, ThreadHealth, ThreadName};
+use crate::inject::{Fail, Injection};
 use crate::record::RecordTap;
+use crate::request_channel::{Envelope, RequestReceiver};
 use crate::rt::{self, LoopSummary, Periodic};
-use crate::run::{Envelope, Fail, Injection};
 use crate::state::{Latest, Reader, Writer};
 use crate::status::Status;
 use crate::steer::{SteerCommand, SteerCore};
@@ -38,7 +39,7 @@ pub(crate) struct SupervisorThread {
     pub(crate) core: Supervisor,
     pub(crate) rate_hz: f64,
     pub(crate) clock: Instant,
-    pub(crate) requests: Receiver<Envelope>,
+    pub(crate) requests: RequestReceiver,
     pub(crate) status: Writer<Status>,
     pub(crate) steer: Reader<SteerCommand>,
     pub(crate) link: Reader<LinkStatus>,
@@ -91,8 +92,8 @@ impl SupervisorThread {
             periodic.wait();
             let now_s = clock.elapsed().as_secs_f64();
             let lock_start = rt::monotonic_ns();
-            while let Ok((request, reply)) = requests.try_recv() {
-                let _ = reply.try_send(core.handle(request));
+            while let Ok(Envelope { request, reply }) = requests.try_recv() {
+                let _ = reply.try_send((request, core.handle(request)));
                 if let Some(accepted) = core.take_steer_settings() {
                     // One place, bounded: a newer set replaces one not yet taken.
                     let _ = steer_settings.try_send(accepted);

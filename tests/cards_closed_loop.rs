@@ -7,7 +7,7 @@
 mod common;
 
 use common::settings_with;
-use mechweed::faults::FaultCause;
+use mechweed::fault_cause::FaultCause;
 use mechweed::lockstep::{Io, Lockstep};
 use mechweed::modes::Mode;
 use mechweed_hw::Outputs;

@@ -8,7 +8,7 @@ use std::process::Command;
 
 use common::settings_with;
 use mechweed::config::Settings;
-use mechweed::faults::FaultCause;
+use mechweed::fault_cause::FaultCause;
 use mechweed::lockstep::{Io, Lockstep};
 use mechweed::modes::Mode;
 use mechweed_hw::emulated::CardRig;

@@ -5,7 +5,7 @@
 mod common;
 
 use common::{autonomous, record, settings_with};
-use mechweed::faults::{FaultCause, JoystickAxis};
+use mechweed::fault_cause::{FaultCause, JoystickAxis};
 use mechweed::health::ThreadHealth;
 use mechweed::lockstep::Lockstep;
 use mechweed::modes::Mode;

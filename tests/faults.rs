@@ -4,13 +4,13 @@
 mod common;
 
 use common::{Tick, autonomous, record, settings_with};
-use mechweed::faults::FaultCause;
+use mechweed::fault_cause::FaultCause;
 use mechweed::modes::{Mode, Request};
 use mechweed_hw::Outputs;
 use mechweed_hw::sim::EncoderId;
 
 /// Run the default row in autonomous mode with `events`; return the ticks and the log.
-fn scenario(events: &str, seconds: f64) -> (Vec<Tick>, Vec<mechweed::supervisor::FaultRecord>) {
+fn scenario(events: &str, seconds: f64) -> (Vec<Tick>, Vec<mechweed::status::FaultRecord>) {
     let settings = settings_with(events, &[]);
     let mut sim = autonomous(&settings);
     let ticks = record(&mut sim, seconds);

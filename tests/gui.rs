@@ -10,11 +10,12 @@ use std::time::{Duration, Instant};
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
 use mechweed::config::Settings;
-use mechweed::faults::{FaultCause, PowerState};
+use mechweed::fault_cause::FaultCause;
 use mechweed::gui::app::Tab;
 use mechweed::gui::{Controller, GuiApp};
 use mechweed::modes::Mode;
 use mechweed::run::{Handles, RunOptions, RunOutcome, Running, start};
+use mechweed::status::PowerState;
 use mechweed_hw::Outputs;
 
 struct Gui {

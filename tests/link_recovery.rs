@@ -10,11 +10,13 @@ use std::time::{Duration, Instant};
 
 use crossbeam_channel::bounded;
 use mechweed::camlink::thread::LinkThread;
-use mechweed::camlink::transport::{CameraPort, Resolver, system_resolver};
+use mechweed::camlink::transport::{Resolver, system_resolver};
 use mechweed::camlink::{LinkCore, LinkProblem, LinkStatus, OpenStep};
+use mechweed::config::CameraPort;
 use mechweed::config::Settings;
+use mechweed::modes::Mode;
 use mechweed::state::{Reader, shared};
-use mechweed::steer::SteerCommand;
+use mechweed::status::Status;
 use mechweed_hw::camproto::{CMD_PING, CMD_START, RowEstimate, encode_pong, encode_row};
 use serialport::{SerialPort, TTYPort};
 
@@ -29,10 +31,10 @@ fn start_link_resolving(
     resolve: Resolver,
 ) -> (Reader<LinkStatus>, Arc<AtomicBool>) {
     let (status_w, status_r) = shared(LinkStatus::default());
-    let (steer_w, steer_r) = shared(SteerCommand::default());
-    steer_w.publish(&SteerCommand {
-        wants_rows: true,
-        ..SteerCommand::default()
+    // A robot driving: the link streams rows.
+    let (robot_w, robot_r) = shared(Status {
+        mode: Mode::Autonomous,
+        ..Status::default()
     });
     let (estimate_tx, _estimate_rx) = bounded(1);
     let (_ping_tx, ping_rx) = bounded(1);
@@ -45,14 +47,14 @@ fn start_link_resolving(
         new_estimate: estimate_tx,
         ping_requests: ping_rx,
         status: status_w,
-        steer: steer_r,
+        robot: robot_r,
         panics: Default::default(),
         priority: 0,
         inject: None,
         stop: stop.clone(),
     };
     std::thread::spawn(move || {
-        let _keep_steer_writer = steer_w;
+        let _keep_robot_writer = robot_w;
         link.run();
     });
     (status_r, stop)

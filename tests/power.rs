@@ -5,9 +5,10 @@
 mod common;
 
 use common::{autonomous, record, settings_with};
-use mechweed::faults::{FaultCause, PowerState};
+use mechweed::fault_cause::FaultCause;
 use mechweed::lockstep::Lockstep;
 use mechweed::modes::{Mode, Request};
+use mechweed::status::PowerState;
 use mechweed_hw::Outputs;
 use mechweed_hw::sim::EncoderId;
 

@@ -71,7 +71,7 @@ fn steering_is_calibrated_before_any_motion() {
     sim.tick();
     assert_eq!(
         sim.supervisor.status().power,
-        mechweed::faults::PowerState::On
+        mechweed::status::PowerState::On
     );
     assert_eq!(
         sim.request(Request::Mode(Mode::Joystick)),

@@ -6,10 +6,12 @@ use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, Mutex};
 
 use mechweed::config::Settings;
-use mechweed::faults::FaultCause;
+use mechweed::console::run;
+use mechweed::fault_cause::FaultCause;
 use mechweed::health::ThreadName;
+use mechweed::inject::{Fail, Injection};
 use mechweed::modes::Mode;
-use mechweed::run::{Fail, Injection, RunOptions, RunOutcome, run};
+use mechweed::run::{RunOptions, RunOutcome};
 use mechweed_hw::Outputs;
 
 /// One run at a time: several real-time runs side by side on a small machine overrun

@@ -12,7 +12,8 @@ use std::time::Duration;
 use crossbeam_channel::{Receiver, RecvTimeoutError, unbounded};
 
 use super::OpenStep;
-use super::transport::{ByteStream, CameraPort, Resolver, open};
+use super::transport::{ByteStream, Resolver, open};
+use crate::config::CameraPort;
 
 /// What the helper thread says.
 enum Message {

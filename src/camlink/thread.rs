@@ -13,13 +13,14 @@ use std::time::{Duration, Instant};
 use crossbeam_channel::{Receiver, Sender};
 
 use super::opener::{Heard, Opening};
-use super::transport::{ByteStream, CameraPort, Resolver};
+use super::transport::{ByteStream, Resolver};
 use super::{LinkCore, LinkProblem, LinkStatus, OpenStep};
+use crate::config::CameraPort;
 use crate::health::{self, PanicFlag, ThreadName};
+use crate::inject::Injection;
 use crate::rt;
-use crate::run::Injection;
 use crate::state::{Reader, Writer};
-use crate::steer::SteerCommand;
+use crate::status::Status;
 
 /// A read waits at most this long for a byte, so commands go out without delay.
 const READ_TIMEOUT: Duration = Duration::from_millis(10);
@@ -37,7 +38,9 @@ pub struct LinkThread {
     /// Link tests asked for (the GUI's "Test link" button).
     pub ping_requests: Receiver<()>,
     pub status: Writer<LinkStatus>,
-    pub steer: Reader<SteerCommand>,
+    /// The supervisor's status: the link streams rows while the robot drives, so that
+    /// switching from joystick to autonomous finds a fresh estimate at hand.
+    pub robot: Reader<Status>,
     pub panics: Arc<PanicFlag>,
     /// SCHED_FIFO priority (0 = normal).
     pub priority: u8,
@@ -153,7 +156,9 @@ impl LinkThread {
             ping_due |= self.ping_requests.try_recv().is_ok();
             let ping = ping_due.then(|| self.core.ping(now_s));
             ping_due = false;
-            let command = self.core.command(self.steer.snapshot().wants_rows, now_s);
+            let command = self
+                .core
+                .command(self.robot.snapshot().mode.drives(), now_s);
             for byte in [ping, command].into_iter().flatten() {
                 if let Err(e) = stream.write_all(&[byte]) {
                     return Some(LinkProblem::Vanished(e.kind()));

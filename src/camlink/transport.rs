@@ -7,60 +7,7 @@ use std::net::{SocketAddr, TcpStream, ToSocketAddrs};
 use std::time::Duration;
 
 use super::OpenStep;
-
-/// Baud rates the camera computer can be set to (camera-link.md).
-pub const BAUD_RATES: [u32; 5] = [9600, 19200, 38400, 57600, 115200];
-
-/// Where to find the camera computer: robot.ini [camera] port.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum CameraPort {
-    /// The simulated camera computer of the simulated robot, on a pseudo-terminal.
-    Sim,
-    /// A serial device such as /dev/ttyS0 or /dev/ttyUSB0.
-    Serial { path: String, baud: u32 },
-    /// A camera computer's TCP port, as HOST:PORT.
-    Tcp { address: String },
-}
-
-impl CameraPort {
-    /// Read the [camera] port setting: `sim`, a device path, or `tcp://HOST:PORT`.
-    pub fn parse(text: &str, baud: u32) -> Result<CameraPort, String> {
-        if text == "sim" {
-            return Ok(CameraPort::Sim);
-        }
-        if let Some(address) = text.strip_prefix("tcp://") {
-            let port_ok = address.rsplit_once(':').is_some_and(|(host, port)| {
-                !host.is_empty() && port.parse::<u16>().is_ok_and(|p| p > 0)
-            });
-            if !port_ok {
-                return Err(format!(
-                    "'{text}' is not tcp://HOST:PORT (for example tcp://192.168.1.20:5000)"
-                ));
-            }
-            return Ok(CameraPort::Tcp {
-                address: address.to_string(),
-            });
-        }
-        if text.starts_with('/') {
-            return Ok(CameraPort::Serial {
-                path: text.to_string(),
-                baud,
-            });
-        }
-        Err(format!(
-            "'{text}' is not sim, a device such as /dev/ttyS0, or tcp://HOST:PORT"
-        ))
-    }
-
-    /// For messages.
-    pub fn describe(&self) -> String {
-        match self {
-            CameraPort::Sim => "the simulated camera computer".to_string(),
-            CameraPort::Serial { path, baud } => format!("{path} at {baud} baud"),
-            CameraPort::Tcp { address } => format!("tcp://{address}"),
-        }
-    }
-}
+use crate::config::CameraPort;
 
 /// A byte stream to the camera computer, with reads that time out.
 pub trait ByteStream: Read + Write + Send {}

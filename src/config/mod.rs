@@ -2,6 +2,7 @@
 //! and its unit; there are no hidden defaults in the code, so what the file says is
 //! what the robot does. Errors name the file, line, section and key.
 
+mod camera_port;
 mod checks;
 mod io;
 mod lines;
@@ -11,10 +12,10 @@ mod sim;
 
 use std::path::Path;
 
+pub use camera_port::{BAUD_RATES, CameraPort};
 pub use reader::ConfigError;
 pub use record::{RecordFormats, RecordSettings};
 
-use crate::camlink::transport::{BAUD_RATES, CameraPort};
 use reader::Reader;
 
 /// The settings file shipped with the program, used when no file is given and

@@ -5,30 +5,17 @@
 //! Checks that must see a condition for some time (a battery sagging, an encoder not
 //! counting) keep a timer here; their times are settings in robot.ini [faults].
 
-mod cause;
-
 use mechweed_hw::Inputs;
 use mechweed_hw::sim::{EncoderId, Side};
 
-pub use cause::{FaultCause, JoystickAxis};
-
 use crate::camlink::LinkStatus;
 use crate::config::{CameraSettings, FaultSettings, RtSettings, Settings};
+use crate::fault_cause::{FaultCause, JoystickAxis};
 use crate::health::{ThreadHealth, ThreadName};
 use crate::measure::Measured;
 use crate::modes::Mode;
+use crate::status::PowerState;
 use crate::steer::{EndSwitchState, SteerCommand};
-
-/// The motor contactor as the supervisor commands it.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub enum PowerState {
-    Off,
-    /// Relay commanded closed at this time; waiting for motor power to appear.
-    Closing {
-        since_s: f64,
-    },
-    On,
-}
 
 /// What the checks look at, gathered by the supervisor each tick.
 pub struct CheckContext<'a> {

@@ -23,8 +23,8 @@ use crate::operator::{OperatorScript, needs_confirmation};
 use crate::rt::LoopSummary;
 use crate::run::{Handles, RunOptions, start};
 use crate::state::Reader;
+use crate::status::Status;
 use crate::steer::SteerCommand;
-use crate::supervisor::Status;
 
 /// Repaint period while the robot may move (about 30 Hz) and while it stands, s.
 const FRAME_MOVING: Duration = Duration::from_millis(33);

@@ -117,10 +117,10 @@ pub fn show(ui: &mut egui::Ui, view: &View, handles: &Handles, feedback: &mut Op
     ui.add_space(4.0);
 }
 
-pub fn power_text(power: crate::faults::PowerState) -> &'static str {
+pub fn power_text(power: crate::status::PowerState) -> &'static str {
     match power {
-        crate::faults::PowerState::Off => "off",
-        crate::faults::PowerState::Closing { .. } => "closing",
-        crate::faults::PowerState::On => "on",
+        crate::status::PowerState::Off => "off",
+        crate::status::PowerState::Closing { .. } => "closing",
+        crate::status::PowerState::On => "on",
     }
 }

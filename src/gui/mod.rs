@@ -63,7 +63,8 @@ pub fn run_gui(
     }
     // The controller's own stop flag: a reset stops one controller and starts another,
     // while `stop` (Ctrl-C) closes the window.
-    let (handles, running) = start(opts, Arc::new(AtomicBool::new(false)))?;
+    let (handles, running) =
+        start(opts, Arc::new(AtomicBool::new(false))).map_err(|e| e.to_string())?;
     running.watch_this_thread_as(ThreadName::Gui);
     let controller: Controller = Arc::new(Mutex::new(Some(running)));
     let app = GuiApp::new(handles, opts, settings_file, stop, controller.clone());

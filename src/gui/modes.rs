@@ -1,13 +1,14 @@
 //! Mode buttons, enabled only where the supervisor's state machine allows, each with the
-//! reason when it is not: the GUI asks the supervisor's own rules (`modes::why_not`,
-//! `modes::power_up_refusal`), so the two cannot disagree.
+//! reason when it is not: the GUI asks the supervisor's own rules (`supervisor::rules::why_not`,
+//! `power_up_refusal`), so the two cannot disagree.
 
 use eframe::egui::{self, RichText};
 
 use super::app::{Feedback, View, ask};
 use super::header::mode_colour;
-use crate::modes::{Mode, Request, power_up_refusal, why_not};
+use crate::modes::{Mode, Request};
 use crate::run::Handles;
+use crate::supervisor::rules::{power_up_refusal, why_not};
 
 /// A wide button that may be disabled, with the reason in small text under it.
 fn button_with_reason(ui: &mut egui::Ui, label: RichText, why_not: Option<String>) -> bool {

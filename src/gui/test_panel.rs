@@ -16,8 +16,9 @@ use mechweed_hw::Outputs;
 
 use super::app::{Feedback, View, ask};
 use super::status::inputs_grid;
-use crate::modes::{Mode, Request, why_not};
+use crate::modes::{Mode, Request};
 use crate::run::Handles;
+use crate::supervisor::rules::why_not;
 
 /// A step waits this long at 0 V before jumping, so the plot shows the jump, s.
 const STEP_DELAY_S: f64 = 1.0;

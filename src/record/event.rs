@@ -2,9 +2,9 @@
 //! notices, and ticks the record could not keep. Events are rare, so they travel on
 //! their own queue and are not lost when the tick queue is full.
 
-use crate::faults::FaultCause;
+use crate::fault_cause::FaultCause;
 use crate::modes::Mode;
-use crate::supervisor::Notice;
+use crate::status::Notice;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum EventKind {
@@ -46,7 +46,7 @@ impl RecordEvent {
         match self.kind {
             EventKind::Mode { from, to } => format!("{from} -> {to}"),
             EventKind::Fault(cause) => cause.to_string(),
-            EventKind::Notice(notice) => crate::report::notice_text(&notice),
+            EventKind::Notice(notice) => notice.to_string(),
             EventKind::Dropped { ticks } => {
                 format!("{ticks} ticks not recorded: the recorder fell behind")
             }

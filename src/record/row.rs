@@ -5,9 +5,9 @@
 use mechweed_hw::sim::{Side, Truth};
 
 use crate::camlink::LinkStatus;
-use crate::faults::PowerState;
+use crate::status::PowerState;
+use crate::status::Status;
 use crate::steer::SteerCommand;
-use crate::supervisor::Status;
 
 /// What the supervisor thread hands to the recorder for one tick: plain copies, so
 /// handing it over never allocates.

@@ -12,8 +12,8 @@ use super::event::{EventKind, RecordEvent};
 use super::row::TickSample;
 use crate::camlink::LinkStatus;
 use crate::modes::Mode;
+use crate::status::{Notice, Status};
 use crate::steer::SteerCommand;
-use crate::supervisor::{Notice, Status};
 
 /// What to do when the queue is full.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

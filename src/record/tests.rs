@@ -16,8 +16,8 @@ use crate::camlink::LinkStatus;
 use crate::config::Settings;
 use crate::lockstep::Lockstep;
 use crate::modes::Mode;
+use crate::status::Status;
 use crate::steer::SteerCommand;
-use crate::supervisor::Status;
 
 /// A writer on a slow disk: each tick takes 20 ms while `slow` is set.
 struct SlowSink {

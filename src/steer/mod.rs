@@ -12,7 +12,7 @@ use mechweed_hw::sim::Side;
 use crate::camlink::LinkStatus;
 use crate::config::{Settings, SteerSettings};
 use crate::modes::Mode;
-use crate::supervisor::Status;
+use crate::status::Status;
 use endswitch::EndSwitchProcedure;
 pub use endswitch::EndSwitchState;
 use law::{LawOutput, Motion, RowFollower};

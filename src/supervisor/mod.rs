@@ -9,6 +9,7 @@
 
 mod endswitch;
 mod requests;
+pub mod rules;
 pub mod test_mode;
 
 use mechweed_hw::{Inputs, Outputs};
@@ -16,15 +17,15 @@ use mechweed_hw::{Inputs, Outputs};
 use crate::camlink::LinkStatus;
 use crate::config::Settings;
 use crate::config::SteerSettings;
-use crate::faults::{CheckContext, FaultCause, FaultChecks, PowerState};
+use crate::fault_cause::FaultCause;
+use crate::faults::{CheckContext, FaultChecks};
 use crate::health::ThreadHealth;
 use crate::measure::Measurement;
 use crate::modes::{Gains, Mode};
 use crate::pid::{Pd, Pi};
+use crate::status::{FaultRecord, Notice, PowerState, Status};
 use crate::steer::SteerCommand;
 use endswitch::{EndSwitchLatch, guard_steering};
-
-pub use crate::status::{FaultRecord, Notice, Status};
 
 /// Faults and notices kept for the report; fixed capacity so the tick never allocates.
 const LOG_CAPACITY: usize = 256;

@@ -2,8 +2,11 @@
 //! script, the command line): the same refusal rules the GUI greys its buttons with
 //! (modes.rs), then the change, all between two ticks.
 
-use crate::faults::{FaultCause, PowerState};
-use crate::modes::{Gains, Mode, Refusal, Request, mode_refusal, power_up_refusal};
+use crate::fault_cause::FaultCause;
+use crate::modes::{Gains, Mode, Refusal, Request};
+use crate::status::PowerState;
+
+use super::rules::{mode_refusal, power_up_refusal};
 
 use super::Supervisor;
 use super::test_mode;

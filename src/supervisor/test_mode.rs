@@ -12,7 +12,7 @@
 use mechweed_hw::Outputs;
 
 use crate::config::PiSettings;
-use crate::faults::PowerState;
+use crate::status::PowerState;
 
 /// The amplifiers take -10..+10 V: whatever the test panel asks, never more.
 pub const AMPLIFIER_MAX_V: f64 = 10.0;

@@ -1,5 +1,5 @@
 //! Why the robot stopped: every fault cause, in words a field technician understands.
-//! The checks that find them are in the module above (faults/mod.rs).
+//! The checks that find them are in faults/mod.rs.
 
 use std::fmt;
 

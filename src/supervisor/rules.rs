@@ -1,0 +1,95 @@
+//! The supervisor's rules for the operator's requests: why a mode or a power-up would
+//! be refused now. The supervisor decides with them (requests.rs), and the GUI asks
+//! them to grey out a button and say why, so that the two never disagree.
+
+use crate::modes::{Mode, Refusal};
+use crate::status::{PowerState, Status};
+
+/// Below this the robot counts as standing, m/s.
+pub const STANDING_MPS: f64 = 0.01;
+
+/// The supervisor's rule for a mode request: why it would refuse `wanted` now, or None.
+pub fn mode_refusal(wanted: Mode, st: &Status) -> Option<Refusal> {
+    if st.tick == 0 {
+        return Some(Refusal::NotStarted);
+    }
+    match wanted {
+        Mode::Fault => Some(Refusal::FaultIsNotAMode),
+        _ if st.mode == Mode::Fault => Some(Refusal::FaultLatched(st.fault.map(|f| f.cause))),
+        Mode::Halt => None,
+        Mode::Test if st.mode != Mode::Halt => Some(Refusal::OnlyFromHalt(st.mode)),
+        Mode::Test if st.measured.speed_mps.abs() > STANDING_MPS => Some(Refusal::NotStanding),
+        Mode::Test => None,
+        // Joystick or Autonomous: from Halt, or switching between the two.
+        _ if !(st.mode == Mode::Halt || st.mode.drives()) => Some(Refusal::OnlyFromHalt(st.mode)),
+        _ if st.power != PowerState::On => Some(Refusal::NotPowered),
+        _ if !st.measured.calibrated => Some(Refusal::NotCalibrated),
+        _ => None,
+    }
+}
+
+/// The supervisor's rule for `PowerUp`: why it would refuse now, or None.
+pub fn power_up_refusal(st: &Status) -> Option<Refusal> {
+    if st.tick == 0 {
+        return Some(Refusal::NotStarted);
+    }
+    if let Some(cause) = st.standing_cause {
+        return Some(Refusal::CauseStillActive(cause));
+    }
+    if st.mode != Mode::Fault && st.power != PowerState::Off {
+        return Some(Refusal::AlreadyPowered);
+    }
+    None
+}
+
+/// Why the operator cannot have `wanted` now, in words; None if the supervisor would take it.
+pub fn why_not(wanted: Mode, st: &Status) -> Option<String> {
+    mode_refusal(wanted, st).map(|r| r.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fault_cause::FaultCause;
+
+    #[test]
+    fn why_not_says_what_the_supervisor_would_refuse() {
+        let mut st = Status::default();
+        assert_eq!(mode_refusal(Mode::Halt, &st), Some(Refusal::NotStarted));
+        assert_eq!(power_up_refusal(&st), Some(Refusal::NotStarted));
+        st.tick = 1;
+        assert_eq!(
+            why_not(Mode::Autonomous, &st).as_deref(),
+            Some("motor power is off: press Power up first")
+        );
+        assert_eq!(why_not(Mode::Test, &st), None, "test needs no power");
+        assert_eq!(why_not(Mode::Halt, &st), None);
+        st.power = PowerState::On;
+        assert_eq!(
+            why_not(Mode::Joystick, &st).as_deref(),
+            Some("the steering is still being calibrated")
+        );
+        st.measured.calibrated = true;
+        assert_eq!(why_not(Mode::Joystick, &st), None);
+        assert_eq!(power_up_refusal(&st), Some(Refusal::AlreadyPowered));
+        st.mode = Mode::Autonomous;
+        st.measured.speed_mps = 0.5;
+        assert_eq!(
+            mode_refusal(Mode::Test, &st),
+            Some(Refusal::OnlyFromHalt(Mode::Autonomous))
+        );
+        st.mode = Mode::Halt;
+        assert_eq!(mode_refusal(Mode::Test, &st), Some(Refusal::NotStanding));
+        st.mode = Mode::Fault;
+        st.standing_cause = Some(FaultCause::EstopBack);
+        assert_eq!(
+            power_up_refusal(&st),
+            Some(Refusal::CauseStillActive(FaultCause::EstopBack))
+        );
+        assert!(
+            why_not(Mode::Halt, &st)
+                .unwrap()
+                .starts_with("a fault is latched")
+        );
+    }
+}
