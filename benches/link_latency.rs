@@ -11,7 +11,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use crossbeam_channel::bounded;
-use mechweed::camlink::thread::LinkThread;
+use mechweed::camlink::thread::{LinkThread, LinkWires};
 use mechweed::camlink::{LinkCore, LinkStatus};
 use mechweed::config::CameraPort;
 use mechweed::config::Settings;
@@ -35,24 +35,22 @@ fn main() {
     let (estimate_tx, estimate_rx) = bounded(1);
     let (_ping_tx, ping_rx) = bounded(1);
     let stop = Arc::new(AtomicBool::new(false));
-    let link = LinkThread {
-        core: LinkCore::new(&Settings::shipped().camera),
-        port: CameraPort::Serial {
-            path: slave.name().unwrap(),
-            baud: 115200,
-        },
-        resolve: mechweed::camlink::transport::system_resolver,
-        clock: Instant::now(),
+    let wires = LinkWires {
         new_estimate: estimate_tx,
         ping_requests: ping_rx,
         status: status_w,
         robot: robot_r,
         panics: Default::default(),
-        // As in the program (where the system grants it; it runs on without).
-        priority: Settings::shipped().rt.camlink_priority,
-        inject: None,
         stop: stop.clone(),
     };
+    let port = CameraPort::Serial {
+        path: slave.name().unwrap(),
+        baud: 115200,
+    };
+    let core = LinkCore::new(&Settings::shipped().camera);
+    // As in the program (where the system grants it; it runs on without).
+    let link = LinkThread::new(core, port, Instant::now(), wires)
+        .with_priority(Settings::shipped().rt.camlink_priority);
     let thread = std::thread::spawn(move || link.run());
     while !status_r.snapshot().connected {
         std::thread::sleep(Duration::from_millis(5));

@@ -46,7 +46,7 @@ pub fn run_row(settings: &Settings, row: RowShape, speed_mps: f64, seed: u64) ->
         cross_track_cm: sim.robot.cross_track().summary(),
         faults: sim
             .supervisor
-            .fault_log
+            .faults()
             .iter()
             .map(|f| format!("{:.2} s: {}", f.t_s, f.cause))
             .collect(),

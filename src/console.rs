@@ -16,6 +16,9 @@ use crate::state::Reader;
 /// started then).
 pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, RunError> {
     let (handles, running) = start(opts, stop.clone())?;
+    if let Some(warning) = &handles.not_realtime {
+        println!("{warning}");
+    }
     operate(opts, &handles, &stop, || running.any_thread_ended());
     Ok(running.finish())
 }

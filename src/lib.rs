@@ -1,10 +1,12 @@
 //! mechweed: the control program of an agricultural weeding robot.
 //!
-//! Threads and what each owns: the supervisor (supervisor.rs, faults.rs, pid.rs),
-//! the steer thread (steer/), the camera link (camlink/); run.rs starts them on real
-//! time, lockstep.rs runs the same tick functions on simulated time.
+//! Threads and what each owns: the supervisor (supervisor/, faults/, pid.rs), the steer
+//! thread (steer/), the camera link (camlink/); run.rs starts them on real time,
+//! lockstep.rs runs the same tick functions on simulated time. docs/architecture.md
+//! shows the layers. Exported: what the program, the tests and the benchmarks use;
+//! the rest stays inside.
 
-pub mod backend;
+mod backend;
 pub mod bench_loop;
 pub mod bench_rows;
 pub mod camlink;
@@ -13,15 +15,15 @@ pub mod camsim_main;
 pub mod config;
 pub mod console;
 pub mod fault_cause;
-pub mod faults;
+mod faults;
 pub mod gui;
 pub mod health;
 pub mod inject;
 pub mod lockstep;
-pub mod measure;
+mod measure;
 pub mod modes;
 pub mod operator;
-pub mod pid;
+mod pid;
 pub mod probe;
 pub mod record;
 pub mod report;
@@ -31,5 +33,5 @@ pub mod run;
 pub mod state;
 pub mod status;
 pub mod steer;
-pub mod supervisor;
-pub mod threads;
+mod supervisor;
+mod threads;

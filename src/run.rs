@@ -11,7 +11,7 @@ use crossbeam_channel::{Sender, bounded};
 use mechweed_hw::Hw;
 use mechweed_hw::sim::{CrossTrackSummary, SimControl, SimHw, SimRobot, TruthHandle, byte_pipe};
 
-use crate::camlink::thread::LinkThread;
+use crate::camlink::thread::{LinkThread, LinkWires};
 use crate::camlink::{LinkCore, LinkStatus, simwire};
 use crate::config::CameraPort;
 use crate::config::{Backend, RtSettings, Settings, SteerSettings};
@@ -21,11 +21,11 @@ use crate::modes::Mode;
 use crate::record::{self, RecordOutcome, Recorder};
 use crate::request_channel::{self, SupervisorHandle};
 use crate::rt::{self, LoopSummary};
-use crate::state::{Reader, Writer, shared};
+use crate::state::{self, Reader, Writer, shared};
 use crate::status::{FaultRecord, Notice, Status};
 use crate::steer::{SteerCommand, SteerCore};
 use crate::supervisor::Supervisor;
-use crate::threads::{SteerThread, SupervisorThread};
+use crate::threads::{SteerThread, SteerWires, SupervisorThread, SupervisorWires};
 
 /// What an operator interface (the console or the GUI) reads and sends.
 pub struct Handles {
@@ -108,15 +108,25 @@ fn rt_setup(rt: &RtSettings) -> (Vec<String>, Option<String>) {
 }
 
 /// What the operator must see at all times when the real robot drives without
-/// real-time priorities (the status line, the GUI's header); None when it has them or
-/// is the simulated robot.
-pub fn not_realtime(backend: Backend, priorities_refused: Option<&str>) -> Option<String> {
-    match (backend, priorities_refused) {
-        (Backend::Cards, Some(why)) => Some(format!(
-            "NOT REAL-TIME: the robot drives without real-time priorities ({why})"
-        )),
-        _ => None,
+/// real-time priorities, refused by the system or set to 0 in [rt] (the status line, the
+/// GUI's header); None when it has them or is the simulated robot.
+pub fn not_realtime(
+    backend: Backend,
+    rt: &RtSettings,
+    priorities_refused: Option<&str>,
+) -> Option<String> {
+    if backend != Backend::Cards {
+        return None;
     }
+    if let Some(why) = priorities_refused {
+        return Some(format!(
+            "NOT REAL-TIME: the robot drives without real-time priorities ({why})"
+        ));
+    }
+    (rt.supervisor_priority == 0).then(|| {
+        "NOT REAL-TIME: [rt] supervisor_priority = 0, the robot drives at normal priority"
+            .to_string()
+    })
 }
 
 fn spawn<T: Send + 'static>(name: &str, f: impl FnOnce() -> T + Send + 'static) -> JoinHandle<T> {
@@ -186,60 +196,52 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
     let (steer_settings_w, steer_settings_r) = shared(s.steer);
     let (estimate_tx, estimate_rx) = bounded(1);
     let (ping_tx, ping_rx) = bounded(1);
-    let (new_steer_settings_tx, new_steer_settings_rx) = bounded(1);
+    let (new_steer_settings_tx, new_steer_settings_rx) = state::mailbox();
     let (supervisor_figures_w, supervisor_figures) = shared(LoopSummary::default());
     let (steer_figures_w, steer_figures) = shared(LoopSummary::default());
     let (handle, request_rx) = request_channel::channel(status_r.clone());
 
-    let supervisor = SupervisorThread {
-        hw,
-        core: Supervisor::new(s),
-        rate_hz: s.supervisor.rate_hz,
-        clock,
+    let wires = SupervisorWires {
         requests: request_rx,
         status: status_w,
         steer: steer_r.clone(),
         link: link_r.clone(),
-        panics: panics.clone(),
-        priority: priority(s.rt.supervisor_priority),
-        cpu: s.rt.supervisor_cpu,
-        inject: opts.inject,
-        figures: supervisor_figures_w,
         gui_beat: gui_beat_r,
         steer_settings: new_steer_settings_tx,
-        stop: stop.clone(),
+        figures: supervisor_figures_w,
         record: record_tap,
+        panics: panics.clone(),
+        stop: stop.clone(),
     };
-    let steer = SteerThread {
-        core: SteerCore::new(s),
-        rate_hz: s.steer.rate_hz,
-        clock,
+    let supervisor =
+        SupervisorThread::new(hw, Supervisor::new(s), s.supervisor.rate_hz, clock, wires)
+            .with_priority(priority(s.rt.supervisor_priority), s.rt.supervisor_cpu)
+            .with_injection(opts.inject);
+    let wires = SteerWires {
         new_estimate: estimate_rx,
         command: steer_w,
         status: status_r.clone(),
         link: link_r.clone(),
-        panics: panics.clone(),
-        priority: priority(s.rt.steer_priority),
-        inject: opts.inject,
         figures: steer_figures_w,
         new_settings: new_steer_settings_rx,
         settings: steer_settings_w,
+        panics: panics.clone(),
         stop: stop.clone(),
     };
-    let link = LinkThread {
-        core: LinkCore::new(&s.camera),
-        port: camera_port,
-        resolve: crate::camlink::transport::system_resolver,
-        clock,
+    let steer = SteerThread::new(SteerCore::new(s), s.steer.rate_hz, clock, wires)
+        .with_priority(priority(s.rt.steer_priority))
+        .with_injection(opts.inject);
+    let wires = LinkWires {
         new_estimate: estimate_tx,
         ping_requests: ping_rx,
         status: link_w,
         robot: status_r.clone(),
         panics: panics.clone(),
-        priority: priority(s.rt.camlink_priority),
-        inject: opts.inject,
         stop: stop.clone(),
     };
+    let link = LinkThread::new(LinkCore::new(&s.camera), camera_port, clock, wires)
+        .with_priority(priority(s.rt.camlink_priority))
+        .with_injection(opts.inject);
     let supervisor = spawn("supervisor", move || supervisor.run());
     let steer = spawn("steer", move || steer.run());
     let link = spawn("camlink", move || link.run());
@@ -255,7 +257,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         steer_settings: steer_settings_r,
         steer: steer_r,
         clock,
-        not_realtime: not_realtime(s.backend, priorities_refused.as_deref()),
+        not_realtime: not_realtime(s.backend, &s.rt, priorities_refused.as_deref()),
     };
     let running = Running {
         supervisor,
@@ -309,8 +311,8 @@ impl Running {
         let record = self.recorder.finish();
         RunOutcome {
             final_status: *supervisor.status(),
-            faults: supervisor.fault_log.clone(),
-            notices: supervisor.notice_log.clone(),
+            faults: supervisor.faults().to_vec(),
+            notices: supervisor.notices().to_vec(),
             supervisor_loop,
             steer_loop,
             link: self.link_status.snapshot(),

@@ -105,6 +105,35 @@ impl<T: Copy> Latest<T> {
     }
 }
 
+/// The sending end of a one-place mailbox: a newer letter replaces one not yet taken,
+/// and neither side ever waits. (A plain one-place channel would keep the older letter
+/// and drop the newer one.)
+pub struct Mailbox<T> {
+    tx: crossbeam_channel::Sender<T>,
+    unread: crossbeam_channel::Receiver<T>,
+}
+
+/// A one-place mailbox: the sender, and the receiver for the one thread that takes.
+pub fn mailbox<T>() -> (Mailbox<T>, crossbeam_channel::Receiver<T>) {
+    let (tx, rx) = crossbeam_channel::bounded(1);
+    (
+        Mailbox {
+            tx,
+            unread: rx.clone(),
+        },
+        rx,
+    )
+}
+
+impl<T> Mailbox<T> {
+    /// Post `letter`, taking back one not yet read.
+    pub fn post(&self, letter: T) {
+        while self.unread.try_recv().is_ok() {}
+        // The place is free now: the receiver only takes, and a Mailbox is not Clone.
+        let _ = self.tx.try_send(letter);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -141,5 +170,14 @@ mod tests {
         assert!(writer.try_publish(&3));
         assert_eq!(latest.get(&mut busy), 3);
         assert_eq!(busy, 1);
+    }
+
+    #[test]
+    fn a_newer_letter_replaces_one_not_yet_taken() {
+        let (mailbox, rx) = mailbox();
+        mailbox.post(1);
+        mailbox.post(2);
+        assert_eq!(rx.try_recv(), Ok(2));
+        assert!(rx.try_recv().is_err());
     }
 }

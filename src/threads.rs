@@ -6,7 +6,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use crossbeam_channel::{Receiver, Sender, select};
+use crossbeam_channel::{Receiver, select};
 use mechweed_hw::{Hw, Outputs};
 
 use crate::camlink::LinkStatus;
@@ -16,7 +16,7 @@ use crate::inject::{Fail, Injection};
 use crate::record::RecordTap;
 use crate::request_channel::{Envelope, RequestReceiver};
 use crate::rt::{self, LoopSummary, Periodic};
-use crate::state::{Latest, Reader, Writer};
+use crate::state::{Latest, Mailbox, Reader, Writer};
 use crate::status::Status;
 use crate::steer::{SteerCommand, SteerCore};
 use crate::supervisor::Supervisor;
@@ -33,50 +33,93 @@ impl Drop for SafeOnDrop {
     }
 }
 
-/// What the supervisor thread owns: the hardware, the supervisor, its object's writer.
-pub(crate) struct SupervisorThread {
-    pub(crate) hw: Box<dyn Hw>,
-    pub(crate) core: Supervisor,
-    pub(crate) rate_hz: f64,
-    pub(crate) clock: Instant,
+/// What the supervisor thread meets the other threads through.
+pub(crate) struct SupervisorWires {
     pub(crate) requests: RequestReceiver,
     pub(crate) status: Writer<Status>,
     pub(crate) steer: Reader<SteerCommand>,
     pub(crate) link: Reader<LinkStatus>,
-    pub(crate) panics: Arc<PanicFlag>,
-    pub(crate) priority: u8,
-    pub(crate) cpu: i32,
-    pub(crate) inject: Option<Injection>,
-    pub(crate) figures: Writer<LoopSummary>,
     pub(crate) gui_beat: Reader<f64>,
     /// Steering-law parameters the supervisor accepted (in Halt), for the steer thread.
-    pub(crate) steer_settings: Sender<SteerSettings>,
-    pub(crate) stop: Arc<AtomicBool>,
+    pub(crate) steer_settings: Mailbox<SteerSettings>,
+    pub(crate) figures: Writer<LoopSummary>,
     /// Hands each tick to the recorder thread; never blocks.
     pub(crate) record: RecordTap,
+    pub(crate) panics: Arc<PanicFlag>,
+    pub(crate) stop: Arc<AtomicBool>,
+}
+
+/// What the supervisor thread owns: the hardware, the supervisor, its wires.
+pub(crate) struct SupervisorThread {
+    hw: Box<dyn Hw>,
+    core: Supervisor,
+    rate_hz: f64,
+    clock: Instant,
+    wires: SupervisorWires,
+    /// SCHED_FIFO priority (0 = normal) and CPU (-1 = any).
+    priority: u8,
+    cpu: i32,
+    inject: Option<Injection>,
 }
 
 impl SupervisorThread {
+    /// The supervisor on `hw` at `rate_hz`, at normal priority on any CPU.
+    pub(crate) fn new(
+        hw: Box<dyn Hw>,
+        core: Supervisor,
+        rate_hz: f64,
+        clock: Instant,
+        wires: SupervisorWires,
+    ) -> SupervisorThread {
+        SupervisorThread {
+            hw,
+            core,
+            rate_hz,
+            clock,
+            wires,
+            priority: 0,
+            cpu: -1,
+            inject: None,
+        }
+    }
+
+    /// Run at this SCHED_FIFO priority (0 = normal), on this CPU (-1 = any).
+    pub(crate) fn with_priority(self, priority: u8, cpu: i32) -> SupervisorThread {
+        SupervisorThread {
+            priority,
+            cpu,
+            ..self
+        }
+    }
+
+    /// Fail on purpose as `inject` says, if it names this thread.
+    pub(crate) fn with_injection(self, inject: Option<Injection>) -> SupervisorThread {
+        SupervisorThread { inject, ..self }
+    }
+
     pub(crate) fn run(self) -> (Supervisor, LoopSummary) {
         let SupervisorThread {
             hw,
             mut core,
             rate_hz,
             clock,
+            wires,
+            priority,
+            cpu,
+            inject,
+        } = self;
+        let SupervisorWires {
             requests,
             status,
             steer,
             link,
-            panics,
-            priority,
-            cpu,
-            inject,
-            figures,
             gui_beat,
             steer_settings,
-            stop,
+            figures,
             mut record,
-        } = self;
+            panics,
+            stop,
+        } = wires;
         health::watch_this_thread(&panics, ThreadName::Supervisor);
         if let Some(warning) = rt::set_this_thread(priority, cpu) {
             tracing::warn!("supervisor thread: {warning}");
@@ -88,6 +131,7 @@ impl SupervisorThread {
         let (mut steer, mut link, mut gui_beat) =
             (Latest::new(steer), Latest::new(link), Latest::new(gui_beat));
         let mut paused = false;
+        let mut figures_pending = false;
         while !stop.load(Ordering::Relaxed) {
             periodic.wait();
             let now_s = clock.elapsed().as_secs_f64();
@@ -95,8 +139,9 @@ impl SupervisorThread {
             while let Ok(Envelope { request, reply }) = requests.try_recv() {
                 let _ = reply.try_send((request, core.handle(request)));
                 if let Some(accepted) = core.take_steer_settings() {
-                    // One place, bounded: a newer set replaces one not yet taken.
-                    let _ = steer_settings.try_send(accepted);
+                    // A newer set replaces one the steer thread has not taken yet, so
+                    // that it ends on the law that goes with the gains in use.
+                    steer_settings.post(accepted);
                 }
             }
             // The only meetings with other threads: copying their objects in and ours out.
@@ -149,42 +194,73 @@ impl SupervisorThread {
                 }
             }
             periodic.done();
-            publish_figures_now_and_then(&periodic, &figures);
+            publish_figures_now_and_then(&mut periodic, &figures, &mut figures_pending);
         }
         (core, periodic.stats.summary())
     }
 }
 
-/// What the steer thread owns: the steering law's state and the command's writer.
-pub(crate) struct SteerThread {
-    pub(crate) core: SteerCore,
-    pub(crate) rate_hz: f64,
-    pub(crate) clock: Instant,
+/// What the steer thread meets the other threads through.
+pub(crate) struct SteerWires {
+    /// The camera link's call: a new usable estimate.
     pub(crate) new_estimate: Receiver<()>,
     pub(crate) command: Writer<SteerCommand>,
     pub(crate) status: Reader<Status>,
     pub(crate) link: Reader<LinkStatus>,
-    pub(crate) panics: Arc<PanicFlag>,
-    pub(crate) priority: u8,
-    pub(crate) inject: Option<Injection>,
     pub(crate) figures: Writer<LoopSummary>,
     /// New steering-law parameters, accepted by the supervisor in Halt.
     pub(crate) new_settings: Receiver<SteerSettings>,
+    /// The steering-law parameters in use, for the GUI.
     pub(crate) settings: Writer<SteerSettings>,
+    pub(crate) panics: Arc<PanicFlag>,
     pub(crate) stop: Arc<AtomicBool>,
 }
 
+/// What the steer thread owns: the steering law's state and its wires.
+pub(crate) struct SteerThread {
+    core: SteerCore,
+    rate_hz: f64,
+    clock: Instant,
+    wires: SteerWires,
+    /// SCHED_FIFO priority (0 = normal).
+    priority: u8,
+    inject: Option<Injection>,
+}
+
 impl SteerThread {
+    /// The steer thread at `rate_hz`, at normal priority.
+    pub(crate) fn new(core: SteerCore, rate_hz: f64, clock: Instant, wires: SteerWires) -> Self {
+        SteerThread {
+            core,
+            rate_hz,
+            clock,
+            wires,
+            priority: 0,
+            inject: None,
+        }
+    }
+
+    /// Run at this SCHED_FIFO priority (0 = normal).
+    pub(crate) fn with_priority(self, priority: u8) -> SteerThread {
+        SteerThread { priority, ..self }
+    }
+
+    /// Fail on purpose as `inject` says, if it names this thread.
+    pub(crate) fn with_injection(self, inject: Option<Injection>) -> SteerThread {
+        SteerThread { inject, ..self }
+    }
+
     /// Ticks at its rate, and also as soon as the camera link has a new estimate.
     pub(crate) fn run(mut self) -> LoopSummary {
-        health::watch_this_thread(&self.panics, ThreadName::Steer);
+        health::watch_this_thread(&self.wires.panics, ThreadName::Steer);
         if let Some(warning) = rt::set_this_thread(self.priority, -1) {
             tracing::warn!("steer thread: {warning}");
         }
         let mut periodic = Periodic::new(self.rate_hz);
-        while !self.stop.load(Ordering::Relaxed) {
+        let mut figures_pending = false;
+        while !self.wires.stop.load(Ordering::Relaxed) {
             let scheduled = select! {
-                recv(self.new_estimate) -> _ => false,
+                recv(self.wires.new_estimate) -> _ => false,
                 default(periodic.until_deadline()) => true,
             };
             if scheduled {
@@ -193,23 +269,29 @@ impl SteerThread {
                 periodic.woke_now();
             }
             let now_s = self.clock.elapsed().as_secs_f64();
-            if let Ok(new_settings) = self.new_settings.try_recv() {
+            if let Ok(new_settings) = self.wires.new_settings.try_recv() {
                 self.core.set_law_settings(&new_settings);
-                self.settings.publish(&self.core.law_settings());
+                self.wires.settings.publish(&self.core.law_settings());
             }
             if let Some(injection) = self.inject
                 && injection.thread == ThreadName::Steer
                 && now_s >= injection.at_s
             {
-                injection.strike(&self.stop);
+                injection.strike(&self.wires.stop);
             }
-            let command = self
-                .core
-                .tick(now_s, &self.status.snapshot(), &self.link.snapshot());
-            self.command.publish(&command);
+            let command = self.core.tick(
+                now_s,
+                &self.wires.status.snapshot(),
+                &self.wires.link.snapshot(),
+            );
+            self.wires.command.publish(&command);
             if scheduled {
                 periodic.done();
-                publish_figures_now_and_then(&periodic, &self.figures);
+                publish_figures_now_and_then(
+                    &mut periodic,
+                    &self.wires.figures,
+                    &mut figures_pending,
+                );
             } else {
                 periodic.done_unscheduled();
             }
@@ -218,10 +300,19 @@ impl SteerThread {
     }
 }
 
-/// Publish a loop's figures about once a second (percentiles cost a few microseconds).
-fn publish_figures_now_and_then(periodic: &Periodic, figures: &Writer<LoopSummary>) {
+/// Publish a loop's figures about once a second (percentiles cost a few microseconds),
+/// never waiting for a reader (the GUI, the console) that holds the lock: then they go
+/// out at the next tick.
+fn publish_figures_now_and_then(
+    periodic: &mut Periodic,
+    figures: &Writer<LoopSummary>,
+    pending: &mut bool,
+) {
     let ticks_per_second = periodic.stats.rate_hz().round().max(1.0) as u64;
-    if periodic.stats.ticks.is_multiple_of(ticks_per_second) {
-        figures.publish(&periodic.stats.summary());
+    if periodic.stats.ticks.is_multiple_of(ticks_per_second) || *pending {
+        *pending = !figures.try_publish(&periodic.stats.summary());
+        if *pending {
+            periodic.stats.locks_busy += 1;
+        }
     }
 }

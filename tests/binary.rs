@@ -19,7 +19,7 @@ fn run_with_report(args: &[&str]) -> (String, serde_json::Value) {
             "--set",
             "rt.max_overruns=1000000",
             "--set",
-            "rt.max_late_periods=100",
+            "rt.max_late_periods=20",
         ])
         // The run's record goes to the temporary folder, not into the repository.
         .arg("--set")

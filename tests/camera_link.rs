@@ -96,7 +96,7 @@ fn scenario(port: &str, serve: impl FnOnce(Instant, Log, Arc<AtomicBool>) -> Joi
             "--set",
             "rt.max_overruns=1000000",
             "--set",
-            "rt.max_late_periods=100",
+            "rt.max_late_periods=20",
         ])
         // The run's record goes to the temporary folder, not into the repository.
         .arg("--set")

@@ -25,7 +25,7 @@ fn drive_row(io: fn(&mechweed::config::Settings) -> Io) -> (CrossTrackSummary, V
     }
     let faults = sim
         .supervisor
-        .fault_log
+        .faults()
         .iter()
         .map(|f| f.cause.to_string())
         .collect();

@@ -56,7 +56,7 @@ fn a_joystick_axis_beyond_full_scale_is_a_fault_not_full_speed() {
     // A broken wiper reads the supply.
     sim.robot.set_joystick(0.0, 4.95, true);
     let ticks = record(&mut sim, 0.2);
-    let log = &sim.supervisor.fault_log;
+    let log = &sim.supervisor.faults();
     assert_eq!(log.len(), 1, "{log:?}");
     assert_eq!(
         log[0].cause,
@@ -104,9 +104,9 @@ fn a_steer_command_older_than_two_steer_periods_asks_for_no_speed() {
     let t0_s = sim.now_s();
     let speed_ref = tick_with_frozen_command(&mut sim, t0_s, &frozen, 0.35);
     assert!(
-        sim.supervisor.fault_log.is_empty(),
+        sim.supervisor.faults().is_empty(),
         "{:?}",
-        sim.supervisor.fault_log
+        sim.supervisor.faults()
     );
     assert!(
         speed_ref < driving - 0.04,
@@ -162,4 +162,33 @@ fn the_end_switch_procedure_angle_does_not_widen_the_wheel_angle_limit() {
     );
     assert!(widest_ref_deg > limit_deg - 0.5, "never reached the limit");
     assert!(sim.supervisor.status().endswitch_hit.is_none());
+}
+
+#[test]
+fn the_end_switch_procedure_steers_back_within_the_wheel_angle_limit() {
+    // A procedure angle past the robot's limit: the procedure keeps inside the limit,
+    // and still finishes.
+    let mut s = settings_with("3 endswitch left", &[]);
+    s.steer.endswitch_back_deg = 40.0;
+    let limit_deg = s.robot.max_wheel_angle_deg;
+    let mut sim = autonomous(&s);
+    let mut widest_ref_deg: f64 = 0.0;
+    for _ in 0..800 {
+        sim.tick();
+        // While driving: standing, the reference follows the wheel wherever it is.
+        let st = sim.supervisor.status();
+        if st.mode.drives() {
+            widest_ref_deg = widest_ref_deg.max(st.wheel_angle_ref_rad.to_degrees().abs());
+        }
+    }
+    assert!(
+        widest_ref_deg <= limit_deg + 1e-9,
+        "wheel angle reference {widest_ref_deg} deg, limit {limit_deg} deg"
+    );
+    assert!(
+        sim.supervisor.faults().is_empty(),
+        "{:?}",
+        sim.supervisor.faults()
+    );
+    assert_eq!(sim.supervisor.notices().len(), 1, "the procedure finished");
 }

@@ -14,7 +14,7 @@ fn scenario(events: &str, seconds: f64) -> (Vec<Tick>, Vec<mechweed::status::Fau
     let settings = settings_with(events, &[]);
     let mut sim = autonomous(&settings);
     let ticks = record(&mut sim, seconds);
-    (ticks, sim.supervisor.fault_log.clone())
+    (ticks, sim.supervisor.faults().to_vec())
 }
 
 /// The robot was driving autonomously before `t_s`.
@@ -111,7 +111,7 @@ fn stuck_steering_encoder_is_found_when_the_steering_moves() {
     record(&mut sim, 2.5);
     sim.robot.set_joystick(-4.0, 0.0, true);
     let ticks = record(&mut sim, 1.5);
-    let log = &sim.supervisor.fault_log;
+    let log = &sim.supervisor.faults();
     assert_eq!(log.len(), 1, "{log:?}");
     assert_eq!(log[0].cause, FaultCause::EncoderStuck(EncoderId::Steer));
     safe_from(&ticks, log[0].t_s);
@@ -197,11 +197,11 @@ fn end_switch_runs_the_procedure_and_halts_without_a_fault() {
         );
     }
     assert!(
-        sim.supervisor.fault_log.is_empty(),
+        sim.supervisor.faults().is_empty(),
         "{:?}",
-        sim.supervisor.fault_log
+        sim.supervisor.faults()
     );
-    assert_eq!(sim.supervisor.notice_log.len(), 1);
+    assert_eq!(sim.supervisor.notices().len(), 1);
     assert_eq!(sim.supervisor.mode(), Mode::Halt);
     let last = ticks.last().unwrap();
     assert!(!last.inputs.end_switch_left, "still on the switch");

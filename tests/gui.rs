@@ -321,13 +321,15 @@ fn a_start_mode_waits_for_the_operators_confirmation() {
 
 #[test]
 fn the_header_says_when_the_robot_runs_without_real_time_priorities() {
-    let warning =
-        mechweed::run::not_realtime(mechweed::config::Backend::Cards, Some("SCHED_FIFO refused"));
+    use mechweed::config::Backend;
+    use mechweed::run::not_realtime;
+    let mut rt = Settings::shipped().rt;
+    let warning = not_realtime(Backend::Cards, &rt, Some("SCHED_FIFO refused"));
     assert!(warning.as_deref().unwrap().contains("NOT REAL-TIME"));
-    assert_eq!(
-        mechweed::run::not_realtime(mechweed::config::Backend::Sim, Some("refused")),
-        None
-    );
+    assert_eq!(not_realtime(Backend::Sim, &rt, Some("refused")), None);
+    assert_eq!(not_realtime(Backend::Cards, &rt, None), None);
+    rt.supervisor_priority = 0;
+    assert!(not_realtime(Backend::Cards, &rt, None).is_some());
     let mut gui = gui_customised(None, |handles| handles.not_realtime = warning);
     gui.wait_until("the first status", |app| app.view.status.tick > 0);
     assert!(gui.shows("NOT REAL-TIME: the robot drives without real-time priorities"));

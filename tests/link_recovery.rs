@@ -9,7 +9,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use crossbeam_channel::bounded;
-use mechweed::camlink::thread::LinkThread;
+use mechweed::camlink::thread::{LinkThread, LinkWires};
 use mechweed::camlink::transport::{Resolver, system_resolver};
 use mechweed::camlink::{LinkCore, LinkProblem, LinkStatus, OpenStep};
 use mechweed::config::CameraPort;
@@ -39,20 +39,16 @@ fn start_link_resolving(
     let (estimate_tx, _estimate_rx) = bounded(1);
     let (_ping_tx, ping_rx) = bounded(1);
     let stop = Arc::new(AtomicBool::new(false));
-    let link = LinkThread {
-        core: LinkCore::new(&Settings::shipped().camera),
-        port,
-        resolve,
-        clock: Instant::now(),
+    let wires = LinkWires {
         new_estimate: estimate_tx,
         ping_requests: ping_rx,
         status: status_w,
         robot: robot_r,
         panics: Default::default(),
-        priority: 0,
-        inject: None,
         stop: stop.clone(),
     };
+    let core = LinkCore::new(&Settings::shipped().camera);
+    let link = LinkThread::new(core, port, Instant::now(), wires).with_resolver(resolve);
     std::thread::spawn(move || {
         let _keep_robot_writer = robot_w;
         link.run();

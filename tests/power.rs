@@ -32,9 +32,9 @@ fn power_up_then_test_keeps_power_and_the_relay_switch_is_the_power_switch() {
     let mut sim = Lockstep::new(&s, Mode::Halt);
     let ticks = record(&mut sim, 6.0);
     assert!(
-        sim.supervisor.fault_log.is_empty(),
+        sim.supervisor.faults().is_empty(),
         "{:?}",
-        sim.supervisor.fault_log
+        sim.supervisor.faults()
     );
     let st = sim.supervisor.status();
     assert_eq!(st.mode, Mode::Test);
@@ -46,7 +46,7 @@ fn power_up_then_test_keeps_power_and_the_relay_switch_is_the_power_switch() {
         .unwrap();
     record(&mut sim, 0.5);
     assert_eq!(sim.supervisor.status().power, PowerState::Off);
-    assert!(sim.supervisor.fault_log.is_empty());
+    assert!(sim.supervisor.faults().is_empty());
     // Closing it again is a power-up, and the wheels turn.
     sim.request(Request::TestOutputs(panel(true, 3.0))).unwrap();
     record(&mut sim, 1.0);
@@ -55,7 +55,7 @@ fn power_up_then_test_keeps_power_and_the_relay_switch_is_the_power_switch() {
         sim.robot.truth().speed_mps > 0.1,
         "the panel's volts move the wheels"
     );
-    assert!(sim.supervisor.fault_log.is_empty());
+    assert!(sim.supervisor.faults().is_empty());
 }
 
 #[test]
@@ -63,7 +63,7 @@ fn power_lost_in_test_is_a_fault() {
     let s = settings_with("0.5 power_up, 2 mode test, 4 power_loss", &[]);
     let mut sim = Lockstep::new(&s, Mode::Halt);
     let ticks = record(&mut sim, 5.0);
-    let log = &sim.supervisor.fault_log;
+    let log = &sim.supervisor.faults();
     assert_eq!(log.len(), 1, "{log:?}");
     assert_eq!(log[0].cause, FaultCause::MotorPowerLost);
     assert!((log[0].t_s - 4.0).abs() < 0.02, "at {}", log[0].t_s);
@@ -86,7 +86,7 @@ fn test_without_power_up_still_finds_a_stuck_encoder() {
     assert_eq!(sim.supervisor.status().power, PowerState::Off);
     sim.request(Request::TestOutputs(panel(true, 4.0))).unwrap();
     record(&mut sim, 2.5);
-    let log = &sim.supervisor.fault_log;
+    let log = &sim.supervisor.faults();
     assert_eq!(log.len(), 1, "{log:?}");
     assert_eq!(log[0].cause, FaultCause::EncoderStuck(EncoderId::Left));
     assert_eq!(sim.supervisor.status().outputs, Outputs::SAFE);
@@ -99,7 +99,7 @@ fn a_welded_contactor_is_a_fault_of_its_own() {
     let drop_s = s.faults.contactor_drop_s;
     let mut sim = Lockstep::new(&s, Mode::Halt);
     let ticks = record(&mut sim, 2.0 + drop_s + 0.3);
-    let log = &sim.supervisor.fault_log;
+    let log = &sim.supervisor.faults();
     assert_eq!(log.len(), 1, "{log:?}");
     assert_eq!(log[0].cause, FaultCause::ContactorWelded);
     assert!(
@@ -118,7 +118,7 @@ fn a_contactor_that_stays_closed_after_an_estop_blocks_power_up() {
     let drop_s = s.faults.contactor_drop_s;
     let mut sim = autonomous(&s);
     record(&mut sim, 6.0 + drop_s + 0.2);
-    let log = sim.supervisor.fault_log.clone();
+    let log = sim.supervisor.faults().to_vec();
     assert_eq!(log[0].cause, FaultCause::EstopFront, "{log:?}");
     // The e-stop opened the chain; the welded contacts keep motor power on, and the
     // status says so while the e-stop fault is latched.
@@ -143,7 +143,7 @@ fn an_open_contactor_within_its_drop_time_is_no_fault() {
     let s = settings_with("5 estop_back", &[]);
     let mut sim = autonomous(&s);
     record(&mut sim, 7.0);
-    let log = &sim.supervisor.fault_log;
+    let log = &sim.supervisor.faults();
     assert_eq!(log.len(), 1, "{log:?}");
     assert_eq!(log[0].cause, FaultCause::EstopBack);
 }
@@ -154,7 +154,7 @@ fn the_steering_is_recalibrated_at_the_power_up_after_a_potentiometer_fault() {
     let s = settings_with("5 steer_slip 8", &[]);
     let mut sim = autonomous(&s);
     record(&mut sim, 7.0);
-    let log = sim.supervisor.fault_log.clone();
+    let log = sim.supervisor.faults().to_vec();
     assert!(
         matches!(log[0].cause, FaultCause::PotDisagrees { .. }),
         "{log:?}"
@@ -167,10 +167,10 @@ fn the_steering_is_recalibrated_at_the_power_up_after_a_potentiometer_fault() {
         .expect("calibrated again");
     record(&mut sim, 5.0);
     assert_eq!(
-        sim.supervisor.fault_log.len(),
+        sim.supervisor.faults().len(),
         1,
         "faulted again: {:?}",
-        sim.supervisor.fault_log
+        sim.supervisor.faults()
     );
     assert_eq!(sim.supervisor.mode(), Mode::Autonomous);
     let m = sim.supervisor.status().measured;

@@ -115,7 +115,7 @@ fn a_lockstep_record_reads_back_the_same_from_csv_and_mcap() {
 fn a_fault_in_mid_run_is_in_the_record_with_its_cause() {
     let dir = tempfile::tempdir().unwrap();
     let (sim, _, outcome) = recorded(dir.path(), "3 estop_front", 5.0);
-    let fault = sim.supervisor.fault_log[0];
+    let fault = sim.supervisor.faults()[0];
     for file in [
         file_ending(&outcome, ".csv"),
         file_ending(&outcome, ".mcap"),

@@ -153,9 +153,9 @@ fn steering_lock_to_lock_does_not_trip_the_potentiometer_check() {
         "the steering only reached {widest_deg} deg"
     );
     assert!(
-        sim.supervisor.fault_log.is_empty(),
+        sim.supervisor.faults().is_empty(),
         "{:?}",
-        sim.supervisor.fault_log
+        sim.supervisor.faults()
     );
 }
 

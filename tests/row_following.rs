@@ -36,9 +36,9 @@ fn mean_error_cm(sim: &mut Lockstep, from_m: f64, to_m: f64) -> f64 {
         }
     }
     assert!(
-        sim.supervisor.fault_log.is_empty(),
+        sim.supervisor.faults().is_empty(),
         "{:?}",
-        sim.supervisor.fault_log
+        sim.supervisor.faults()
     );
     sum / n as f64
 }

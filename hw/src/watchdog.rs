@@ -5,10 +5,11 @@
 //! The cards keep whatever was last written to them, so a program that is killed or
 //! hangs leaves the contactor closed and the amplifiers driven. The watchdog covers
 //! that: the cards' backend changes the line on every write of the outputs (once per
-//! supervisor tick, so half the supervisor rate: 50 Hz at 100 Hz), and holds it at its
-//! inactive level whenever it writes the safe outputs or a card does not answer. A
-//! dead or hung program stops changing it by itself. docs/robot-pc.md says how to wire
-//! the relay.
+//! supervisor tick, so half the supervisor rate: 50 Hz at 100 Hz, in Fault too: the
+//! line says the program is alive, not that the robot may move), and holds it at its
+//! inactive level at start, at exit, after a write that failed and while a card does
+//! not answer. A dead or hung program stops changing it by itself. docs/robot-pc.md
+//! says how to wire the relay.
 
 use crate::wiring::{CardOutputs, Switch};
 

@@ -28,12 +28,9 @@ const READ_TIMEOUT: Duration = Duration::from_millis(10);
 const BACKOFF_MIN: Duration = Duration::from_millis(100);
 const BACKOFF_MAX: Duration = Duration::from_secs(2);
 
-pub struct LinkThread {
-    pub core: LinkCore,
-    pub port: CameraPort,
-    /// How a host name in the port is looked up (`transport::system_resolver`).
-    pub resolve: Resolver,
-    pub clock: Instant,
+/// What the camera-link thread meets the other threads through.
+pub struct LinkWires {
+    /// Wakes the steer thread on each usable row.
     pub new_estimate: Sender<()>,
     /// Link tests asked for (the GUI's "Test link" button).
     pub ping_requests: Receiver<()>,
@@ -42,14 +39,62 @@ pub struct LinkThread {
     /// switching from joystick to autonomous finds a fresh estimate at hand.
     pub robot: Reader<Status>,
     pub panics: Arc<PanicFlag>,
-    /// SCHED_FIFO priority (0 = normal).
-    pub priority: u8,
-    /// For tests: fail on purpose.
-    pub inject: Option<Injection>,
     pub stop: Arc<AtomicBool>,
 }
 
+pub struct LinkThread {
+    core: LinkCore,
+    port: CameraPort,
+    /// How a host name in the port is looked up (`transport::system_resolver`).
+    resolve: Resolver,
+    clock: Instant,
+    new_estimate: Sender<()>,
+    ping_requests: Receiver<()>,
+    status: Writer<LinkStatus>,
+    robot: Reader<Status>,
+    panics: Arc<PanicFlag>,
+    /// SCHED_FIFO priority (0 = normal).
+    priority: u8,
+    /// For tests: fail on purpose.
+    inject: Option<Injection>,
+    stop: Arc<AtomicBool>,
+}
+
 impl LinkThread {
+    /// The link to the camera computer at `port`, at normal priority, looking names up
+    /// with the system's resolver; `clock` is the run's.
+    pub fn new(core: LinkCore, port: CameraPort, clock: Instant, wires: LinkWires) -> LinkThread {
+        LinkThread {
+            core,
+            port,
+            resolve: super::transport::system_resolver,
+            clock,
+            new_estimate: wires.new_estimate,
+            ping_requests: wires.ping_requests,
+            status: wires.status,
+            robot: wires.robot,
+            panics: wires.panics,
+            priority: 0,
+            inject: None,
+            stop: wires.stop,
+        }
+    }
+
+    /// Run at this SCHED_FIFO priority (0 = normal).
+    pub fn with_priority(self, priority: u8) -> LinkThread {
+        LinkThread { priority, ..self }
+    }
+
+    /// Look host names up with `resolve` (tests put in one that hangs).
+    pub fn with_resolver(self, resolve: Resolver) -> LinkThread {
+        LinkThread { resolve, ..self }
+    }
+
+    /// Fail on purpose as `inject` says, if it names this thread.
+    pub fn with_injection(self, inject: Option<Injection>) -> LinkThread {
+        LinkThread { inject, ..self }
+    }
+
     fn now_s(&self) -> f64 {
         self.clock.elapsed().as_secs_f64()
     }

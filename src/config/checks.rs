@@ -215,18 +215,24 @@ fn joystick(s: &Settings, r: &mut Reader) {
 }
 
 /// The end-switch procedure steers back off a switch towards the centre, so its angle
-/// lies inside the commanded range, which lies inside the end switches, which close
-/// before the mechanical stop. The controller's settings have no angle for the real
-/// robot's end switches; [sim] end_switch_deg is the one the settings know.
+/// lies inside the commanded range, which lies inside the end switches ([robot] for the
+/// real robot, [sim] for the simulated one), which close before the mechanical stop.
 fn end_switches(s: &Settings, r: &mut Reader) {
     let back = ("steer", "endswitch_back_deg", s.steer.endswitch_back_deg);
     let max = ("robot", "max_wheel_angle_deg", s.robot.max_wheel_angle_deg);
+    let robot_switch = ("robot", "end_switch_deg", s.robot.end_switch_deg);
     let switch = ("sim", "end_switch_deg", s.sim.end_switch_deg);
     let stop = ("sim", "steer_limit_deg", s.sim.steer_limit_deg);
     let why_back = "the end-switch procedure steers back off the switch towards the centre";
     let pairs = [
         (back, max, why_back),
+        (back, robot_switch, why_back),
         (back, switch, why_back),
+        (
+            max,
+            robot_switch,
+            "the controller would steer into the end switches in normal driving",
+        ),
         (
             max,
             switch,
@@ -279,4 +285,17 @@ fn threads(s: &Settings, r: &mut Reader) {
             named("steer", "rate_hz", s.steer.rate_hz)
         )
     });
+    let stall_s = rt.max_late_periods / s.supervisor.rate_hz;
+    let keys = [("rt", "max_late_periods"), ("supervisor", "rate_hz")];
+    require(r, stall_s <= MAX_STALL_S, &keys, || {
+        format!(
+            "{} lets one stall of the supervisor last {stall_s:.3} s at {}: at most {MAX_STALL_S} s, as the amplifiers drive unwatched meanwhile",
+            named("rt", "max_late_periods", rt.max_late_periods),
+            named("supervisor", "rate_hz", s.supervisor.rate_hz)
+        )
+    });
 }
+
+/// The longest single stall of the supervisor a setting may allow, s: at 1 m/s the
+/// robot drives 20 cm unwatched.
+const MAX_STALL_S: f64 = 0.2;

@@ -50,6 +50,7 @@ pub struct RobotSettings {
     pub pot_centre_v: f64,
     pub pot_v_per_deg: f64,
     pub max_wheel_angle_deg: f64,
+    pub end_switch_deg: f64,
     pub tool_offset_m: f64,
     pub camera_lookahead_m: f64,
 }
@@ -250,6 +251,7 @@ fn robot(r: &mut Reader) -> RobotSettings {
         pot_centre_v: r.f64(s, "pot_centre_v", 0.0, 5.0),
         pot_v_per_deg: r.f64(s, "pot_v_per_deg", 0.001, 1.0),
         max_wheel_angle_deg: r.f64(s, "max_wheel_angle_deg", 1.0, 45.0),
+        end_switch_deg: r.f64(s, "end_switch_deg", 1.0, 60.0),
         tool_offset_m: r.f64(s, "tool_offset_m", -3.0, 3.0),
         camera_lookahead_m: r.f64(s, "camera_lookahead_m", 0.0, 5.0),
     }
@@ -330,7 +332,8 @@ fn joystick(r: &mut Reader) -> JoystickSettings {
         deadband_v: r.f64(s, "deadband_v", 0.0, 5.0),
         max_speed_mps: r.f64(s, "max_speed_mps", 0.0, 3.0),
         max_angle_deg: r.f64(s, "max_angle_deg", 0.0, 45.0),
-        axis_fault_v: r.f64(s, "axis_fault_v", 0.1, 12.0),
+        // The A/D reads at most 5 V: a limit at or above it could never trip.
+        axis_fault_v: r.f64(s, "axis_fault_v", 0.1, 4.95),
     }
 }
 

@@ -52,6 +52,8 @@ pub struct FaultChecks {
     power_up_timeout_s: f64,
     period_s: f64,
     joystick_axis_fault_v: f64,
+    /// The drive wheels' feed-forward: the volts a speed needs, V per m/s.
+    kff_v_per_mps: [f64; 2],
     /// Times of the most recent supervisor overruns (at most max_overruns + 1).
     overrun_times_s: std::collections::VecDeque<f64>,
     overruns_seen: u64,
@@ -93,6 +95,7 @@ impl FaultChecks {
             power_up_timeout_s: settings.supervisor.power_up_timeout_s,
             period_s: 1.0 / settings.supervisor.rate_hz,
             joystick_axis_fault_v: settings.joystick.axis_fault_v,
+            kff_v_per_mps: [settings.pid_left.kff, settings.pid_right.kff],
             overrun_times_s: std::collections::VecDeque::with_capacity(
                 rt.max_overruns as usize + 1,
             ),
@@ -216,10 +219,15 @@ impl FaultChecks {
             let was_idle = self.encoder_idle_since_s[k].is_some();
             let idle_s = held_for(&mut self.encoder_idle_since_s[k], idle, now);
             let should_move = match id {
-                // A drive wheel asked to move, pushed in that direction.
+                // A drive wheel asked to move, pushed in that direction: at a speed
+                // that shows, or at a creep with far more voltage than the creep needs
+                // (an integrator winding up behind a dead encoder).
                 EncoderId::Left | EncoderId::Right => {
-                    let expected = c.expected_mps[k];
-                    expected.abs() > EXPECTED_MOTION_MPS && expected * c.driven_v[k] > 0.0
+                    let (expected_mps, driven_v) = (c.expected_mps[k], c.driven_v[k]);
+                    let needed_v = self.kff_v_per_mps[k] * expected_mps.abs();
+                    expected_mps * driven_v > 0.0
+                        && (expected_mps.abs() > EXPECTED_MOTION_MPS
+                            || driven_v.abs() > needed_v + self.s.encoder_stuck_v)
                 }
                 // The steering: the potentiometer saw it turn while the encoder stood.
                 EncoderId::Steer => {

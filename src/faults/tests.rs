@@ -155,6 +155,21 @@ fn a_wheel_asked_to_move_whose_encoder_stands_is_a_stuck_encoder() {
 }
 
 #[test]
+fn a_creeping_wheel_driven_far_harder_than_its_creep_needs_is_a_stuck_encoder() {
+    // 0.03 m/s asked (below what counts as motion), the integrator wound up behind a
+    // dead encoder: the wheel runs away at full voltage.
+    assert_eq!(
+        still_encoders([10.0, 0.2, 0.0], [0.03, 0.03], 0.0, 2.0),
+        Some(FaultCause::EncoderStuck(EncoderId::Left))
+    );
+    // The same creep with the voltage it needs is no fault.
+    assert_eq!(
+        still_encoders([0.3, 0.3, 0.0], [0.03, 0.03], 0.0, 2.0),
+        None
+    );
+}
+
+#[test]
 fn steering_held_by_ground_friction_is_no_stuck_encoder() {
     // Driven hard, but the potentiometer says the wheel does not turn either.
     assert_eq!(still_encoders([0.0, 0.0, 6.0], [0.0, 0.0], 0.0, 2.0), None);

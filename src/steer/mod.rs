@@ -91,7 +91,11 @@ impl SteerCore {
                 &sup.inputs,
                 m.speed_mps,
                 m.wheel_angle_rad,
-                self.settings.steer.endswitch_back_deg,
+                // The procedure's angle is limited on its own, inside the robot's.
+                self.settings
+                    .steer
+                    .endswitch_back_deg
+                    .min(self.settings.robot.max_wheel_angle_deg),
                 now_s,
             )
         } else {

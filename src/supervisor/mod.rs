@@ -44,8 +44,8 @@ pub struct Supervisor {
     /// Steering-law parameters accepted in Halt, not yet passed to the steer thread.
     steer_settings: Option<SteerSettings>,
     status: Status,
-    pub fault_log: Vec<FaultRecord>,
-    pub notice_log: Vec<Notice>,
+    fault_log: Vec<FaultRecord>,
+    notice_log: Vec<Notice>,
 }
 
 /// Move `value` towards `target` by at most `step`.
@@ -80,6 +80,16 @@ impl Supervisor {
 
     pub fn mode(&self) -> Mode {
         self.status.mode
+    }
+
+    /// Every fault of the run so far, oldest first (at most 256 kept).
+    pub fn faults(&self) -> &[FaultRecord] {
+        &self.fault_log
+    }
+
+    /// Every notice of the run so far, oldest first (at most 256 kept).
+    pub fn notices(&self) -> &[Notice] {
+        &self.notice_log
     }
 
     /// The regulator gains in use.
@@ -276,17 +286,17 @@ impl Supervisor {
         let steer_age_s = now_s - steer.t_s;
         let fresh = steer.mode == self.status.mode
             && steer_age_s <= STEER_MAX_AGE_PERIODS / s.steer.rate_hz;
-        let max_speed = s.supervisor.max_speed_mps;
-        let target_speed = if end_switch || !fresh {
+        let max_speed_mps = s.supervisor.max_speed_mps;
+        let target_speed_mps = if end_switch || !fresh {
             0.0
         } else {
-            steer.speed_mps.clamp(-max_speed, max_speed)
+            steer.speed_mps.clamp(-max_speed_mps, max_speed_mps)
         };
         // One limit in every mode; the end-switch procedure's angle lies within it
         // (check-config refuses one that does not).
-        let max_angle = s.robot.max_wheel_angle_deg.to_radians();
-        let target_angle = if fresh {
-            steer.wheel_angle_rad.clamp(-max_angle, max_angle)
+        let max_angle_rad = s.robot.max_wheel_angle_deg.to_radians();
+        let target_angle_rad = if fresh {
+            steer.wheel_angle_rad.clamp(-max_angle_rad, max_angle_rad)
         } else {
             self.status.wheel_angle_ref_rad
         };
@@ -294,12 +304,12 @@ impl Supervisor {
         let st = &mut self.status;
         st.speed_ref_mps = ramp(
             st.speed_ref_mps,
-            target_speed,
+            target_speed_mps,
             s.supervisor.accel_mps2 * dt_s,
         );
         st.wheel_angle_ref_rad = ramp(
             st.wheel_angle_ref_rad,
-            target_angle,
+            target_angle_rad,
             s.supervisor.wheel_angle_rate_dps.to_radians() * dt_s,
         );
         // Ackermann: on a turn the inner rear wheel runs slower than the outer one.

@@ -2,7 +2,6 @@
 //! script, the command line): the same refusal rules the GUI greys its buttons with
 //! (modes.rs), then the change, all between two ticks.
 
-use crate::fault_cause::FaultCause;
 use crate::modes::{Gains, Mode, Refusal, Request};
 use crate::status::PowerState;
 
@@ -24,20 +23,15 @@ impl Supervisor {
                     return Err(refusal);
                 }
                 if st.mode == Mode::Fault {
-                    // The steering encoder's zero may be what the potentiometer fault
-                    // was about: take it again from the potentiometer, standing.
-                    if let Some(record) = st.fault
-                        && matches!(
-                            record.cause,
-                            FaultCause::PotOutOfRange { .. } | FaultCause::PotDisagrees { .. }
-                        )
-                    {
-                        self.measure.recalibrate();
-                    }
+                    // After any fault the steering encoder's zero may be what went wrong
+                    // (a slipped coupling, a potentiometer that read wrong): take it
+                    // again from the potentiometer, with the robot standing.
+                    self.measure.recalibrate();
                     self.set_mode(Mode::Halt);
                     self.status.fault = None;
                 }
-                // In Test, Power up closes the panel's relay switch too.
+                // In Test the relay switch is the power switch: Power up closes it, or
+                // the panel's next outputs would open it again.
                 self.test_outputs.main_power_on = true;
                 self.status.power = PowerState::Closing {
                     since_s: self.status.t_s,
