@@ -174,8 +174,9 @@ impl Decoder {
                 None
             }
             Verdict::Useless => {
-                // A good CRC on a frame that is no use is more likely a false sync in
-                // noise than a frame: look for a real one inside.
+                // A good CRC on a frame that is no use: a ROW with impossible values
+                // (its seq was counted as sent) or, rarely, a false sync in noise.
+                // Look inside it too, so that a real frame is never swallowed.
                 self.resync();
                 None
             }
