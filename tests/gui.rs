@@ -279,6 +279,39 @@ fn without_a_display_the_gui_says_to_run_headless_and_fails() {
 }
 
 #[test]
+fn the_first_tab_is_a_command_line_flag_not_a_hidden_setting() {
+    let mechweed = |args: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_mechweed"))
+            .args(args)
+            .env_remove("DISPLAY")
+            .env_remove("WAYLAND_DISPLAY")
+            .output()
+            .unwrap();
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    // Taken: the run goes on as far as looking for a display.
+    let (code, stderr) = mechweed(&["run", "--tab", "plots", "--duration", "1"]);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(
+        stderr.contains("no display for the operator GUI"),
+        "{stderr}"
+    );
+    let (code, stderr) = mechweed(&["run", "--tab", "map"]);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(
+        stderr.contains("[possible values: status, plots, tuning, test]"),
+        "{stderr}"
+    );
+    let (code, stderr) = mechweed(&["run", "--headless", "--tab", "plots"]);
+    assert_eq!(code, Some(2), "a tab without a GUI: {stderr}");
+    let (code, stderr) = mechweed(&["bench", "loop", "--tab", "plots"]);
+    assert_eq!(code, Some(2), "a tab without --gui: {stderr}");
+}
+
+#[test]
 fn in_test_an_amplifier_follows_the_panel_and_an_estop_still_stops_everything() {
     let mut gui = gui_with(None);
     gui.wait_until("the first status", |app| app.view.status.tick > 0);

@@ -70,23 +70,14 @@ pub fn ask(handles: &Handles, request: Request, done: &str, feedback: &mut Optio
     });
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// The tab in the middle (`mechweed run --tab` chooses the first).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum Tab {
+    #[default]
     Status,
     Plots,
     Tuning,
     Test,
-}
-
-/// The tab shown at start: Status, or the one named by MECHWEED_TAB (status, plots,
-/// tuning, test), which the screenshot script uses.
-fn first_tab() -> Tab {
-    match std::env::var("MECHWEED_TAB").as_deref() {
-        Ok("plots") => Tab::Plots,
-        Ok("tuning") => Tab::Tuning,
-        Ok("test") => Tab::Test,
-        _ => Tab::Status,
-    }
 }
 
 pub struct GuiApp {
@@ -119,7 +110,7 @@ impl GuiApp {
         let mut app = GuiApp {
             handles,
             view: View::default(),
-            tab: first_tab(),
+            tab: Tab::default(),
             feedback: None,
             tuning: Tuning::new(settings, settings_file),
             plots: Plots::default(),

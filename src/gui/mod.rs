@@ -33,7 +33,7 @@ use crate::run::{RunOptions, RunOutcome, Running, start};
 /// the simulated robot, and `run_gui` stops the last ones when the window closes.
 pub type Controller = Arc<Mutex<Option<Running>>>;
 
-pub use app::GuiApp;
+pub use app::{GuiApp, Tab};
 
 /// Why there is no window to open, if there is none: checked before anything starts,
 /// so that a GUI run without a display fails with a message, never a panic.
@@ -52,10 +52,12 @@ pub fn display_missing() -> Option<String> {
 
 /// Run the controller with the GUI on this (the main) thread until the window closes,
 /// `duration_s` passes, or `stop` is set; then stop the threads (safe outputs).
-/// `settings_file` is where "Save to robot.ini" writes (None: built-in settings).
+/// `settings_file` is where "Save to robot.ini" writes (None: built-in settings);
+/// `first_tab` is the tab shown at start.
 pub fn run_gui(
     opts: &RunOptions,
     settings_file: Option<PathBuf>,
+    first_tab: Tab,
     stop: Arc<AtomicBool>,
 ) -> Result<RunOutcome, String> {
     if let Some(why) = display_missing() {
@@ -67,7 +69,8 @@ pub fn run_gui(
         start(opts, Arc::new(AtomicBool::new(false))).map_err(|e| e.to_string())?;
     running.watch_this_thread_as(ThreadName::Gui);
     let controller: Controller = Arc::new(Mutex::new(Some(running)));
-    let app = GuiApp::new(handles, opts, settings_file, stop, controller.clone());
+    let mut app = GuiApp::new(handles, opts, settings_file, stop, controller.clone());
+    app.tab = first_tab;
     let native = eframe::NativeOptions {
         viewport: eframe::egui::ViewportBuilder::default()
             .with_title("mechweed")
