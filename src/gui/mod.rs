@@ -1,26 +1,34 @@
 //! The operator GUI (egui/eframe): how every user meets mechweed.
 //!
 //! The GUI thread is a reader of the protected objects and a sender of requests: it
-//! copies snapshots out (never holding a lock across a frame) and asks the supervisor
-//! for everything (modes, power-up, gains, test outputs). It never writes an output.
-//! It beats once per pass (`App::logic`, which eframe also runs while the window is
-//! minimised), and the supervisor faults if it stops for `[rt] gui_heartbeat_timeout_s`.
+//! copies one `View` out per pass (never holding a lock across a frame) and asks the
+//! supervisor for everything (modes, power-up, gains, test outputs) without waiting for
+//! the answer, which the next pass shows. It never writes an output. It beats once per
+//! pass (`App::logic`, which eframe also runs while the window is minimised), and the
+//! supervisor faults if it stops for `[rt] gui_heartbeat_timeout_s`.
 //!
-//! One file per idea: `app` (the eframe App and its layout), `header` (mode, HALT,
-//! fault), `modes` (mode buttons and why one is disabled), `status` (every input,
-//! output, the camera link and loop figures), `plots` (the last 60 s), `tuning` (gains
-//! and the steering law, saved to robot.ini by `ini_edit`), `test_panel` (mode Test),
-//! `sim_panel` (the simulated robot's e-stops, joystick and faults).
+//! One file per idea: `app` (the eframe App and its layout), `view` (the snapshot the
+//! panels draw and the source that fills it), `requests` (requests out, answers back,
+//! the feedback line), `script` (`--mode` in the GUI), `header` (mode, HALT, fault),
+//! `modes` (mode buttons and why one is disabled), `status` (every input, output, the
+//! camera link and loop figures), `plots` (the last 60 s), `tuning` (gains and the
+//! steering law, saved to robot.ini by `ini_edit`), `test_panel` (mode Test),
+//! `sim_panel` (the simulated robot's e-stops, joystick and faults). Every panel draws
+//! from a `View` and asks through `Requests` only, so it can be tested from a `View`
+//! made by hand (tests/gui_panels.rs).
 
 pub mod app;
-mod header;
+pub mod header;
 pub mod ini_edit;
-mod modes;
+pub mod modes;
 pub mod plots;
+pub mod requests;
+pub mod script;
 mod sim_panel;
-mod status;
+pub mod status;
 pub mod test_panel;
 pub mod tuning;
+pub mod view;
 
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
