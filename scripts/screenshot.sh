@@ -24,8 +24,8 @@ trap 'kill "$xvfb" 2>/dev/null || true' EXIT
 sleep 2
 
 # --mode autonomous: the scripted operator powers up and asks for Autonomous, as a
-# person would click Power up, then Autonomous. MECHWEED_TAB opens the Plots tab.
-DISPLAY="$display" MECHWEED_TAB=plots "$bin" run --mode autonomous --duration 45 --set sim.row=scurve &
+# person would click Power up, then Autonomous. --tab plots opens the Plots tab.
+DISPLAY="$display" "$bin" run --mode autonomous --tab plots --duration 45 --set sim.row=scurve &
 app=$!
 sleep "${SCREENSHOT_AFTER_S:-35}"
 DISPLAY="$display" import -window root docs/screenshot.png

@@ -10,6 +10,7 @@ use serde::Serialize;
 
 use crate::config::Settings;
 use crate::console::run;
+use crate::gui::Tab;
 use crate::modes::Mode;
 use crate::report::loop_line;
 use crate::rt::{LiuLayland, LoopSummary, liu_layland};
@@ -27,13 +28,13 @@ pub struct LoopBench {
     pub rt_warnings: Vec<String>,
 }
 
-/// With `gui`, the operator GUI is open for the whole run (on this, the main thread),
-/// to measure what it costs the supervisor.
+/// With `gui`, the operator GUI is open on that tab for the whole run (on this, the
+/// main thread), to measure what it costs the supervisor; None runs headless.
 pub fn bench_loop(
     settings: &Settings,
     rate_hz: f64,
     seconds: f64,
-    gui: bool,
+    gui: Option<Tab>,
 ) -> Result<LoopBench, String> {
     let mut settings = settings.clone();
     settings.supervisor.rate_hz = rate_hz;
@@ -45,14 +46,13 @@ pub fn bench_loop(
         inject: None,
     };
     let stop = Arc::new(AtomicBool::new(false));
-    let outcome = if gui {
-        crate::gui::run_gui(&options, None, stop)?
-    } else {
-        run(&options, stop).map_err(|e| e.to_string())?
+    let outcome = match gui {
+        Some(tab) => crate::gui::run_gui(&options, None, tab, stop)?,
+        None => run(&options, stop).map_err(|e| e.to_string())?,
     };
     Ok(LoopBench {
         rate_hz,
-        gui,
+        gui: gui.is_some(),
         seconds,
         supervisor: outcome.supervisor_loop,
         steer: outcome.steer_loop,

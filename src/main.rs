@@ -10,6 +10,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use mechweed::bench_rows;
 use mechweed::config::{Backend, ConfigError, DEFAULT_INI, Settings};
 use mechweed::console::run;
+use mechweed::gui::Tab;
 use mechweed::modes::Mode;
 use mechweed::report::Report;
 use mechweed::run::RunOptions;
@@ -62,6 +63,14 @@ struct RunArgs {
     /// Run without the operator GUI: the console prints the status instead.
     #[arg(long)]
     headless: bool,
+    /// The operator GUI's tab at start.
+    #[arg(
+        long,
+        value_enum,
+        default_value = "status",
+        conflicts_with = "headless"
+    )]
+    tab: Tab,
     /// Mode to bring the robot into at start (powering up first).
     #[arg(long, value_enum, default_value = "halt")]
     mode: StartMode,
@@ -99,6 +108,9 @@ enum BenchCommand {
         /// With the operator GUI open (needs a display).
         #[arg(long)]
         gui: bool,
+        /// The GUI's tab while it is open [default: status]
+        #[arg(long, value_enum, requires = "gui")]
+        tab: Option<Tab>,
         /// Also write the figures as JSON to this file.
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
@@ -237,7 +249,8 @@ fn run_command(args: RunArgs) -> ExitCode {
     let outcome = if args.headless {
         run(&options, stop).map_err(|e| e.to_string())
     } else {
-        mechweed::gui::run_gui(&options, settings_file(args.config.as_deref()), stop)
+        let settings_file = settings_file(args.config.as_deref());
+        mechweed::gui::run_gui(&options, settings_file, args.tab, stop)
     };
     let outcome = match outcome {
         Ok(outcome) => outcome,
@@ -297,12 +310,14 @@ fn bench(command: BenchCommand) -> ExitCode {
             rate,
             seconds,
             gui,
+            tab,
             json,
         } => {
             if !(1.0..=10_000.0).contains(&rate) || !(0.001..=86_400.0).contains(&seconds) {
                 eprintln!("--rate must be 1 to 10000 Hz and --seconds 0.001 to 86400");
                 return ExitCode::FAILURE;
             }
+            let gui = gui.then(|| tab.unwrap_or_default());
             return match mechweed::bench_loop::bench_loop(&settings, rate, seconds, gui) {
                 Ok(figures) => {
                     print!("{}", figures.text());

@@ -74,7 +74,7 @@ impl Gui {
                 "timed out waiting for {what}; mode {}, fault {:?}, feedback {:?}",
                 v.status.mode,
                 v.status.fault,
-                self.harness.state().feedback
+                self.harness.state().feedback()
             );
             std::thread::sleep(Duration::from_millis(20));
         }
@@ -184,7 +184,9 @@ fn a_tuned_gain_is_applied_and_saved_changing_only_its_value() {
     assert_eq!(gui.harness.state().tab, Tab::Tuning);
     assert!(gui.harness.state_mut().tuning.set("pid.left", "kp", 20.5));
     gui.click("Apply");
-    let feedback = gui.harness.state().feedback.clone().unwrap();
+    // The GUI does not wait for the supervisor: its answer shows a pass or two later.
+    gui.wait_until("the supervisor's answer", |app| app.feedback().is_some());
+    let feedback = gui.harness.state().feedback().cloned().unwrap();
     assert!(!feedback.refused, "{}", feedback.text);
     gui.click("Save to robot.ini");
     let saved = std::fs::read_to_string(&path).unwrap();
@@ -203,7 +205,7 @@ fn a_tuned_gain_is_applied_and_saved_changing_only_its_value() {
     std::fs::set_permissions(&path, perms).unwrap();
     gui.harness.state_mut().tuning.set("pid.left", "kp", 30.0);
     gui.click("Save to robot.ini");
-    let feedback = gui.harness.state().feedback.clone().unwrap();
+    let feedback = gui.harness.state().feedback().cloned().unwrap();
     assert!(
         feedback.refused && feedback.text.contains("read-only"),
         "{}",
@@ -276,6 +278,39 @@ fn without_a_display_the_gui_says_to_run_headless_and_fails() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("--headless"), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+#[test]
+fn the_first_tab_is_a_command_line_flag_not_a_hidden_setting() {
+    let mechweed = |args: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_mechweed"))
+            .args(args)
+            .env_remove("DISPLAY")
+            .env_remove("WAYLAND_DISPLAY")
+            .output()
+            .unwrap();
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    // Taken: the run goes on as far as looking for a display.
+    let (code, stderr) = mechweed(&["run", "--tab", "plots", "--duration", "1"]);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(
+        stderr.contains("no display for the operator GUI"),
+        "{stderr}"
+    );
+    let (code, stderr) = mechweed(&["run", "--tab", "map"]);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(
+        stderr.contains("[possible values: status, plots, tuning, test]"),
+        "{stderr}"
+    );
+    let (code, stderr) = mechweed(&["run", "--headless", "--tab", "plots"]);
+    assert_eq!(code, Some(2), "a tab without a GUI: {stderr}");
+    let (code, stderr) = mechweed(&["bench", "loop", "--tab", "plots"]);
+    assert_eq!(code, Some(2), "a tab without --gui: {stderr}");
 }
 
 #[test]

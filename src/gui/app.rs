@@ -1,4 +1,5 @@
-//! The eframe App: one snapshot of every protected object per pass, then the layout.
+//! The eframe App: per pass, the supervisor's answers, one `View` of the controller,
+//! then the layout; what the panels asked for is sent at the end without waiting.
 //! Header on top (mode, HALT, fault), modes on the left, the simulated robot on the
 //! right, and the tabs Status, Plots, Tuning, Test panel in the middle.
 
@@ -8,99 +9,48 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use eframe::egui;
-use mechweed_hw::sim::Truth;
 
 use super::Controller;
 use super::plots::Plots;
+use super::requests::{Feedback, Requests};
+use super::script::GuiScript;
 use super::sim_panel::SimPanel;
 use super::test_panel::TestPanel;
 use super::tuning::Tuning;
+use super::view::{View, ViewSource};
 use super::{header, modes, status};
-use crate::camlink::LinkStatus;
 use crate::config::Settings;
-use crate::modes::{Mode, Request};
-use crate::operator::{OperatorScript, needs_confirmation};
-use crate::rt::LoopSummary;
+use crate::modes::Mode;
+use crate::operator::needs_confirmation;
 use crate::run::{Handles, RunOptions, start};
-use crate::state::Reader;
-use crate::status::Status;
-use crate::steer::SteerCommand;
 
 /// Repaint period while the robot may move (about 30 Hz) and while it stands, s.
 const FRAME_MOVING: Duration = Duration::from_millis(33);
 const FRAME_STANDING: Duration = Duration::from_millis(100);
 
-/// Copies of the protected objects, taken once per pass: every panel draws the same
-/// instant, and no lock is held while drawing.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct View {
-    /// Seconds since the controller started.
-    pub now_s: f64,
-    pub status: Status,
-    pub link: LinkStatus,
-    pub steer: SteerCommand,
-    /// Supervisor and steer loop figures.
-    pub loops: [LoopSummary; 2],
-    /// The simulated robot's true state.
-    pub truth: Truth,
-}
-
-/// The supervisor's last answer to something the operator did, shown in the header.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Feedback {
-    pub text: String,
-    pub refused: bool,
-    pub at_s: f64,
-}
-
-/// Send `request` and say what came of it (a refusal in the supervisor's own words).
-pub fn ask(handles: &Handles, request: Request, done: &str, feedback: &mut Option<Feedback>) {
-    let at_s = handles.clock.elapsed().as_secs_f64();
-    *feedback = Some(match handles.supervisor.request(request) {
-        Ok(()) => Feedback {
-            text: done.to_string(),
-            refused: false,
-            at_s,
-        },
-        Err(why) => Feedback {
-            text: format!("refused: {why}"),
-            refused: true,
-            at_s,
-        },
-    });
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// The tab in the middle (`mechweed run --tab` chooses the first).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum Tab {
+    #[default]
     Status,
     Plots,
     Tuning,
     Test,
 }
 
-/// The tab shown at start: Status, or the one named by MECHWEED_TAB (status, plots,
-/// tuning, test), which the screenshot script uses.
-fn first_tab() -> Tab {
-    match std::env::var("MECHWEED_TAB").as_deref() {
-        Ok("plots") => Tab::Plots,
-        Ok("tuning") => Tab::Tuning,
-        Ok("test") => Tab::Test,
-        _ => Tab::Status,
-    }
-}
-
 pub struct GuiApp {
     pub handles: Handles,
     pub view: View,
     pub tab: Tab,
-    pub feedback: Option<Feedback>,
+    /// What the panels asked of the supervisor, its answers, and the feedback line.
+    pub requests: Requests,
     pub tuning: Tuning,
     pub plots: Plots,
     pub test: TestPanel,
     pub sim: SimPanel,
     duration_s: Option<f64>,
     /// `--mode` and the operator actions of [sim] events, as the console follows them.
-    script: OperatorScript,
+    script: GuiScript,
     /// `--mode` on the real robot, waiting for the operator's confirmation.
     pub confirm_start: Option<Mode>,
     stop: Arc<AtomicBool>,
@@ -119,14 +69,14 @@ impl GuiApp {
         let mut app = GuiApp {
             handles,
             view: View::default(),
-            tab: first_tab(),
-            feedback: None,
+            tab: Tab::default(),
+            requests: Requests::default(),
             tuning: Tuning::new(settings, settings_file),
             plots: Plots::default(),
             test: TestPanel::default(),
             sim: SimPanel::new(settings),
             duration_s: opts.duration_s,
-            script: OperatorScript::new(&settings.sim.events, opts.start_mode),
+            script: GuiScript::new(&settings.sim.events, opts.start_mode),
             confirm_start: None,
             stop,
             controller,
@@ -140,7 +90,7 @@ impl GuiApp {
     /// Stand in Halt until the operator confirms that `mode` may power the robot up
     /// (`--mode` on the real robot).
     pub fn ask_to_start(&mut self, mode: Mode) {
-        self.script = OperatorScript::new(&[], Mode::Halt);
+        self.script = GuiScript::new(&[], Mode::Halt);
         self.confirm_start = Some(mode);
     }
 
@@ -161,7 +111,7 @@ impl GuiApp {
                 ui.label("Is the area clear and a person at an emergency stop?");
                 ui.horizontal(|ui| {
                     if ui.button(format!("Power up and start {mode}")).clicked() {
-                        self.script = OperatorScript::new(&[], mode);
+                        self.script = GuiScript::new(&[], mode);
                         self.confirm_start = None;
                     }
                     if ui.button("Stay in halt").clicked() {
@@ -190,56 +140,53 @@ impl GuiApp {
             inject: None,
         };
         let at_s = self.view.now_s;
-        self.feedback = Some(match start(&opts, Arc::new(AtomicBool::new(false))) {
+        // What the old controller was asked will not be answered.
+        self.requests.forget_open();
+        match start(&opts, Arc::new(AtomicBool::new(false))) {
             Ok((handles, running)) => {
                 running.watch_this_thread_as(crate::health::ThreadName::Gui);
                 *slot = Some(running);
                 self.handles = handles;
-                self.script = OperatorScript::new(&[], Mode::Halt);
+                self.script = GuiScript::new(&[], Mode::Halt);
                 self.plots = Plots::default();
                 self.test = TestPanel::default();
                 self.duration_s = None;
-                Feedback {
-                    text: "simulated robot reset to the row start (controller restarted, halt)"
-                        .to_string(),
-                    refused: false,
+                self.requests.say(
+                    "simulated robot reset to the row start (controller restarted, halt)",
+                    false,
                     at_s,
-                }
+                );
             }
-            Err(why) => Feedback {
-                text: format!("cannot restart the controller: {why}; close the window"),
-                refused: true,
+            Err(why) => self.requests.say(
+                format!("cannot restart the controller: {why}; close the window"),
+                true,
                 at_s,
-            },
-        });
+            ),
+        }
     }
 
-    /// Once per pass, also while the window is minimised: beat, take the snapshots,
-    /// record a plot sample, keep the test outputs flowing, and ask for the next pass.
+    /// The feedback line: the supervisor's last answer, or the GUI's last message.
+    pub fn feedback(&self) -> Option<&Feedback> {
+        self.requests.feedback()
+    }
+
+    /// Once per pass, also while the window is minimised: take the answers, then the
+    /// view, beat, record a plot sample, keep the script and the test outputs going,
+    /// send what they asked for, and ask for the next pass.
     pub fn pass(&mut self, ctx: &egui::Context) {
-        let h = &self.handles;
-        let now_s = h.clock.elapsed().as_secs_f64();
-        h.gui_beat.publish(&now_s);
-        let [sup, steer] = [&h.loops[0], &h.loops[1]].map(Reader::snapshot);
-        self.view = View {
-            now_s,
-            status: h.supervisor.status.snapshot(),
-            link: h.link.snapshot(),
-            steer: h.steer.snapshot(),
-            loops: [sup, steer],
-            truth: h.truth.truth(),
-        };
-        if let Some(request) = self.script.due(now_s, &self.view.status) {
-            let what = match request {
-                Request::Mode(m) => format!("operator script: mode {m}"),
-                Request::PowerUp => "operator script: power up".to_string(),
-                other => format!("operator script: {other:?}"),
-            };
-            ask(h, request, &what, &mut self.feedback);
-        }
+        // Answers before the view: a status read after an answer is from the tick that
+        // answered or a later one (the script relies on it).
+        self.requests.take_answers();
+        self.view = self.handles.view();
+        let now_s = self.view.now_s;
+        self.handles.gui_beat.publish(&now_s);
+        self.script.pass(&self.view, &mut self.requests);
         self.plots.record(&self.view);
-        self.test.keep_sending(&self.view, h, &mut self.feedback);
-        self.sim.keep_joystick(h);
+        self.test.keep_sending(&self.view, &mut self.requests);
+        if let Some(sim) = &self.handles.sim {
+            self.sim.keep_joystick(sim);
+        }
+        self.requests.post(&self.handles, now_s);
         if let Some(settings) = self.sim.restart.take() {
             self.restart(settings);
         }
@@ -254,30 +201,26 @@ impl GuiApp {
         ctx.request_repaint_after(if moving { FRAME_MOVING } else { FRAME_STANDING });
     }
 
-    /// The whole window's contents.
+    /// The whole window's contents. What the panels asked for leaves at the end of the
+    /// frame, without waiting; the answers show from the next pass on.
     pub fn show(&mut self, ui: &mut egui::Ui) {
         if ui.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::Space)) {
-            header::halt(&self.handles, &self.view, &mut self.feedback);
+            header::halt(&self.view, &mut self.requests);
         }
         self.show_confirmation(&ui.ctx().clone());
-        egui::Panel::top("header").show(ui, |ui| {
-            header::show(ui, &self.view, &self.handles, &mut self.feedback);
-        });
+        let (view, requests) = (&self.view, &mut self.requests);
+        egui::Panel::top("header").show(ui, |ui| header::show(ui, view, requests));
         egui::Panel::left("modes")
             .resizable(false)
             .exact_size(250.0)
-            .show(ui, |ui| {
-                modes::show(ui, &self.view, &self.handles, &mut self.feedback);
-            });
-        if self.handles.sim.is_some() {
+            .show(ui, |ui| modes::show(ui, view, requests));
+        if let Some(sim) = &self.handles.sim {
             egui::Panel::right("sim")
                 .resizable(false)
                 .exact_size(270.0)
                 .show(ui, |ui| {
-                    egui::ScrollArea::vertical().show(ui, |ui| {
-                        self.sim
-                            .show(ui, &self.view, &self.handles, &mut self.feedback);
-                    });
+                    egui::ScrollArea::vertical()
+                        .show(ui, |ui| self.sim.show(ui, view, sim, requests));
                 });
         }
         egui::CentralPanel::default().show(ui, |ui| {
@@ -293,16 +236,13 @@ impl GuiApp {
             });
             ui.separator();
             egui::ScrollArea::vertical().show(ui, |ui| match self.tab {
-                Tab::Status => status::show(ui, &self.view, &self.handles),
-                Tab::Plots => self.plots.show(ui, self.handles.sim.is_some()),
-                Tab::Tuning => self
-                    .tuning
-                    .show(ui, &self.view, &self.handles, &mut self.feedback),
-                Tab::Test => self
-                    .test
-                    .show(ui, &self.view, &self.handles, &mut self.feedback),
+                Tab::Status => status::show(ui, view, requests),
+                Tab::Plots => self.plots.show(ui, view.simulated),
+                Tab::Tuning => self.tuning.show(ui, view, requests),
+                Tab::Test => self.test.show(ui, view, requests),
             });
         });
+        self.requests.post(&self.handles, self.view.now_s);
     }
 }
 

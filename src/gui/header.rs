@@ -4,9 +4,9 @@
 
 use eframe::egui::{self, Color32, RichText};
 
-use super::app::{Feedback, View, ask};
+use super::requests::Requests;
+use super::view::View;
 use crate::modes::{Mode, Request};
-use crate::run::Handles;
 
 /// If the supervisor has not published for this long, it has stopped, s.
 const SUPERVISOR_SILENT_S: f64 = 1.0;
@@ -23,19 +23,19 @@ pub fn mode_colour(mode: Mode) -> Color32 {
 
 /// HALT: asked in every mode. In Fault the outputs are already safe, so the
 /// supervisor's refusal is said as that.
-pub fn halt(handles: &Handles, view: &View, feedback: &mut Option<Feedback>) {
+pub fn halt(view: &View, requests: &mut Requests) {
     if view.status.mode == Mode::Fault {
-        *feedback = Some(Feedback {
-            text: "halt: the robot is in fault, its outputs are already safe".to_string(),
-            refused: false,
-            at_s: view.now_s,
-        });
+        requests.say(
+            "halt: the robot is in fault, its outputs are already safe",
+            false,
+            view.now_s,
+        );
         return;
     }
-    ask(handles, Request::Mode(Mode::Halt), "halted", feedback);
+    requests.ask(Request::Mode(Mode::Halt), "halted");
 }
 
-pub fn show(ui: &mut egui::Ui, view: &View, handles: &Handles, feedback: &mut Option<Feedback>) {
+pub fn show(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
     let st = &view.status;
     ui.add_space(4.0);
     ui.horizontal(|ui| {
@@ -52,7 +52,7 @@ pub fn show(ui: &mut egui::Ui, view: &View, handles: &Handles, feedback: &mut Op
             .on_hover_text("Stop driving and stand, in every mode (also the Space key)")
             .clicked()
         {
-            halt(handles, view, feedback);
+            halt(view, requests);
         }
         ui.add_space(12.0);
         ui.vertical(|ui| {
@@ -73,7 +73,7 @@ pub fn show(ui: &mut egui::Ui, view: &View, handles: &Handles, feedback: &mut Op
                     view.now_s
                 ));
             });
-            if let Some(warning) = &handles.not_realtime {
+            if let Some(warning) = &view.not_realtime {
                 ui.label(
                     RichText::new(warning)
                         .strong()
@@ -104,7 +104,7 @@ pub fn show(ui: &mut egui::Ui, view: &View, handles: &Handles, feedback: &mut Op
                         .color(Color32::RED),
                 );
             }
-            if let Some(f) = feedback {
+            if let Some(f) = requests.feedback() {
                 let colour = if f.refused {
                     Color32::from_rgb(255, 170, 60)
                 } else {

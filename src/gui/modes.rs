@@ -4,10 +4,10 @@
 
 use eframe::egui::{self, RichText};
 
-use super::app::{Feedback, View, ask};
 use super::header::mode_colour;
+use super::requests::Requests;
+use super::view::View;
 use crate::modes::{Mode, Request};
-use crate::run::Handles;
 use crate::supervisor::rules::{power_up_refusal, why_not};
 
 /// A wide button that may be disabled, with the reason in small text under it.
@@ -25,7 +25,7 @@ fn button_with_reason(ui: &mut egui::Ui, label: RichText, why_not: Option<String
     clicked
 }
 
-pub fn show(ui: &mut egui::Ui, view: &View, handles: &Handles, feedback: &mut Option<Feedback>) {
+pub fn show(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
     let st = &view.status;
     ui.heading("Modes");
     ui.add_space(4.0);
@@ -35,7 +35,7 @@ pub fn show(ui: &mut egui::Ui, view: &View, handles: &Handles, feedback: &mut Op
         power_up_refusal(st).map(|r| r.to_string()),
     );
     if power_up {
-        ask(handles, Request::PowerUp, "powering up", feedback);
+        requests.ask(Request::PowerUp, "powering up");
     }
     ui.separator();
     for (mode, label) in [
@@ -51,12 +51,7 @@ pub fn show(ui: &mut egui::Ui, view: &View, handles: &Handles, feedback: &mut Op
         };
         let text = RichText::new(label).size(18.0).color(mode_colour(mode));
         if button_with_reason(ui, text, reason) {
-            ask(
-                handles,
-                Request::Mode(mode),
-                &format!("mode {mode}"),
-                feedback,
-            );
+            requests.ask(Request::Mode(mode), &format!("mode {mode}"));
         }
     }
     ui.separator();

@@ -6,7 +6,7 @@
 use eframe::egui;
 use egui_plot::{Legend, Line, Plot, PlotPoints};
 
-use super::app::View;
+use super::view::View;
 
 /// Seconds shown, and samples a second at most.
 pub const WINDOW_S: f64 = 60.0;

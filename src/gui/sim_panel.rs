@@ -4,13 +4,13 @@
 //! `SimControl`, as a person at the robot would act: never to the controller directly.
 
 use eframe::egui::{self, Color32, RichText, Sense};
-use mechweed_hw::sim::{EncoderId, EventAction, RowShape, Side};
+use mechweed_hw::sim::{EncoderId, EventAction, RowShape, Side, SimControl};
 
-use super::app::{Feedback, View};
+use super::requests::Requests;
+use super::view::View;
 use crate::bench_rows::row_name;
 use crate::config::Settings;
 use crate::modes::Mode;
-use crate::run::Handles;
 
 /// Battery reading of the "battery low" fault, V (below [faults] battery_min_v).
 const LOW_BATTERY_V: f64 = 19.0;
@@ -56,8 +56,7 @@ impl SimPanel {
     }
 
     /// Every pass: pass the on-screen joystick to the plant when it changes.
-    pub fn keep_joystick(&mut self, handles: &Handles) {
-        let Some(sim) = &handles.sim else { return };
+    pub fn keep_joystick(&mut self, sim: &SimControl) {
         let now = self.joystick();
         if self.last_sent != Some(now) {
             sim.set_joystick(now.0, now.1, now.2);
@@ -69,22 +68,18 @@ impl SimPanel {
         &mut self,
         ui: &mut egui::Ui,
         view: &View,
-        handles: &Handles,
-        feedback: &mut Option<Feedback>,
+        sim: &SimControl,
+        requests: &mut Requests,
     ) {
-        let Some(sim) = &handles.sim else { return };
         let mut act = |action: EventAction, ui: &mut egui::Ui, label: &str| {
             if ui.button(label).clicked() {
                 let queued = sim.apply(action);
-                *feedback = Some(Feedback {
-                    text: if queued {
-                        format!("simulated robot: {label}")
-                    } else {
-                        "simulated robot busy: try again".to_string()
-                    },
-                    refused: !queued,
-                    at_s: view.now_s,
-                });
+                let text = if queued {
+                    format!("simulated robot: {label}")
+                } else {
+                    "simulated robot busy: try again".to_string()
+                };
+                requests.say(text, !queued, view.now_s);
             }
         };
         ui.heading("Simulated robot");

@@ -3,9 +3,9 @@
 
 use eframe::egui::{self, RichText};
 
-use super::app::View;
+use super::requests::Requests;
+use super::view::View;
 use crate::rt::liu_layland;
-use crate::run::Handles;
 
 fn on_off(on: bool) -> &'static str {
     if on { "on" } else { "off" }
@@ -97,7 +97,7 @@ pub fn outputs_grid(ui: &mut egui::Ui, view: &View) {
     });
 }
 
-fn link_grid(ui: &mut egui::Ui, view: &View, handles: &Handles) {
+fn link_grid(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
     let l = &view.link;
     let c = &l.counters;
     egui::Grid::new("link").striped(true).show(ui, |ui| {
@@ -141,8 +141,7 @@ fn link_grid(ui: &mut egui::Ui, view: &View, handles: &Handles) {
                 ui.monospace(format!("{:.1} ms ({} sent)", l.ping_rtt_ms, l.pings_sent));
             }
             if ui.button("Test link").clicked() {
-                // One place: a second click before the link thread took the first is one ping.
-                let _ = handles.ping.try_send(());
+                requests.ping_link();
             }
         });
         ui.end_row();
@@ -186,7 +185,7 @@ fn loops_grid(ui: &mut egui::Ui, view: &View) {
     ));
 }
 
-pub fn show(ui: &mut egui::Ui, view: &View, handles: &Handles) {
+pub fn show(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
     ui.columns(2, |cols| {
         cols[0].heading("Inputs");
         inputs_grid(&mut cols[0], view);
@@ -195,7 +194,7 @@ pub fn show(ui: &mut egui::Ui, view: &View, handles: &Handles) {
     });
     ui.separator();
     ui.heading("Camera link");
-    link_grid(ui, view, handles);
+    link_grid(ui, view, requests);
     ui.separator();
     ui.heading("Loops");
     loops_grid(ui, view);

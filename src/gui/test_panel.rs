@@ -14,10 +14,10 @@
 use eframe::egui::{self, RichText};
 use mechweed_hw::Outputs;
 
-use super::app::{Feedback, View, ask};
+use super::requests::Requests;
 use super::status::inputs_grid;
+use super::view::View;
 use crate::modes::{Mode, Request};
-use crate::run::Handles;
 use crate::supervisor::rules::why_not;
 
 /// A step waits this long at 0 V before jumping, so the plot shows the jump, s.
@@ -104,12 +104,8 @@ impl TestPanel {
     }
 
     /// Every pass: in Test, send the outputs when they change; otherwise forget them.
-    pub fn keep_sending(
-        &mut self,
-        view: &View,
-        handles: &Handles,
-        feedback: &mut Option<Feedback>,
-    ) {
+    /// (A refusal comes back as "test outputs refused: ..." in the feedback line.)
+    pub fn keep_sending(&mut self, view: &View, requests: &mut Requests) {
         if view.status.mode != Mode::Test {
             if self.last_sent.is_some() || self.outputs != Outputs::SAFE {
                 let max_v = self.max_v;
@@ -130,22 +126,10 @@ impl TestPanel {
             return;
         }
         self.last_sent = Some(wanted);
-        if let Err(why) = handles.supervisor.request(Request::TestOutputs(wanted)) {
-            *feedback = Some(Feedback {
-                text: format!("test outputs refused: {why}"),
-                refused: true,
-                at_s: view.now_s,
-            });
-        }
+        requests.ask_quietly(Request::TestOutputs(wanted));
     }
 
-    pub fn show(
-        &mut self,
-        ui: &mut egui::Ui,
-        view: &View,
-        handles: &Handles,
-        feedback: &mut Option<Feedback>,
-    ) {
+    pub fn show(&mut self, ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
         let in_test = view.status.mode == Mode::Test;
         ui.horizontal(|ui| {
             let reason = if in_test {
@@ -160,18 +144,13 @@ impl TestPanel {
                 )
                 .clicked()
             {
-                ask(handles, Request::Mode(Mode::Test), "mode test", feedback);
+                requests.ask(Request::Mode(Mode::Test), "mode test");
             }
             if ui
                 .add_enabled(in_test, egui::Button::new("Leave Test"))
                 .clicked()
             {
-                ask(
-                    handles,
-                    Request::Mode(Mode::Halt),
-                    "left test: safe outputs",
-                    feedback,
-                );
+                requests.ask(Request::Mode(Mode::Halt), "left test: safe outputs");
             }
             if let Some(why) = reason {
                 ui.label(RichText::new(why).weak());

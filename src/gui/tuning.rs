@@ -10,11 +10,11 @@ use std::path::PathBuf;
 
 use eframe::egui::{self, RichText};
 
-use super::app::{Feedback, View, ask};
 use super::ini_edit::{NewValue, set_values, write_atomic};
+use super::requests::Requests;
+use super::view::View;
 use crate::config::{DEFAULT_INI, Settings};
 use crate::modes::{Gains, Mode, Refusal, Request};
-use crate::run::Handles;
 
 /// One tunable value: where it lives in robot.ini, how it is shown, and how to read
 /// it from the settings.
@@ -125,15 +125,11 @@ impl Tuning {
     }
 
     /// Send the gains and the steering-law parameters to the supervisor (Halt only).
-    pub fn apply(&self, handles: &Handles, feedback: &mut Option<Feedback>) {
+    pub fn apply(&self, requests: &mut Requests, now_s: f64) {
         let s = match self.checked() {
             Ok(s) => s,
             Err(why) => {
-                *feedback = Some(Feedback {
-                    text: format!("not applied: {why}"),
-                    refused: true,
-                    at_s: handles.clock.elapsed().as_secs_f64(),
-                });
+                requests.say(format!("not applied: {why}"), true, now_s);
                 return;
             }
         };
@@ -143,11 +139,9 @@ impl Tuning {
             steer: s.pid_steer,
         };
         // One request: the supervisor takes both or neither.
-        ask(
-            handles,
+        requests.ask(
             Request::Tuning(gains, s.steer),
             "gains and steering law applied",
-            feedback,
         );
     }
 
@@ -195,13 +189,7 @@ impl Tuning {
         Ok(format!("values read from {}", path.display()))
     }
 
-    pub fn show(
-        &mut self,
-        ui: &mut egui::Ui,
-        view: &View,
-        handles: &Handles,
-        feedback: &mut Option<Feedback>,
-    ) {
+    pub fn show(&mut self, ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
         egui::Grid::new("tuning").striped(true).show(ui, |ui| {
             let mut section = "";
             for (t, v) in TUNABLES.iter().zip(self.values.iter_mut()) {
@@ -226,22 +214,11 @@ impl Tuning {
         ui.horizontal(|ui| {
             let apply = ui.add_enabled(halted, egui::Button::new("Apply"));
             if apply.clicked() {
-                self.apply(handles, feedback);
+                self.apply(requests, view.now_s);
             }
-            let at_s = view.now_s;
-            let mut say = |result: Result<String, String>| {
-                *feedback = Some(match result {
-                    Ok(text) => Feedback {
-                        text,
-                        refused: false,
-                        at_s,
-                    },
-                    Err(text) => Feedback {
-                        text,
-                        refused: true,
-                        at_s,
-                    },
-                });
+            let mut say = |result: Result<String, String>| match result {
+                Ok(text) => requests.say(text, false, view.now_s),
+                Err(text) => requests.say(text, true, view.now_s),
             };
             if ui.button("Save to robot.ini").clicked() {
                 say(self.save());

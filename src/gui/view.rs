@@ -1,0 +1,79 @@
+//! What the panels draw and where their requests go. A panel sees one `View` (copies
+//! of the controller's objects, all from the same instant) and never the controller
+//! itself, so it draws the same from any source and can be tested from a `View` made
+//! by hand.
+//!
+//! `ViewSource` is that source. Today there is one: the protected objects of the
+//! controller in this process (`Handles`). A second (the bus, for a remote operator
+//! view) fills the same `View` and carries the same requests.
+
+use crossbeam_channel::Sender;
+use mechweed_hw::sim::Truth;
+
+use crate::camlink::LinkStatus;
+use crate::modes::Request;
+use crate::request_channel::Answer;
+use crate::rt::LoopSummary;
+use crate::run::Handles;
+use crate::state::Reader;
+use crate::status::Status;
+use crate::steer::SteerCommand;
+
+/// Copies of the controller's objects, taken once per pass: every panel draws the same
+/// instant, and no lock is held while drawing.
+#[derive(Debug, Clone, Default)]
+pub struct View {
+    /// Seconds since the controller started, on its clock (the status's `t_s` too).
+    pub now_s: f64,
+    pub status: Status,
+    pub link: LinkStatus,
+    pub steer: SteerCommand,
+    /// Supervisor and steer loop figures.
+    pub loops: [LoopSummary; 2],
+    /// The simulated robot's true state.
+    pub truth: Truth,
+    /// The robot runs on the simulated plant (its panel and its truth are shown).
+    pub simulated: bool,
+    /// Said in the header while the real robot runs without real-time priorities.
+    pub not_realtime: Option<String>,
+}
+
+/// Where the GUI's `View` comes from and where its requests go.
+pub trait ViewSource {
+    /// Everything the panels show, as one instant. The source reads its own clock:
+    /// `now_s` must be on the clock of the status it delivers.
+    fn view(&mut self) -> View;
+
+    /// Queue `request` for the supervisor without waiting; its answer comes later on
+    /// `reply`. An error says why it could not even be queued.
+    fn send(&self, request: Request, reply: &Sender<Answer>) -> Result<(), String>;
+
+    /// Ask the camera link for a round trip (PING); its result shows in the link status.
+    fn ping_link(&self);
+}
+
+/// The controller in this process: its protected objects, read without waiting.
+impl ViewSource for Handles {
+    fn view(&mut self) -> View {
+        let [supervisor_loop, steer_loop] = [&self.loops[0], &self.loops[1]].map(Reader::snapshot);
+        View {
+            now_s: self.clock.elapsed().as_secs_f64(),
+            status: self.supervisor.status.snapshot(),
+            link: self.link.snapshot(),
+            steer: self.steer.snapshot(),
+            loops: [supervisor_loop, steer_loop],
+            truth: self.truth.truth(),
+            simulated: self.sim.is_some(),
+            not_realtime: self.not_realtime.clone(),
+        }
+    }
+
+    fn send(&self, request: Request, reply: &Sender<Answer>) -> Result<(), String> {
+        self.supervisor.send(request, reply)
+    }
+
+    fn ping_link(&self) {
+        // One place: a second click before the link thread took the first is one ping.
+        let _ = self.ping.try_send(());
+    }
+}
