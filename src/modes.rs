@@ -85,6 +85,8 @@ pub enum Refusal {
     NotInTest,
     FaultIsNotAMode,
     AlreadyPowered,
+    /// In Test the panel's relay switch is the power switch.
+    PanelHasThePower,
     OnlyInHalt,
     NotStarted,
 }
@@ -108,6 +110,10 @@ impl fmt::Display for Refusal {
                 write!(f, "fault is entered by the supervisor, not by request")
             }
             Refusal::AlreadyPowered => write!(f, "motor power is already on"),
+            Refusal::PanelHasThePower => write!(
+                f,
+                "in test the panel's main power relay switch is the power switch"
+            ),
             Refusal::NotStarted => write!(f, "the robot's inputs have not been read yet"),
             Refusal::OnlyInHalt => write!(
                 f,

@@ -3,8 +3,9 @@
 //! values, or reverted from the file.
 //!
 //! Values are checked by the same code that reads robot.ini (ranges included): "Apply"
-//! reads the shipped settings with the panel's values as `--set` overrides, "Save"
-//! reads the rewritten file before it replaces the old one.
+//! reads the settings file in use (the shipped one without a file) with the panel's
+//! values as `--set` overrides, so every cross-check sees this robot's own settings;
+//! "Save" reads the rewritten file before it replaces the old one.
 
 use std::path::PathBuf;
 
@@ -81,13 +82,21 @@ pub struct Tuning {
     pub values: Vec<f64>,
     /// Where "Save" writes; None when the program runs on its built-in settings.
     pub file: Option<PathBuf>,
+    /// The settings file in use, as text: the panel's values are checked in it, with
+    /// every cross-check against this robot's own settings (its amplifier ranges, ...).
+    base_text: String,
 }
 
 impl Tuning {
     pub fn new(settings: &Settings, file: Option<PathBuf>) -> Tuning {
+        let base_text = file
+            .as_ref()
+            .and_then(|path| std::fs::read_to_string(path).ok())
+            .unwrap_or_else(|| DEFAULT_INI.to_string());
         Tuning {
             values: TUNABLES.iter().map(|t| (t.get)(settings)).collect(),
             file,
+            base_text,
         }
     }
 
@@ -115,7 +124,7 @@ impl Tuning {
 
     /// The panel's values as settings, checked as robot.ini is checked.
     pub fn checked(&self) -> Result<Settings, String> {
-        Settings::parse("the tuning panel", DEFAULT_INI, &self.overrides()).map_err(|errors| {
+        Settings::parse("the tuning panel", &self.base_text, &self.overrides()).map_err(|errors| {
             errors
                 .iter()
                 .map(|e| e.what.clone())
@@ -186,6 +195,9 @@ impl Tuning {
         let s =
             Settings::load(path, &[]).map_err(|errors| format!("cannot revert: {}", errors[0]))?;
         self.values = TUNABLES.iter().map(|t| (t.get)(&s)).collect();
+        if let Ok(text) = std::fs::read_to_string(path) {
+            self.base_text = text;
+        }
         Ok(format!("values read from {}", path.display()))
     }
 
@@ -238,5 +250,33 @@ impl Tuning {
             Some(path) => ui.label(format!("settings file: {}", path.display())),
             None => ui.label("built-in settings: no file to save to"),
         };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_are_checked_against_the_robots_own_settings_file() {
+        // This robot's left drive output is switched to +-5 V and its regulator limited
+        // to match: 10 V passes against the shipped file, not against this one.
+        let text = DEFAULT_INI
+            .replacen(
+                "dda06_ranges_v = +-10, +-10, +-10, +-5, +-5, +-5",
+                "dda06_ranges_v = +-5, +-10, +-10, +-5, +-5, +-5",
+                1,
+            )
+            // The first out_max_v is [pid.left]'s.
+            .replacen("out_max_v = 10\n", "out_max_v = 5\n", 1);
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("robot.ini");
+        std::fs::write(&path, &text).unwrap();
+        let settings = Settings::load(&path, &[]).expect("a valid file");
+        let mut tuning = Tuning::new(&settings, Some(path));
+        assert!(tuning.checked().is_ok());
+        assert!(tuning.set("pid.left", "out_max_v", 10.0));
+        let why = tuning.checked().unwrap_err();
+        assert!(why.contains("dda06_ranges_v"), "{why}");
     }
 }

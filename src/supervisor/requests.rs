@@ -30,9 +30,6 @@ impl Supervisor {
                     self.set_mode(Mode::Halt);
                     self.status.fault = None;
                 }
-                // In Test the relay switch is the power switch: Power up closes it, or
-                // the panel's next outputs would open it again.
-                self.test_outputs.main_power_on = true;
                 self.status.power = PowerState::Closing {
                     since_s: self.status.t_s,
                 };

@@ -36,6 +36,9 @@ pub fn power_up_refusal(st: &Status) -> Option<Refusal> {
     if let Some(cause) = st.standing_cause {
         return Some(Refusal::CauseStillActive(cause));
     }
+    if st.mode == Mode::Test {
+        return Some(Refusal::PanelHasThePower);
+    }
     if st.mode != Mode::Fault && st.power != PowerState::Off {
         return Some(Refusal::AlreadyPowered);
     }
@@ -72,6 +75,12 @@ mod tests {
         st.measured.calibrated = true;
         assert_eq!(why_not(Mode::Joystick, &st), None);
         assert_eq!(power_up_refusal(&st), Some(Refusal::AlreadyPowered));
+        // In Test the panel's relay switch is the power switch, not Power up.
+        st.mode = Mode::Test;
+        st.power = PowerState::Off;
+        assert_eq!(power_up_refusal(&st), Some(Refusal::PanelHasThePower));
+        st.power = PowerState::On;
+        st.mode = Mode::Halt;
         st.mode = Mode::Autonomous;
         st.measured.speed_mps = 0.5;
         assert_eq!(
