@@ -95,6 +95,25 @@ impl Default for Outputs {
     }
 }
 
+/// A side of the robot, facing forward (the robot frame's +y is left): the drive
+/// wheels, their brakes and the steering's end switches come in a left and a right.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Side {
+    Left,
+    Right,
+}
+
+/// One of the robot's three quadrature encoders (the counts in [`Inputs`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EncoderId {
+    /// The left drive wheel's encoder (`Inputs::enc_left_counts`).
+    Left,
+    /// The right drive wheel's encoder (`Inputs::enc_right_counts`).
+    Right,
+    /// The steering motor's encoder (`Inputs::enc_steer_counts`).
+    Steer,
+}
+
 /// Why the hardware could not be read or written. The message names the part.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum HwError {
