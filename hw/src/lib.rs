@@ -19,6 +19,12 @@ pub mod sim;
 pub mod watchdog;
 pub mod wiring;
 
+mod error;
+mod open_error;
+
+pub use error::{CardFault, HwError};
+pub use open_error::{CardOpenError, OpenError, Refusal, StartError};
+
 /// Every input of the robot, read once per supervisor tick.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Inputs {
@@ -114,32 +120,12 @@ pub enum EncoderId {
     Steer,
 }
 
-/// Why the hardware could not be read or written. The message names the part.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum HwError {
-    /// A card did not answer as it should (for example its A/D never finished).
-    #[error("{card} stopped answering: {what}")]
-    CardNotAnswering { card: &'static str, what: String },
-    /// The hardware could not be opened at start.
-    #[error("cannot open the hardware: {0}")]
-    Open(String),
-}
-
-impl HwError {
-    /// The part that failed, for the fault's cause.
-    pub fn card(&self) -> &'static str {
-        match self {
-            HwError::CardNotAnswering { card, .. } => card,
-            HwError::Open(_) => "hardware",
-        }
-    }
-}
-
 /// The robot's inputs and outputs, as the supervisor thread sees them.
 ///
-/// Implementations do no heap allocation in `read` and `write` after start, so that
-/// the supervisor tick stays allocation-free. A `write` that fails leaves the safe
-/// outputs on whatever still answers.
+/// Implementations do no heap allocation in `read` and `write` after start, not even
+/// when they fail ([`HwError`] is numbers), so that the supervisor tick stays
+/// allocation-free. A `write` that fails leaves the safe outputs on whatever still
+/// answers.
 pub trait Hw: Send {
     /// Read every input once.
     fn read(&mut self) -> Result<Inputs, HwError>;
