@@ -6,8 +6,8 @@
 
 use std::path::Path;
 
-use mechweed_hw::Hw;
 use mechweed_hw::cards::{CardPorts, CardsHw};
+use mechweed_hw::{Hw, OpenError, StartError};
 
 use crate::config::Settings;
 
@@ -17,7 +17,7 @@ pub const PCI_DEVICES: &str = "/sys/bus/pci/devices";
 pub const DEV_PORT: &str = "/dev/port";
 
 /// The robot's I/O cards as hardware, or why not (every card's problem, one per line).
-pub fn open_hw(settings: &Settings) -> Result<Box<dyn Hw>, String> {
+pub fn open_hw(settings: &Settings) -> Result<Box<dyn Hw>, OpenError> {
     let (hw, found) = open_cards(settings, Path::new(PCI_DEVICES), Path::new(DEV_PORT))?;
     for line in found {
         tracing::info!("{line}");
@@ -30,11 +30,10 @@ pub fn open_cards(
     settings: &Settings,
     pci_root: &Path,
     dev_port: &Path,
-) -> Result<(CardsHw, [String; 3]), String> {
+) -> Result<(CardsHw, [String; 3]), OpenError> {
     let ports = CardPorts::open(&settings.cards, &settings.io, pci_root, dev_port)?;
     let found = ports.descriptions.clone();
-    let hw = CardsHw::open(ports, &settings.cards, &settings.io).map_err(|e| {
-        format!("{e} (while starting the cards; the ones that answered have safe outputs)")
-    })?;
+    let hw = CardsHw::open(ports, &settings.cards, &settings.io)
+        .map_err(|e| OpenError::Starting(StartError::new(e)))?;
     Ok((hw, found))
 }

@@ -3,7 +3,7 @@
 
 use std::fmt;
 
-use mechweed_hw::sim::{EncoderId, Side};
+use mechweed_hw::{EncoderId, Side};
 
 use crate::health::ThreadName;
 

@@ -14,13 +14,24 @@ use mechweed_hw::cards::CardsHw;
 use mechweed_hw::das08::code_to_volts;
 use mechweed_hw::dda06::port_name;
 use mechweed_hw::quad04::CHANNELS;
-use mechweed_hw::{Hw, HwError};
+use mechweed_hw::{Hw, HwError, OpenError};
 
 use crate::backend::{DEV_PORT, PCI_DEVICES, open_cards};
 use crate::config::Settings;
 
+/// Why the probe found nothing to print.
+#[derive(Debug, thiserror::Error)]
+pub enum ProbeError {
+    /// The cards could not be found, opened or started (every card's problem).
+    #[error("the robot's I/O cards are not usable on this computer:\n{0}")]
+    NotUsable(OpenError),
+    /// A card stopped answering while its inputs were read.
+    #[error(transparent)]
+    Read(#[from] HwError),
+}
+
 /// Probe the cards of this computer.
-pub fn probe(settings: &Settings, raw: bool) -> Result<String, String> {
+pub fn probe(settings: &Settings, raw: bool) -> Result<String, ProbeError> {
     probe_at(settings, raw, Path::new(PCI_DEVICES), Path::new(DEV_PORT))
 }
 
@@ -30,14 +41,14 @@ pub fn probe_at(
     raw: bool,
     pci_root: &Path,
     dev_port: &Path,
-) -> Result<String, String> {
-    let (mut hw, found) = open_cards(settings, pci_root, dev_port)
-        .map_err(|why| format!("the robot's I/O cards are not usable on this computer:\n{why}"))?;
+) -> Result<String, ProbeError> {
+    let (mut hw, found) =
+        open_cards(settings, pci_root, dev_port).map_err(ProbeError::NotUsable)?;
     let mut out = String::new();
     for line in found {
         let _ = writeln!(out, "found {line}");
     }
-    out += &report(&mut hw, raw).map_err(|e| e.to_string())?;
+    out += &report(&mut hw, raw)?;
     Ok(out)
 }
 
@@ -179,7 +190,8 @@ mod tests {
             root.path(),
             Path::new("/nonexistent"),
         )
-        .unwrap_err();
+        .unwrap_err()
+        .to_string();
         assert!(err.starts_with("the robot's I/O cards are not usable on this computer"));
         assert!(
             err.contains("no PCI-DAS08 (PCI id 1307:0029) found"),

@@ -66,7 +66,7 @@ pub struct RunOptions {
 pub enum RunError {
     /// The I/O cards could not be found or opened (every card's problem, one per line).
     #[error("{0}")]
-    Cards(String),
+    Cards(mechweed_hw::OpenError),
     #[error("cannot make a pseudo-terminal for the simulated camera computer: {0}")]
     SimulatedCameraWire(std::io::Error),
     #[error(

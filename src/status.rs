@@ -1,8 +1,7 @@
 //! What the supervisor publishes every tick for the other threads (the protected
 //! object `Status`), and the faults and notices it keeps for the report.
 
-use mechweed_hw::sim::Side;
-use mechweed_hw::{Inputs, Outputs};
+use mechweed_hw::{Inputs, Outputs, Side};
 
 use crate::fault_cause::FaultCause;
 use crate::measure::Measured;

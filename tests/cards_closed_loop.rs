@@ -10,9 +10,9 @@ use common::settings_with;
 use mechweed::fault_cause::FaultCause;
 use mechweed::lockstep::{Io, Lockstep};
 use mechweed::modes::Mode;
-use mechweed_hw::Outputs;
 use mechweed_hw::emulated::CardRig;
-use mechweed_hw::sim::{CrossTrackSummary, EncoderId, RowShape, SimParams};
+use mechweed_hw::sim::{CrossTrackSummary, RowShape, SimParams};
+use mechweed_hw::{EncoderId, Outputs};
 
 /// Drive the benchmark S-curve at 0.5 m/s to its end; the cross-track figures.
 fn drive_row(io: fn(&mechweed::config::Settings) -> Io) -> (CrossTrackSummary, Vec<String>) {

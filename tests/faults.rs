@@ -6,8 +6,7 @@ mod common;
 use common::{Tick, autonomous, record, settings_with};
 use mechweed::fault_cause::FaultCause;
 use mechweed::modes::{Mode, Request};
-use mechweed_hw::Outputs;
-use mechweed_hw::sim::EncoderId;
+use mechweed_hw::{EncoderId, Outputs};
 
 /// Run the default row in autonomous mode with `events`; return the ticks and the log.
 fn scenario(events: &str, seconds: f64) -> (Vec<Tick>, Vec<mechweed::status::FaultRecord>) {

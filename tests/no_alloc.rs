@@ -1,10 +1,10 @@
 //! The supervisor tick does no heap allocation after start: a counting allocator
 //! watches this thread while the simulated robot drives along the row, the camera
-//! link decodes and the steer thread's tick runs, and sees none.
+//! link decodes and the steer thread's tick runs, and sees none; nor when a card's
+//! read fails.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use mechweed::config::Settings;
 use mechweed::lockstep::{Io, Lockstep};
@@ -12,26 +12,31 @@ use mechweed::modes::{Mode, Request};
 
 struct Counting;
 
-static ALLOCATIONS: AtomicU64 = AtomicU64::new(0);
+// Both per thread: the tests run in parallel, and one test's allocations must not be
+// counted in another's.
 thread_local! {
     static WATCHING: Cell<bool> = const { Cell::new(false) };
+    static ALLOCATIONS: Cell<u64> = const { Cell::new(0) };
+}
+
+/// Count one allocation if this thread is watched.
+fn count_one() {
+    if WATCHING.try_with(Cell::get).unwrap_or(false) {
+        let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
+    }
 }
 
 // SAFETY: forwards to the system allocator; only counts on the watched thread.
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        if WATCHING.try_with(Cell::get).unwrap_or(false) {
-            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        }
+        count_one();
         unsafe { System.alloc(layout) }
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
         unsafe { System.dealloc(ptr, layout) }
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        if WATCHING.try_with(Cell::get).unwrap_or(false) {
-            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        }
+        count_one();
         unsafe { System.realloc(ptr, layout, new_size) }
     }
 }
@@ -41,11 +46,11 @@ static GLOBAL: Counting = Counting;
 
 /// Allocations made by `f` on this thread.
 fn allocations_in(f: impl FnOnce()) -> u64 {
-    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    let before = ALLOCATIONS.with(Cell::get);
     WATCHING.with(|w| w.set(true));
     f();
     WATCHING.with(|w| w.set(false));
-    ALLOCATIONS.load(Ordering::Relaxed) - before
+    ALLOCATIONS.with(Cell::get) - before
 }
 
 #[test]
@@ -101,6 +106,33 @@ fn no_allocation_per_tick_through_the_emulated_cards() {
         driving, 0,
         "allocations in 2000 ticks through the emulated cards"
     );
+}
+
+#[test]
+fn no_allocation_per_tick_when_a_card_read_fails() {
+    // A DAS08 whose A/D never finishes: every tick's read fails, from the one that
+    // finds it (and latches the fault) onwards; the error names the card and the
+    // register in numbers, not in a formatted message.
+    let settings = Settings::shipped();
+    let io = Io::cards(&settings).expect("emulated cards open");
+    let mut sim = Lockstep::with_io(&settings, Mode::Autonomous, io);
+    sim.run_for(3.0);
+    assert_eq!(sim.supervisor.mode(), Mode::Autonomous);
+    let Io::Cards(rig) = &sim.io else {
+        unreachable!("opened on the emulated cards")
+    };
+    rig.das08.set_eoc_stuck(true);
+    let failing = allocations_in(|| {
+        for _ in 0..200 {
+            sim.tick();
+        }
+    });
+    assert_eq!(
+        sim.supervisor.mode(),
+        Mode::Fault,
+        "the failing read was seen"
+    );
+    assert_eq!(failing, 0, "allocations in 200 ticks whose card read fails");
 }
 
 #[test]

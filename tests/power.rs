@@ -9,8 +9,7 @@ use mechweed::fault_cause::FaultCause;
 use mechweed::lockstep::Lockstep;
 use mechweed::modes::{Mode, Request};
 use mechweed::status::PowerState;
-use mechweed_hw::Outputs;
-use mechweed_hw::sim::EncoderId;
+use mechweed_hw::{EncoderId, Outputs};
 
 /// What the test panel sends: the relay as given, brakes released, both wheels at `v`.
 fn panel(relay: bool, v: f64) -> Outputs {

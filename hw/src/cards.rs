@@ -10,7 +10,8 @@
 //! write that fails on one card writes the safe outputs to every card before it
 //! returns the error, and so does dropping `CardsHw`. The watchdog output (watchdog.rs)
 //! changes on every write while every card answers.
-//! `read` and `write` do no heap allocation (only an error message allocates).
+//! `read` and `write` do no heap allocation, not even when a card fails: the error
+//! names the card and the register in numbers (error.rs).
 
 use std::path::Path;
 use std::time::Duration;
@@ -22,7 +23,7 @@ use crate::port::{DevPortFile, PortIo};
 use crate::quad04::Quad04;
 use crate::watchdog::Watchdog;
 use crate::wiring::{CardInputs, CardOutputs, Wiring};
-use crate::{Hw, HwError, Inputs, Outputs};
+use crate::{CardOpenError, Hw, HwError, Inputs, OpenError, Outputs, StartError};
 
 /// The name of this hardware in messages.
 pub const NAME: &str = "I/O cards";
@@ -98,7 +99,7 @@ impl CardPorts {
         wiring: &Wiring,
         pci_root: &Path,
         dev_port: &Path,
-    ) -> Result<CardPorts, String> {
+    ) -> Result<CardPorts, OpenError> {
         let mut dev_port = DevPortFile::new(dev_port);
         let found = CardKind::ALL
             .map(|kind| pci::open(pci_root, &mut dev_port, kind, settings.location(kind)));
@@ -107,12 +108,12 @@ impl CardPorts {
 
     /// The three cards (DAS08, DDA06, QUAD04) if all of them opened. Otherwise the
     /// DAS08 and the DDA06, whichever opened, get their safe outputs now, and the error
-    /// gives every card's problem, one per line, then which cards were made safe.
+    /// gives every card's problem, then which cards were made safe.
     pub fn all_or_safe(
-        found: [Result<OpenedCard, String>; 3],
+        found: [Result<OpenedCard, CardOpenError>; 3],
         settings: &CardsSettings,
         wiring: &Wiring,
-    ) -> Result<CardPorts, String> {
+    ) -> Result<CardPorts, OpenError> {
         let (das08, dda06, quad04) = match found {
             [Ok(das08), Ok(dda06), Ok(quad04)] => {
                 return Ok(CardPorts {
@@ -124,7 +125,7 @@ impl CardPorts {
             }
             [das08, dda06, quad04] => (das08, dda06, quad04),
         };
-        let mut problems: Vec<String> = [&das08, &dda06, &quad04]
+        let mut problems: Vec<CardOpenError> = [&das08, &dda06, &quad04]
             .into_iter()
             .filter_map(|card| card.as_ref().err().cloned())
             .collect();
@@ -133,22 +134,19 @@ impl CardPorts {
         if let Ok(card) = das08 {
             match open_das08(card.port, settings, &safe) {
                 Ok(_) => made_safe.push(das08::NAME),
-                Err(e) => problems.push(e.to_string()),
+                Err(e) => problems.push(CardOpenError::NotAnswering(StartError::new(e))),
             }
         }
         if let Ok(card) = dda06 {
             match open_dda06(card.port, settings, wiring, &safe) {
                 Ok(_) => made_safe.push(dda06::NAME),
-                Err(e) => problems.push(e.to_string()),
+                Err(e) => problems.push(CardOpenError::NotAnswering(StartError::new(e))),
             }
         }
-        if !made_safe.is_empty() {
-            problems.push(format!(
-                "(safe outputs written to the {}, which opened)",
-                made_safe.join(" and the ")
-            ));
-        }
-        Err(problems.join("\n"))
+        Err(OpenError::Cards {
+            problems,
+            made_safe,
+        })
     }
 }
 

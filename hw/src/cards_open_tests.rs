@@ -2,6 +2,7 @@
 //! /dev/port. Each test starts from the outputs a killed run leaves on the cards: the
 //! contactor closed, the brakes released, the amplifiers driven, the watchdog line high.
 
+use std::io;
 use std::path::PathBuf;
 
 use super::tests::settings;
@@ -9,6 +10,7 @@ use super::*;
 use crate::emulated::{EmulatedDas08, EmulatedDda06};
 use crate::pci::VENDOR_MCC;
 use crate::pci::tests::{IO_BAR, device};
+use crate::port::kernel_locked_down;
 use crate::wiring::tests::robot;
 
 /// A DAS08's control byte with all four outputs on: contactor, both brakes released, tool.
@@ -41,7 +43,7 @@ fn dda06_driving() -> EmulatedDda06 {
     card
 }
 
-fn opened(port: impl PortIo + 'static, name: &str) -> Result<OpenedCard, String> {
+fn opened(port: impl PortIo + 'static, name: &str) -> Result<OpenedCard, CardOpenError> {
     Ok(OpenedCard {
         port: Box::new(port),
         description: format!("emulated {name}"),
@@ -56,7 +58,10 @@ fn a_missing_quad04_still_leaves_the_das08_and_dda06_of_a_killed_run_safe() {
         (1..=4).all(|n| das08.output(n)),
         "contactor closed, brakes released"
     );
-    let missing = Err("no PCI-QUAD04 (PCI id 1307:004d) found in /sys/bus/pci/devices".into());
+    let missing = Err(CardOpenError::NotOnBus {
+        card: CardKind::Quad04,
+        root: "/sys/bus/pci/devices".into(),
+    });
     let found = [
         opened(das08.clone(), "PCI-DAS08"),
         opened(dda06.clone(), "PCIM-DDA06/16"),
@@ -65,6 +70,7 @@ fn a_missing_quad04_still_leaves_the_das08_and_dda06_of_a_killed_run_safe() {
     let Err(err) = CardPorts::all_or_safe(found, &settings(), &robot()) else {
         panic!("opened without a QUAD04")
     };
+    let err = err.to_string();
     assert!(
         err.starts_with("no PCI-QUAD04 (PCI id 1307:004d) found"),
         "{err}"
@@ -89,7 +95,12 @@ fn a_missing_quad04_still_leaves_the_das08_and_dda06_of_a_killed_run_safe() {
 #[test]
 fn a_missing_das08_still_leaves_the_dda06_of_a_killed_run_at_0_v() {
     let dda06 = dda06_driving();
-    let missing = Err("PCI-DAS08: cannot use /sys/bus/pci/devices/0000:03:00.0/resource2".into());
+    let missing = Err(CardOpenError::CannotUse {
+        card: CardKind::Das08,
+        path: "/sys/bus/pci/devices/0000:03:00.0/resource2".into(),
+        error: std::io::ErrorKind::NotFound,
+        refusal: None,
+    });
     let found = [
         missing,
         opened(dda06.clone(), "PCIM-DDA06/16"),
@@ -97,7 +108,8 @@ fn a_missing_das08_still_leaves_the_dda06_of_a_killed_run_at_0_v() {
     ];
     let err = CardPorts::all_or_safe(found, &settings(), &robot())
         .err()
-        .unwrap();
+        .unwrap()
+        .to_string();
     assert!(err.starts_with("PCI-DAS08: cannot use"), "{err}");
     assert!(err.ends_with("(safe outputs written to the PCIM-DDA06/16, which opened)"));
     assert!((0..6).all(|n| dda06.dac_code(n) == 0x8000) && !dda06.pin(1, 0));
@@ -150,6 +162,7 @@ fn with_no_quad04_on_the_bus_the_das08_and_dda06_files_get_safe_outputs_before_t
     let Err(err) = CardPorts::open(&settings(), &robot(), root.path(), nowhere) else {
         panic!("opened without a QUAD04")
     };
+    let err = err.to_string();
     assert!(
         err.starts_with("no PCI-QUAD04 (PCI id 1307:004d) found"),
         "{err}"
@@ -170,6 +183,7 @@ fn a_dda06_whose_bar_file_is_missing_is_named_and_the_das08_gets_safe_outputs() 
     let Err(err) = CardPorts::open(&settings(), &robot(), root.path(), nowhere) else {
         panic!("opened without the DDA06's registers")
     };
+    let err = err.to_string();
     assert!(
         err.starts_with("PCIM-DDA06/16: cannot use ") && err.contains("0000:04:00.0/resource3"),
         "{err}"
@@ -223,6 +237,7 @@ fn three_cards_through_one_dev_port_open_and_a_second_program_is_refused() {
     let Err(err) = CardPorts::open(&s, &robot(), dir.path(), &port) else {
         panic!("a second program took the cards beside the first")
     };
+    let err = err.to_string();
     assert_eq!(
         err.matches("is in use by another program").count(),
         3,
@@ -249,4 +264,103 @@ fn two_cards_through_dev_port_and_the_third_on_pci_open_together() {
     let bytes = std::fs::read(&port).unwrap();
     assert_eq!(bytes[0x102], 0x00);
     assert!(dda06_safe(&bytes[0x200..0x210]));
+}
+
+/// A card's file that opened but whose every access is refused, as a kernel in
+/// lockdown does with a sysfs BAR.
+struct Refused;
+
+impl PortIo for Refused {
+    fn read_u8(&mut self, _offset: u16) -> io::Result<u8> {
+        Err(io::ErrorKind::PermissionDenied.into())
+    }
+    fn write_u8(&mut self, _offset: u16, _value: u8) -> io::Result<()> {
+        Err(io::ErrorKind::PermissionDenied.into())
+    }
+}
+
+/// What a refused first access must explain.
+fn why_refused() -> &'static str {
+    if kernel_locked_down() {
+        "The kernel is in lockdown (secure boot)"
+    } else {
+        "The kernel refused the port access"
+    }
+}
+
+#[test]
+fn a_first_access_refused_at_start_names_the_card_the_register_and_why() {
+    let dda06 = dda06_driving();
+    let ports = CardPorts {
+        das08: Box::new(Refused),
+        dda06: Box::new(dda06.clone()),
+        quad04: Box::new(crate::emulated::EmulatedQuad04::new()),
+        descriptions: Default::default(),
+    };
+    let Err(err) = CardsHw::open(ports, &settings(), &robot()) else {
+        panic!("started a DAS08 whose every access is refused")
+    };
+    assert_eq!(
+        err,
+        HwError::CardNotAnswering {
+            card: "PCI-DAS08",
+            register: 2,
+            fault: crate::CardFault::WriteFailed(io::ErrorKind::PermissionDenied),
+        }
+    );
+    let text = OpenError::Starting(StartError::new(err)).to_string();
+    assert!(
+        text.starts_with("PCI-DAS08 stopped answering: writing register +2: permission denied. "),
+        "{text}"
+    );
+    assert!(text.contains(why_refused()), "{text}");
+    assert!(
+        text.ends_with("(while starting the cards; the ones that answered have safe outputs)"),
+        "{text}"
+    );
+    assert!(
+        (0..6).all(|n| dda06.dac_code(n) == 0x8000) && !dda06.pin(1, 0),
+        "the DDA06 answered and is safe"
+    );
+}
+
+#[test]
+fn a_refused_card_beside_a_missing_one_is_explained_and_the_other_made_safe() {
+    let dda06 = dda06_driving();
+    let missing = Err(CardOpenError::NotOnBus {
+        card: CardKind::Quad04,
+        root: "/sys/bus/pci/devices".into(),
+    });
+    let found = [
+        opened(Refused, "PCI-DAS08"),
+        opened(dda06.clone(), "PCIM-DDA06/16"),
+        missing,
+    ];
+    let Err(err) = CardPorts::all_or_safe(found, &settings(), &robot()) else {
+        panic!("opened without a QUAD04")
+    };
+    let OpenError::Cards {
+        problems,
+        made_safe,
+    } = &err
+    else {
+        panic!("{err:?}")
+    };
+    assert_eq!(made_safe, &["PCIM-DDA06/16"]);
+    assert!(
+        matches!(problems[1], CardOpenError::NotAnswering(_)),
+        "{problems:?}"
+    );
+    let lines: Vec<String> = err.to_string().lines().map(String::from).collect();
+    assert!(
+        lines[0].starts_with("no PCI-QUAD04 (PCI id 1307:004d) found"),
+        "{lines:?}"
+    );
+    assert!(lines[1].starts_with("PCI-DAS08 stopped answering: writing register +2"));
+    assert!(lines[1].contains(why_refused()), "{lines:?}");
+    assert_eq!(
+        lines[2],
+        "(safe outputs written to the PCIM-DDA06/16, which opened)"
+    );
+    assert!((0..6).all(|n| dda06.dac_code(n) == 0x8000));
 }

@@ -293,12 +293,36 @@ fn read_and_write_do_not_allocate() {
 }
 
 #[test]
+fn reads_and_writes_that_fail_do_not_allocate() {
+    // Each way a card fails in a tick, and the safe outputs written after it.
+    use crate::sim::alloc_tests::allocations;
+    let breaks: [fn(&CardRig); 3] = [
+        |rig| rig.das08.set_eoc_stuck(true),
+        |rig| rig.das08.set_dead(true),
+        |rig| rig.quad04.set_dead(true),
+    ];
+    for break_card in breaks {
+        let mut rig = rig();
+        rig.hw.write(&driving()).unwrap();
+        break_card(&rig);
+        let before = allocations();
+        for _ in 0..20 {
+            let failed = rig.hw.read().is_err();
+            rig.hw.write(&Outputs::SAFE).unwrap();
+            assert!(failed, "the card still fails");
+        }
+        assert_eq!(allocations() - before, 0);
+    }
+}
+
+#[test]
 fn cards_not_on_the_bus_are_all_reported_at_once() {
     let root = tempfile::tempdir().unwrap();
     let nowhere = Path::new("/nonexistent/port");
     let Err(err) = CardPorts::open(&settings(), &robot(), root.path(), nowhere) else {
         panic!("found cards in an empty directory")
     };
+    let err = err.to_string();
     for name in ["PCI-DAS08", "PCIM-DDA06/16", "PCI-QUAD04"] {
         assert!(err.contains(&format!("no {name} (PCI id")), "{err}");
     }

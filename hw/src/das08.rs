@@ -8,8 +8,8 @@
 
 use std::time::{Duration, Instant};
 
-use crate::HwError;
 use crate::port::PortIo;
+use crate::{CardFault, HwError};
 
 /// The card's name in every message.
 pub const NAME: &str = "PCI-DAS08";
@@ -38,8 +38,12 @@ pub struct Das08 {
     eoc_timeout: Duration,
 }
 
-fn failed(what: String) -> HwError {
-    HwError::CardNotAnswering { card: NAME, what }
+fn failed(register: u16, fault: CardFault) -> HwError {
+    HwError::CardNotAnswering {
+        card: NAME,
+        register,
+        fault,
+    }
 }
 
 /// Status bits 6..4 as IP1..IP3 in bits 0..2.
@@ -78,14 +82,14 @@ impl Das08 {
     fn read(&mut self, offset: u16) -> Result<u8, HwError> {
         self.port
             .read_u8(offset)
-            .map_err(|e| failed(format!("reading register +{offset}: {e}")))
+            .map_err(|e| failed(offset, CardFault::ReadFailed(e.kind())))
     }
 
     fn write_control(&mut self) -> Result<(), HwError> {
         let control = self.shadow | self.mux;
         self.port
             .write_u8(STATUS_CONTROL, control)
-            .map_err(|e| failed(format!("writing the control register: {e}")))
+            .map_err(|e| failed(STATUS_CONTROL, CardFault::WriteFailed(e.kind())))
     }
 
     /// Set OP1..OP4 from bits 0..3 of `bits`.
@@ -104,15 +108,11 @@ impl Das08 {
     pub fn read_status(&mut self) -> Result<u8, HwError> {
         let status = self.read(STATUS_CONTROL)?;
         if status & MUX_BITS != self.mux {
-            let why = if status == 0xFF {
-                "reads 0xFF, as a card that is not there"
-            } else {
-                "shows another channel than the one selected"
-            };
-            return Err(failed(format!(
-                "status {status:#04x} after selecting channel {}: {why}",
-                self.mux
-            )));
+            let selected = self.mux;
+            return Err(failed(
+                STATUS_CONTROL,
+                CardFault::WrongChannel { status, selected },
+            ));
         }
         Ok(status)
     }
@@ -129,7 +129,7 @@ impl Das08 {
         self.write_control()?;
         self.port
             .write_u8(DATA_HIGH, 0)
-            .map_err(|e| failed(format!("starting a conversion: {e}")))?;
+            .map_err(|e| failed(DATA_HIGH, CardFault::WriteFailed(e.kind())))?;
         let deadline = Instant::now() + self.eoc_timeout;
         let mut polls = 0;
         loop {
@@ -142,11 +142,15 @@ impl Das08 {
                 break;
             }
             if expired && polls >= MIN_POLLS {
-                return Err(failed(format!(
-                    "its A/D did not finish a conversion of channel {channel} within {} us \
-                     (status {status:#04x})",
-                    self.eoc_timeout.as_micros()
-                )));
+                let timeout_us = u32::try_from(self.eoc_timeout.as_micros()).unwrap_or(u32::MAX);
+                return Err(failed(
+                    STATUS_CONTROL,
+                    CardFault::ConversionTimeout {
+                        channel: self.mux,
+                        timeout_us,
+                        status,
+                    },
+                ));
             }
         }
         let high = self.read(DATA_HIGH)?;

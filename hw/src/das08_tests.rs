@@ -99,15 +99,23 @@ fn an_a_d_that_never_finishes_is_an_error_naming_the_card_within_the_time_out() 
     let took = start.elapsed();
     assert!(took >= TIMEOUT, "gave up after {took:?}");
     assert!(took < TIMEOUT + Duration::from_millis(20), "took {took:?}");
-    let HwError::CardNotAnswering { card: name, what } = &err else {
-        panic!("{err:?}")
-    };
-    assert_eq!(*name, "PCI-DAS08");
+    let HwError::CardNotAnswering {
+        card: name,
+        register,
+        fault,
+    } = err;
+    assert_eq!(name, "PCI-DAS08");
+    assert_eq!(register, 2, "the status register");
     assert!(
-        what.contains("did not finish a conversion of channel 2"),
-        "{what}"
+        matches!(fault, CardFault::ConversionTimeout { channel: 2, .. }),
+        "{fault:?}"
     );
-    assert!(err.to_string().starts_with("PCI-DAS08 stopped answering"));
+    let text = err.to_string();
+    assert!(
+        text.contains("did not finish a conversion of channel 2"),
+        "{text}"
+    );
+    assert!(text.starts_with("PCI-DAS08 stopped answering"));
 }
 
 #[test]

@@ -12,8 +12,8 @@
 //! stopped answering cannot be told from one that answers; with the robot's wiring a
 //! card that reads 0xFF shows both end switches closed, itself a fault.
 
-use crate::HwError;
 use crate::port::PortIo;
+use crate::{CardFault, HwError};
 
 /// The card's name in every message.
 pub const NAME: &str = "PCIM-DDA06/16";
@@ -105,8 +105,12 @@ pub struct Dda06 {
     ranges: [DacRange; DACS],
 }
 
-fn failed(what: String) -> HwError {
-    HwError::CardNotAnswering { card: NAME, what }
+fn failed(register: u16, fault: CardFault) -> HwError {
+    HwError::CardNotAnswering {
+        card: NAME,
+        register,
+        fault,
+    }
 }
 
 impl Dda06 {
@@ -132,7 +136,7 @@ impl Dda06 {
     fn write(&mut self, offset: u16, value: u8) -> Result<(), HwError> {
         self.port
             .write_u8(offset, value)
-            .map_err(|e| failed(format!("writing register {offset:#04x}: {e}")))
+            .map_err(|e| failed(offset, CardFault::WriteFailed(e.kind())))
     }
 
     /// Every DAC to its 0 V code.
@@ -163,7 +167,7 @@ impl Dda06 {
         let offset = PORT_A + p.min(2) as u16;
         self.port
             .read_u8(offset)
-            .map_err(|e| failed(format!("reading 8255 port {}: {e}", port_name(p))))
+            .map_err(|e| failed(offset, CardFault::ReadFailed(e.kind())))
     }
 
     pub fn write_port(&mut self, p: usize, value: u8) -> Result<(), HwError> {

@@ -19,6 +19,12 @@ pub mod sim;
 pub mod watchdog;
 pub mod wiring;
 
+mod error;
+mod open_error;
+
+pub use error::{CardFault, HwError};
+pub use open_error::{CardOpenError, OpenError, Refusal, StartError};
+
 /// Every input of the robot, read once per supervisor tick.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Inputs {
@@ -95,32 +101,31 @@ impl Default for Outputs {
     }
 }
 
-/// Why the hardware could not be read or written. The message names the part.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum HwError {
-    /// A card did not answer as it should (for example its A/D never finished).
-    #[error("{card} stopped answering: {what}")]
-    CardNotAnswering { card: &'static str, what: String },
-    /// The hardware could not be opened at start.
-    #[error("cannot open the hardware: {0}")]
-    Open(String),
+/// A side of the robot, facing forward (the robot frame's +y is left): the drive
+/// wheels, their brakes and the steering's end switches come in a left and a right.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Side {
+    Left,
+    Right,
 }
 
-impl HwError {
-    /// The part that failed, for the fault's cause.
-    pub fn card(&self) -> &'static str {
-        match self {
-            HwError::CardNotAnswering { card, .. } => card,
-            HwError::Open(_) => "hardware",
-        }
-    }
+/// One of the robot's three quadrature encoders (the counts in [`Inputs`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EncoderId {
+    /// The left drive wheel's encoder (`Inputs::enc_left_counts`).
+    Left,
+    /// The right drive wheel's encoder (`Inputs::enc_right_counts`).
+    Right,
+    /// The steering motor's encoder (`Inputs::enc_steer_counts`).
+    Steer,
 }
 
 /// The robot's inputs and outputs, as the supervisor thread sees them.
 ///
-/// Implementations do no heap allocation in `read` and `write` after start, so that
-/// the supervisor tick stays allocation-free. A `write` that fails leaves the safe
-/// outputs on whatever still answers.
+/// Implementations do no heap allocation in `read` and `write` after start, not even
+/// when they fail ([`HwError`] is numbers), so that the supervisor tick stays
+/// allocation-free. A `write` that fails leaves the safe outputs on whatever still
+/// answers.
 pub trait Hw: Send {
     /// Read every input once.
     fn read(&mut self) -> Result<Inputs, HwError>;

@@ -11,6 +11,7 @@ use std::io;
 use std::path::{Path, PathBuf};
 
 use crate::port::{DevPortFile, PortIo, SysfsBar, kernel_locked_down};
+use crate::{CardOpenError, Refusal};
 
 /// Measurement Computing's PCI vendor id.
 pub const VENDOR_MCC: u16 = 0x1307;
@@ -110,9 +111,11 @@ fn read_hex(path: &Path) -> Option<u64> {
 }
 
 /// Every card of this kind under `root` (normally /sys/bus/pci/devices), sorted.
-pub fn find_all(root: &Path, kind: CardKind) -> Result<Vec<String>, String> {
-    let entries = std::fs::read_dir(root)
-        .map_err(|e| format!("cannot list the PCI devices in {}: {e}", root.display()))?;
+pub fn find_all(root: &Path, kind: CardKind) -> Result<Vec<String>, CardOpenError> {
+    let entries = std::fs::read_dir(root).map_err(|e| CardOpenError::ListPciDevices {
+        root: root.to_path_buf(),
+        error: e.kind(),
+    })?;
     let mut found: Vec<String> = entries
         .flatten()
         .filter(|entry| {
@@ -127,12 +130,14 @@ pub fn find_all(root: &Path, kind: CardKind) -> Result<Vec<String>, String> {
 }
 
 /// The card's register BAR from the device's `resource` file; it must be I/O ports.
-fn io_bar(dir: &Path, kind: CardKind) -> Result<(u64, u64), String> {
+fn io_bar(dir: &Path, kind: CardKind) -> Result<(u64, u64), CardOpenError> {
     /// Linux's IORESOURCE_IO flag: the BAR is I/O ports, not memory.
     const IORESOURCE_IO: u64 = 0x100;
     let path = dir.join("resource");
-    let text = std::fs::read_to_string(&path)
-        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let text = std::fs::read_to_string(&path).map_err(|e| CardOpenError::ReadFile {
+        error: e.kind(),
+        path,
+    })?;
     let line = text.lines().nth(kind.bar()).unwrap_or("");
     let fields: Vec<u64> = line
         .split_whitespace()
@@ -140,59 +145,57 @@ fn io_bar(dir: &Path, kind: CardKind) -> Result<(u64, u64), String> {
         .collect();
     match fields[..] {
         [start, end, flags] if flags & IORESOURCE_IO != 0 && end >= start => Ok((start, end)),
-        _ => Err(format!(
-            "BAR{} of the {} in {} is not an I/O-port BAR ('{line}'): is this the right card?",
-            kind.bar(),
-            kind.name(),
-            dir.display()
-        )),
+        _ => Err(CardOpenError::NotIoBar {
+            card: kind,
+            dir: dir.to_path_buf(),
+            line: line.to_string(),
+        }),
     }
 }
 
 /// Find a card as robot.ini says (`location` must be a PCI one).
-pub fn find(root: &Path, kind: CardKind, location: &CardLocation) -> Result<FoundCard, String> {
-    let id = format!("{VENDOR_MCC:04x}:{:04x}", kind.device_id());
+pub fn find(
+    root: &Path,
+    kind: CardKind,
+    location: &CardLocation,
+) -> Result<FoundCard, CardOpenError> {
     let address = match location {
         CardLocation::PciAddress(address) => {
             let dir = root.join(address);
+            let address = address.clone();
             if !dir.exists() {
-                return Err(format!(
-                    "no PCI device at {address} (robot.ini [hw]): `lspci -D -d {id}` lists the {}",
-                    kind.name()
-                ));
+                return Err(CardOpenError::NoDeviceAt {
+                    card: kind,
+                    address,
+                });
             }
             if read_hex(&dir.join("device")) != Some(u64::from(kind.device_id())) {
-                return Err(format!(
-                    "the PCI device at {address} is not a {} ({id}): check robot.ini [hw]",
-                    kind.name()
-                ));
+                return Err(CardOpenError::NotThisCard {
+                    card: kind,
+                    address,
+                });
             }
-            address.clone()
+            address
         }
         CardLocation::PciAuto => {
-            let all = find_all(root, kind)?;
-            match &all[..] {
-                [one] => one.clone(),
-                [] => {
-                    return Err(format!(
-                        "no {} (PCI id {id}) found in {}: is the card in this computer?",
-                        kind.name(),
-                        root.display()
-                    ));
+            let mut all = find_all(root, kind)?;
+            match all.len() {
+                1 => all.remove(0),
+                0 => {
+                    return Err(CardOpenError::NotOnBus {
+                        card: kind,
+                        root: root.to_path_buf(),
+                    });
                 }
-                many => {
-                    return Err(format!(
-                        "{} {} cards found ({}): set its PCI address in robot.ini [hw]",
-                        many.len(),
-                        kind.name(),
-                        many.join(", ")
-                    ));
+                _ => {
+                    return Err(CardOpenError::Several {
+                        card: kind,
+                        addresses: all,
+                    });
                 }
             }
         }
-        CardLocation::PortBase(_) => {
-            return Err(format!("the {} is set to /dev/port, not PCI", kind.name()));
-        }
+        CardLocation::PortBase(_) => return Err(CardOpenError::NotPci { card: kind }),
     };
     let dir = root.join(&address);
     let bar_ports = io_bar(&dir, kind)?;
@@ -204,28 +207,28 @@ pub fn find(root: &Path, kind: CardKind, location: &CardLocation) -> Result<Foun
     })
 }
 
-/// Turn an open or access error into advice a person can act on.
-pub fn explain(kind: CardKind, path: &Path, e: &io::Error) -> String {
-    let what = format!("{}: cannot use {}: {e}", kind.name(), path.display());
-    match e.kind() {
-        io::ErrorKind::PermissionDenied if kernel_locked_down() => format!(
-            "{what}. The kernel is in lockdown (secure boot), which refuses all I/O-port \
-             access from programs: switch secure boot off in the firmware setup for this computer"
-        ),
-        io::ErrorKind::PermissionDenied if path.starts_with("/dev") => format!(
-            "{what}. /dev/port needs the capability CAP_SYS_RAWIO and read-write access to \
-             the file (docs/robot-pc.md), or run as root"
-        ),
-        io::ErrorKind::PermissionDenied => format!(
-            "{what}. Install the udev rule of docs/robot-pc.md (it gives the mechweed group \
-             the cards' files), or run as root"
-        ),
-        _ => what,
+/// An open or access error as the card's problem, with advice a person can act on.
+pub fn explain(kind: CardKind, path: &Path, e: &io::Error) -> CardOpenError {
+    let path = path.to_path_buf();
+    let refusal = match e.kind() {
+        io::ErrorKind::ResourceBusy => return CardOpenError::InUse { card: kind, path },
+        io::ErrorKind::PermissionDenied if kernel_locked_down() => Some(Refusal::Lockdown),
+        io::ErrorKind::PermissionDenied if path.starts_with("/dev") => {
+            Some(Refusal::DevPortCapability)
+        }
+        io::ErrorKind::PermissionDenied => Some(Refusal::UdevRule),
+        _ => None,
+    };
+    CardOpenError::CannotUse {
+        card: kind,
+        path,
+        error: e.kind(),
+        refusal,
     }
 }
 
 /// Switch the device's I/O decoding on, unless it already is.
-fn enable(card: &FoundCard) -> Result<(), String> {
+fn enable(card: &FoundCard) -> Result<(), CardOpenError> {
     let path = card.dir.join("enable");
     let on = std::fs::read_to_string(&path).is_ok_and(|t| t.trim() != "0");
     if on {
@@ -241,7 +244,7 @@ pub fn open(
     dev_port: &mut DevPortFile,
     kind: CardKind,
     location: &CardLocation,
-) -> Result<OpenedCard, String> {
+) -> Result<OpenedCard, CardOpenError> {
     if let CardLocation::PortBase(base) = location {
         let port = dev_port
             .card(*base, kind.window_len())
@@ -260,14 +263,11 @@ pub fn open(
     let path = card.dir.join(format!("resource{}", kind.bar()));
     let (start, end) = card.bar_ports;
     if end - start + 1 < u64::from(kind.window_len()) {
-        return Err(format!(
-            "{}: BAR{} at {} spans {} ports, fewer than its {} registers",
-            kind.name(),
-            kind.bar(),
-            card.address,
-            end - start + 1,
-            kind.window_len()
-        ));
+        return Err(CardOpenError::BarTooSmall {
+            card: kind,
+            address: card.address,
+            ports: end - start + 1,
+        });
     }
     let port = SysfsBar::open(&path, kind.window_len()).map_err(|e| explain(kind, &path, &e))?;
     Ok(OpenedCard {

@@ -54,7 +54,9 @@ fn finds_the_card_by_vendor_and_device_and_switches_it_on() {
 fn a_missing_card_says_which_and_where_it_was_looked_for() {
     let root = tempfile::tempdir().unwrap();
     device(root.path(), "0000:00:1f.0", 0x8086, 0x1234, IO_BAR);
-    let err = find(root.path(), CardKind::Quad04, &CardLocation::PciAuto).unwrap_err();
+    let err = find(root.path(), CardKind::Quad04, &CardLocation::PciAuto)
+        .unwrap_err()
+        .to_string();
     assert!(
         err.contains("no PCI-QUAD04 (PCI id 1307:004d) found"),
         "{err}"
@@ -66,7 +68,9 @@ fn two_cards_of_a_kind_ask_for_an_address() {
     let root = tempfile::tempdir().unwrap();
     device(root.path(), "0000:03:00.0", VENDOR_MCC, 0x0053, IO_BAR);
     device(root.path(), "0000:05:00.0", VENDOR_MCC, 0x0053, IO_BAR);
-    let err = find(root.path(), CardKind::Dda06, &CardLocation::PciAuto).unwrap_err();
+    let err = find(root.path(), CardKind::Dda06, &CardLocation::PciAuto)
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("0000:03:00.0, 0000:05:00.0"), "{err}");
     let address = CardLocation::PciAddress("0000:05:00.0".into());
     let card = find(root.path(), CardKind::Dda06, &address).unwrap();
@@ -78,10 +82,14 @@ fn an_address_that_holds_another_device_is_refused() {
     let root = tempfile::tempdir().unwrap();
     device(root.path(), "0000:03:00.0", VENDOR_MCC, 0x0053, IO_BAR);
     let address = CardLocation::PciAddress("0000:03:00.0".into());
-    let err = find(root.path(), CardKind::Das08, &address).unwrap_err();
+    let err = find(root.path(), CardKind::Das08, &address)
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("is not a PCI-DAS08"), "{err}");
     let nowhere = CardLocation::PciAddress("0000:09:00.0".into());
-    let err = find(root.path(), CardKind::Das08, &nowhere).unwrap_err();
+    let err = find(root.path(), CardKind::Das08, &nowhere)
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("no PCI device at 0000:09:00.0"), "{err}");
 }
 
@@ -89,7 +97,9 @@ fn an_address_that_holds_another_device_is_refused() {
 fn a_memory_bar_is_not_taken_for_ports() {
     let root = tempfile::tempdir().unwrap();
     device(root.path(), "0000:03:00.0", VENDOR_MCC, 0x0029, MEM_BAR);
-    let err = find(root.path(), CardKind::Das08, &CardLocation::PciAuto).unwrap_err();
+    let err = find(root.path(), CardKind::Das08, &CardLocation::PciAuto)
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("not an I/O-port BAR"), "{err}");
 }
 
@@ -109,8 +119,9 @@ fn permission_errors_point_to_the_udev_rule_or_the_capability() {
         CardKind::Das08,
         Path::new("/sys/bus/pci/devices/0000:03:00.0/resource2"),
         &denied,
-    );
-    let devport = explain(CardKind::Dda06, Path::new("/dev/port"), &denied);
+    )
+    .to_string();
+    let devport = explain(CardKind::Dda06, Path::new("/dev/port"), &denied).to_string();
     if !kernel_locked_down() {
         assert!(sysfs.contains("udev rule"), "{sysfs}");
         assert!(devport.contains("CAP_SYS_RAWIO"), "{devport}");

@@ -42,26 +42,17 @@ pub fn kernel_locked_down() -> bool {
         .unwrap_or(false)
 }
 
-/// A refused access says why, if the kernel's lockdown is the reason: a locked-down
-/// kernel lets the sysfs file open and refuses the first write.
-fn refused(path: &Path, e: io::Error) -> io::Error {
-    if e.kind() != io::ErrorKind::PermissionDenied {
-        return e;
-    }
-    let why = if kernel_locked_down() {
-        "the kernel is in lockdown (secure boot), which refuses all I/O-port access: \
-         switch secure boot off in the firmware setup"
-    } else {
-        "the kernel refused the port access"
-    };
-    io::Error::new(e.kind(), format!("{}: {e}: {why}", path.display()))
-}
-
 /// A file whose byte at `base + offset` is the card's register at `offset`.
+///
+/// A failing access returns the system's error as it is, or a bare kind for a short
+/// transfer: neither allocates, so a tick whose card fails allocates nothing (only an
+/// offset outside the window, a driver bug that no tick reaches, has a message). The
+/// driver turns it into an error naming the card and the register; why a refused
+/// access was refused (a locked-down kernel lets the file open and refuses the first
+/// access) is looked up once, at start ([`crate::StartError`]).
 struct ByteFile {
     /// Shared by the cards reached through /dev/port; one owner for a sysfs BAR.
     file: Arc<File>,
-    path: PathBuf,
     base: u64,
     len: u16,
 }
@@ -72,13 +63,12 @@ impl ByteFile {
             return Err(outside(offset, self.len));
         }
         let mut byte = [0u8; 1];
-        let read = self.file.read_at(&mut byte, self.base + u64::from(offset));
-        match read.map_err(|e| refused(&self.path, e))? {
+        match self
+            .file
+            .read_at(&mut byte, self.base + u64::from(offset))?
+        {
             1 => Ok(byte[0]),
-            _ => Err(io::Error::new(
-                io::ErrorKind::UnexpectedEof,
-                format!("{} gave no byte at {offset:#x}", self.path.display()),
-            )),
+            _ => Err(io::ErrorKind::UnexpectedEof.into()),
         }
     }
 
@@ -86,13 +76,12 @@ impl ByteFile {
         if offset >= self.len {
             return Err(outside(offset, self.len));
         }
-        let written = self.file.write_at(&[value], self.base + u64::from(offset));
-        match written.map_err(|e| refused(&self.path, e))? {
+        match self
+            .file
+            .write_at(&[value], self.base + u64::from(offset))?
+        {
             1 => Ok(()),
-            _ => Err(io::Error::new(
-                io::ErrorKind::WriteZero,
-                format!("{} took no byte at {offset:#x}", self.path.display()),
-            )),
+            _ => Err(io::ErrorKind::WriteZero.into()),
         }
     }
 }
@@ -122,7 +111,6 @@ impl SysfsBar {
     pub fn open(path: &Path, len: u16) -> io::Result<SysfsBar> {
         Ok(SysfsBar(ByteFile {
             file: Arc::new(open_locked(path)?),
-            path: path.to_path_buf(),
             base: 0,
             len,
         }))
@@ -169,7 +157,6 @@ impl DevPortFile {
         };
         Ok(DevPort(ByteFile {
             file,
-            path: self.path.clone(),
             base: u64::from(base),
             len,
         }))

@@ -89,25 +89,6 @@ fn cards_through_dev_port_share_one_handle_and_a_second_program_is_refused() {
 }
 
 #[test]
-fn a_refused_access_says_the_kernel_refused_it() {
-    let path = Path::new("/sys/bus/pci/devices/0000:03:00.0/resource2");
-    let e = refused(path, io::Error::from(io::ErrorKind::PermissionDenied));
-    let text = e.to_string();
-    assert!(
-        text.starts_with("/sys/bus/pci/devices/0000:03:00.0/resource2: "),
-        "{text}"
-    );
-    let why = if kernel_locked_down() {
-        "lockdown"
-    } else {
-        "the kernel refused"
-    };
-    assert!(text.contains(why), "{text}");
-    let other = refused(path, io::Error::from(io::ErrorKind::NotFound));
-    assert_eq!(other.kind(), io::ErrorKind::NotFound);
-}
-
-#[test]
 fn counting_port_counts_reads_and_writes() {
     let dir = tempfile::tempdir().unwrap();
     let count = AccessCount::default();

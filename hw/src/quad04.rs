@@ -10,8 +10,8 @@
 //! (as long as an encoder moves less than 2^23 counts between two reads: 800 m of
 //! wheel travel at 10 000 counts/m).
 
-use crate::HwError;
 use crate::port::PortIo;
+use crate::{CardFault, HwError};
 
 /// The card's name in every message.
 pub const NAME: &str = "PCI-QUAD04";
@@ -59,8 +59,12 @@ pub fn step_24(from: u32, to: u32) -> i64 {
     i64::from(((diff << 8) as i32) >> 8)
 }
 
-fn failed(what: String) -> HwError {
-    HwError::CardNotAnswering { card: NAME, what }
+fn failed(register: u16, fault: CardFault) -> HwError {
+    HwError::CardNotAnswering {
+        card: NAME,
+        register,
+        fault,
+    }
 }
 
 pub struct Quad04 {
@@ -107,13 +111,13 @@ impl Quad04 {
     fn write(&mut self, offset: u16, value: u8) -> Result<(), HwError> {
         self.port
             .write_u8(offset, value)
-            .map_err(|e| failed(format!("writing register +{offset}: {e}")))
+            .map_err(|e| failed(offset, CardFault::WriteFailed(e.kind())))
     }
 
     fn read(&mut self, offset: u16) -> Result<u8, HwError> {
         self.port
             .read_u8(offset)
-            .map_err(|e| failed(format!("reading register +{offset}: {e}")))
+            .map_err(|e| failed(offset, CardFault::ReadFailed(e.kind())))
     }
 
     /// Channel `ch`'s flag register (bit 4: noise error).
@@ -134,9 +138,11 @@ impl Quad04 {
         if raw == MASK_24 {
             let flags = self.read_flags(ch)?;
             if flags == 0xFF {
-                return Err(failed(format!(
-                    "channel {ch} reads 0xFF in its count and its flags, as a card that is not there"
-                )));
+                let channel = ch.clamp(1, CHANNELS) as u8;
+                return Err(failed(
+                    control_port(ch),
+                    CardFault::CounterReadsFf { channel },
+                ));
             }
         }
         Ok(raw)

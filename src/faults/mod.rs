@@ -5,8 +5,7 @@
 //! Checks that must see a condition for some time (a battery sagging, an encoder not
 //! counting) keep a timer here; their times are settings in robot.ini [faults].
 
-use mechweed_hw::Inputs;
-use mechweed_hw::sim::{EncoderId, Side};
+use mechweed_hw::{EncoderId, Inputs, Side};
 
 use crate::camlink::LinkStatus;
 use crate::config::{CameraSettings, FaultSettings, RtSettings, Settings};

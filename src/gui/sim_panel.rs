@@ -4,7 +4,8 @@
 //! `SimControl`, as a person at the robot would act: never to the controller directly.
 
 use eframe::egui::{self, Color32, RichText, Sense};
-use mechweed_hw::sim::{EncoderId, EventAction, RowShape, Side, SimControl};
+use mechweed_hw::sim::{EventAction, RowShape, SimControl};
+use mechweed_hw::{EncoderId, Side};
 
 use super::requests::Requests;
 use super::view::View;

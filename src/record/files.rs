@@ -3,9 +3,10 @@
 //! formatted here from `SystemTime`: a date is all we need, not a time-zone library.
 
 use std::fs::{File, OpenOptions};
-use std::io;
 use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};
+
+use super::error::RecordError;
 
 /// "2026-11-23T07-43-12": ISO 8601 in UTC, with '-' for ':' (not allowed in file
 /// names on Windows, where records are often opened).
@@ -47,8 +48,11 @@ pub struct NewFiles {
 
 /// Make `folder` if needed and create `{stamp}{ext}` for each extension. If a record
 /// of that second exists already, `-2`, `-3` … are added to the name.
-pub fn create(folder: &Path, stamp: &str, extensions: &[&str]) -> io::Result<NewFiles> {
-    std::fs::create_dir_all(folder)?;
+pub fn create(folder: &Path, stamp: &str, extensions: &[&str]) -> Result<NewFiles, RecordError> {
+    std::fs::create_dir_all(folder).map_err(|e| RecordError::CreateFolder {
+        folder: folder.to_path_buf(),
+        error: e.kind(),
+    })?;
     for n in 1..=100 {
         let name = if n == 1 {
             stamp.to_string()
@@ -65,15 +69,20 @@ pub fn create(folder: &Path, stamp: &str, extensions: &[&str]) -> io::Result<New
             let file = OpenOptions::new()
                 .write(true)
                 .create_new(true)
-                .open(&path)?;
+                .open(&path)
+                .map_err(|e| RecordError::CreateFile {
+                    folder: folder.to_path_buf(),
+                    path: path.clone(),
+                    error: e.kind(),
+                })?;
             files.push((path, file));
         }
         return Ok(NewFiles { files });
     }
-    Err(io::Error::new(
-        io::ErrorKind::AlreadyExists,
-        format!("100 records named {stamp} exist already"),
-    ))
+    Err(RecordError::NamesTaken {
+        folder: folder.to_path_buf(),
+        stamp: stamp.to_string(),
+    })
 }
 
 /// `records/x` + `.events.csv` -> `records/x.events.csv` (the stem has no extension).

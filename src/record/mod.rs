@@ -12,6 +12,7 @@
 //! duration, distance, faults and cross-track figures.
 
 mod csv;
+mod error;
 mod event;
 mod files;
 mod mcap;
@@ -33,6 +34,7 @@ use mechweed_hw::sim::TruthHandle;
 use crate::config::RecordSettings;
 
 pub use self::mcap::{EVENT_TOPIC, TICK_TOPIC};
+pub use error::{Place, ReadProblem, RecordError};
 pub use event::{EVENT_COLUMNS, EventKind, RecordEvent};
 pub use files::utc_stamp;
 pub use row::{COLUMNS, Column, TickSample, Value, column_names};
@@ -51,11 +53,14 @@ pub fn start(
     settings: &RecordSettings,
     truth: Option<TruthHandle>,
     delivery: Delivery,
-) -> Result<(RecordTap, Recorder), String> {
+) -> Result<(RecordTap, Recorder), RecordError> {
     let started = SystemTime::now();
     let stamp = utc_stamp(started);
     let folder = &settings.folder;
-    let why = |e: std::io::Error| format!("cannot record this run in {}: {e}", folder.display());
+    let why = |e: std::io::Error| RecordError::Begin {
+        folder: folder.clone(),
+        error: e.kind(),
+    };
     let (csv, mcap) = (settings.formats.csv(), settings.formats.mcap());
     let mut extensions = Vec::new();
     if csv {
@@ -64,8 +69,7 @@ pub fn start(
     if mcap {
         extensions.push(".mcap");
     }
-    let mut made = files::create(folder, &stamp, &extensions)
-        .map_err(why)?
+    let mut made = files::create(folder, &stamp, &extensions)?
         .files
         .into_iter();
     let mut sinks: Vec<Box<dyn Sink>> = Vec::new();

@@ -6,9 +6,9 @@
 //! record whose run ended abruptly (no MCAP footer, half a CSV line) is read up to
 //! where it ends, with a note saying so.
 
-use std::fmt;
 use std::path::{Path, PathBuf};
 
+use super::error::{Place, ReadProblem, RecordError};
 use super::event::EVENT_COLUMNS;
 use super::files::with_suffix;
 use super::mcap::{EVENT_TOPIC, TICK_TOPIC};
@@ -26,8 +26,8 @@ pub enum Cell {
 pub struct Table {
     pub columns: Vec<String>,
     pub rows: Vec<Vec<Cell>>,
-    /// Where each row came from, for messages: "line 12", "message 12".
-    pub places: Vec<String>,
+    /// Where each row came from, for messages: line 12, message 12.
+    pub places: Vec<Place>,
 }
 
 /// A record read back.
@@ -41,33 +41,22 @@ pub struct Record {
     pub notes: Vec<String>,
 }
 
-#[derive(Debug, Clone, PartialEq)]
-pub struct ReadError {
-    pub file: PathBuf,
-    pub what: String,
-}
-
-impl fmt::Display for ReadError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}: {}", self.file.display(), self.what)
-    }
-}
-
 impl Table {
     pub fn column(&self, name: &str) -> Option<usize> {
         self.columns.iter().position(|c| c == name)
     }
 
     /// The number in `row`, `col`: None for an empty cell, an error for text.
-    pub fn number(&self, row: usize, col: usize) -> Result<Option<f64>, String> {
+    pub fn number(&self, row: usize, col: usize) -> Result<Option<f64>, ReadProblem> {
         match &self.rows[row][col] {
             Cell::Num(x) if x.is_nan() => Ok(None),
             Cell::Num(x) => Ok(Some(*x)),
             Cell::Empty => Ok(None),
-            Cell::Text(t) => Err(format!(
-                "{}: {} = '{t}' is not a number",
-                self.places[row], self.columns[col]
-            )),
+            Cell::Text(t) => Err(ReadProblem::NotANumber {
+                place: self.places[row].clone(),
+                column: self.columns[col].clone(),
+                text: t.clone(),
+            }),
         }
     }
 
@@ -85,35 +74,31 @@ impl Table {
 const MCAP_MAGIC: &[u8] = b"\x89MCAP0\r\n";
 
 /// Read the columns `wanted` of every tick, and the events, from a record.
-pub fn read(path: &Path, wanted: &[&str]) -> Result<Record, ReadError> {
-    let error = |what: String| ReadError {
+pub fn read(path: &Path, wanted: &[&str]) -> Result<Record, RecordError> {
+    let error = |problem: ReadProblem| RecordError::Read {
         file: path.to_path_buf(),
-        what,
+        problem,
     };
-    let bytes = std::fs::read(path).map_err(|e| error(format!("cannot read it: {e}")))?;
+    let bytes = std::fs::read(path).map_err(|e| error(ReadProblem::CannotRead(e.kind())))?;
     if bytes.is_empty() {
-        return Err(error("the file is empty".to_string()));
+        return Err(error(ReadProblem::Empty));
     }
     if bytes.starts_with(MCAP_MAGIC) {
         return read_mcap(path, &bytes, wanted).map_err(error);
     }
-    let text = String::from_utf8(bytes)
-        .map_err(|_| error("neither a CSV record (not text) nor an MCAP file".to_string()))?;
+    let text = String::from_utf8(bytes).map_err(|_| error(ReadProblem::NeitherCsvNorMcap))?;
     let name = path.to_string_lossy();
     if name.ends_with(".events.csv") {
-        return Err(error(
-            "this is the events file of a record: give the tick file beside it (NAME.csv)"
-                .to_string(),
-        ));
+        return Err(error(ReadProblem::EventsFile));
     }
     let mut notes = Vec::new();
     let ticks = parse_csv(&text, wanted, &mut notes).map_err(error)?;
     let events_path = with_suffix(&path.with_extension(""), ".events.csv");
     let events = match std::fs::read_to_string(&events_path) {
         Ok(text) => Some(
-            parse_csv(&text, &EVENT_COLUMNS, &mut notes).map_err(|what| ReadError {
+            parse_csv(&text, &EVENT_COLUMNS, &mut notes).map_err(|problem| RecordError::Read {
                 file: events_path.clone(),
-                what,
+                problem,
             })?,
         ),
         Err(e) => {
@@ -133,7 +118,8 @@ pub fn read(path: &Path, wanted: &[&str]) -> Result<Record, ReadError> {
 }
 
 /// Split one CSV line into fields; double quotes may hold commas ("" is a quote).
-fn fields(line: &str) -> Result<Vec<String>, String> {
+/// None: a quoted field is not closed.
+fn fields(line: &str) -> Option<Vec<String>> {
     let mut out = vec![String::new()];
     let mut quoted = false;
     let mut chars = line.chars().peekable();
@@ -149,23 +135,21 @@ fn fields(line: &str) -> Result<Vec<String>, String> {
             (ch, _) => field.push(ch),
         }
     }
-    if quoted {
-        return Err("a quoted field is not closed".to_string());
-    }
-    Ok(out)
+    (!quoted).then_some(out)
 }
 
-fn parse_csv(text: &str, wanted: &[&str], notes: &mut Vec<String>) -> Result<Table, String> {
+fn parse_csv(text: &str, wanted: &[&str], notes: &mut Vec<String>) -> Result<Table, ReadProblem> {
     let mut lines = text.split('\n').map(|l| l.strip_suffix('\r').unwrap_or(l));
-    let header = fields(lines.next().unwrap_or_default()).map_err(|e| format!("line 1: {e}"))?;
+    let header =
+        fields(lines.next().unwrap_or_default()).ok_or(ReadProblem::UnclosedQuote { line: 1 })?;
     let mut picks = Vec::new();
     for name in wanted {
         match header.iter().position(|h| h.trim() == *name) {
             Some(i) => picks.push(i),
             None => {
-                return Err(format!(
-                    "not a mechweed record: the first line has no column {name}"
-                ));
+                return Err(ReadProblem::MissingColumn {
+                    name: name.to_string(),
+                });
             }
         }
     }
@@ -181,28 +165,27 @@ fn parse_csv(text: &str, wanted: &[&str], notes: &mut Vec<String>) -> Result<Tab
         if line.is_empty() && last {
             break;
         }
-        let cells = fields(line).map_err(|e| format!("line {number}: {e}"));
-        let cells = match cells {
-            Ok(cells) if cells.len() == header.len() => cells,
-            Ok(_) | Err(_) if last && !ends_whole => {
+        let cells = match fields(line) {
+            Some(cells) if cells.len() == header.len() => cells,
+            _ if last && !ends_whole => {
                 notes.push(format!(
                     "line {number} is incomplete (the run ended abruptly?): left out"
                 ));
                 break;
             }
-            Ok(cells) => {
-                return Err(format!(
-                    "line {number} has {} fields, the first line {}",
-                    cells.len(),
-                    header.len()
-                ));
+            Some(cells) => {
+                return Err(ReadProblem::FieldCount {
+                    line: number,
+                    fields: cells.len(),
+                    header: header.len(),
+                });
             }
-            Err(e) => return Err(e),
+            None => return Err(ReadProblem::UnclosedQuote { line: number }),
         };
         table
             .rows
             .push(picks.iter().map(|&k| cell(&cells[k])).collect());
-        table.places.push(format!("line {number}"));
+        table.places.push(Place::Line(number));
     }
     Ok(table)
 }
@@ -217,9 +200,11 @@ fn cell(text: &str) -> Cell {
     }
 }
 
-fn read_mcap(path: &Path, bytes: &[u8], wanted: &[&str]) -> Result<Record, String> {
-    let stream =
-        ::mcap::MessageStream::new(bytes).map_err(|e| format!("not a readable MCAP file: {e}"))?;
+fn read_mcap(path: &Path, bytes: &[u8], wanted: &[&str]) -> Result<Record, ReadProblem> {
+    let not_mcap = |e: ::mcap::McapError| ReadProblem::NotMcap {
+        reason: e.to_string(),
+    };
+    let stream = ::mcap::MessageStream::new(bytes).map_err(not_mcap)?;
     let mut ticks = Table {
         columns: wanted.iter().map(|s| s.to_string()).collect(),
         ..Table::default()
@@ -233,7 +218,7 @@ fn read_mcap(path: &Path, bytes: &[u8], wanted: &[&str]) -> Result<Record, Strin
         let message = match message {
             Ok(m) => m,
             Err(e) if ticks.rows.is_empty() && events.rows.is_empty() => {
-                return Err(format!("not a readable MCAP file: {e}"));
+                return Err(not_mcap(e));
             }
             Err(e) => {
                 notes.push(format!(
@@ -248,10 +233,15 @@ fn read_mcap(path: &Path, bytes: &[u8], wanted: &[&str]) -> Result<Record, Strin
             EVENT_TOPIC => (&mut events, &EVENT_COLUMNS),
             _ => continue,
         };
-        let place = format!("message {} ({})", i + 1, message.channel.topic);
+        let place = Place::Message {
+            number: i + 1,
+            topic: message.channel.topic.clone(),
+        };
         let object: serde_json::Map<String, serde_json::Value> =
-            serde_json::from_slice(&message.data)
-                .map_err(|e| format!("{place}: not a JSON object: {e}"))?;
+            serde_json::from_slice(&message.data).map_err(|e| ReadProblem::NotJson {
+                place: place.clone(),
+                reason: e.to_string(),
+            })?;
         let mut row = Vec::with_capacity(names.len());
         for name in names {
             row.push(match object.get(*name) {
@@ -262,7 +252,12 @@ fn read_mcap(path: &Path, bytes: &[u8], wanted: &[&str]) -> Result<Record, Strin
                 Some(serde_json::Value::Bool(b)) => Cell::Num(f64::from(u8::from(*b))),
                 Some(serde_json::Value::Null) => Cell::Empty,
                 Some(other) => Cell::Text(other.to_string()),
-                None => return Err(format!("{place}: not a mechweed record: no {name}")),
+                None => {
+                    return Err(ReadProblem::MissingField {
+                        place,
+                        name: name.to_string(),
+                    });
+                }
             });
         }
         table.rows.push(row);
@@ -287,7 +282,7 @@ mod tests {
             ["1", "a", "b, \"c\""]
         );
         assert_eq!(fields("").unwrap(), [""]);
-        assert!(fields("1,\"open").is_err());
+        assert_eq!(fields("1,\"open"), None);
     }
 
     #[test]
@@ -304,13 +299,21 @@ mod tests {
         assert_eq!(t.number(1, 0), Ok(Some(3.0)));
         assert_eq!(notes.len(), 1);
         let t = parse_csv("t_s,x\n0.1,abc\n", &["x"], &mut notes).unwrap();
+        let e = t.number(0, 0).unwrap_err();
         assert_eq!(
-            t.number(0, 0),
-            Err("line 2: x = 'abc' is not a number".to_string())
+            e,
+            ReadProblem::NotANumber {
+                place: Place::Line(2),
+                column: "x".into(),
+                text: "abc".into()
+            }
         );
+        assert_eq!(e.to_string(), "line 2: x = 'abc' is not a number");
         let e = parse_csv("t_s,x\n0.1\n0.2,1\n", &["x"], &mut notes).unwrap_err();
-        assert_eq!(e, "line 2 has 1 fields, the first line 2");
+        assert_eq!(e.to_string(), "line 2 has 1 fields, the first line 2");
         let e = parse_csv("hello\n", &["t_s"], &mut notes).unwrap_err();
-        assert!(e.contains("no column t_s"), "{e}");
+        assert!(e.to_string().contains("no column t_s"), "{e}");
+        let e = parse_csv("t_s\n\"1\n2\n", &["t_s"], &mut notes).unwrap_err();
+        assert_eq!(e, ReadProblem::UnclosedQuote { line: 2 });
     }
 }

@@ -2,7 +2,8 @@
 //! columns that both formats write. The CSV header and the MCAP JSON schema are made
 //! from `COLUMNS`, so a name, its unit and its meaning are written down only here.
 
-use mechweed_hw::sim::{Side, Truth};
+use mechweed_hw::Side;
+use mechweed_hw::sim::Truth;
 
 use crate::camlink::LinkStatus;
 use crate::status::PowerState;

@@ -10,7 +10,8 @@
 use std::fmt::Write;
 use std::path::Path;
 
-use super::read::{ReadError, Record, read};
+use super::error::{ReadProblem, RecordError};
+use super::read::{Record, read};
 
 /// The columns the summary needs.
 const WANTED: [&str; 7] = [
@@ -56,11 +57,11 @@ pub struct Summary {
 }
 
 /// Read a record (CSV or MCAP) and work out its figures.
-pub fn summarise(path: &Path, from_m: f64) -> Result<Summary, ReadError> {
+pub fn summarise(path: &Path, from_m: f64) -> Result<Summary, RecordError> {
     let record = read(path, &WANTED)?;
-    figures(&record, from_m).map_err(|what| ReadError {
+    figures(&record, from_m).map_err(|problem| RecordError::Read {
         file: path.to_path_buf(),
-        what,
+        problem,
     })
 }
 
@@ -93,18 +94,21 @@ pub fn cross_track(samples: &mut [(f64, f64)]) -> Option<CrossTrack> {
     })
 }
 
-fn figures(record: &Record, from_m: f64) -> Result<Summary, String> {
+fn figures(record: &Record, from_m: f64) -> Result<Summary, ReadProblem> {
     let t = &record.ticks;
     let n = t.rows.len();
     if n == 0 {
-        return Err("the record holds no ticks".to_string());
+        return Err(ReadProblem::NoTicks);
     }
     // Columns exist: read() checked them.
     let [c_t, c_tick, c_mode, c_dist, c_err, c_sim_d, c_done] =
         WANTED.map(|w| t.column(w).unwrap_or(0));
     let num = |row: usize, col: usize| t.number(row, col);
-    let need = |row: usize, col: usize| -> Result<f64, String> {
-        num(row, col)?.ok_or_else(|| format!("{}: {} is empty", t.places[row], t.columns[col]))
+    let need = |row: usize, col: usize| -> Result<f64, ReadProblem> {
+        num(row, col)?.ok_or_else(|| ReadProblem::EmptyCell {
+            place: t.places[row].clone(),
+            column: t.columns[col].clone(),
+        })
     };
 
     let mut modes: Vec<(f64, String)> = Vec::new();

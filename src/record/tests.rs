@@ -213,7 +213,15 @@ fn a_folder_under_a_file_cannot_be_made_and_says_which() {
     std::fs::write(&plain, "not a folder").unwrap();
     let mut settings = Settings::shipped().record;
     settings.folder = plain.join("records");
-    let why = start(&settings, None, Delivery::NeverWait).err().unwrap();
+    let err = start(&settings, None, Delivery::NeverWait).err().unwrap();
+    assert_eq!(
+        err,
+        RecordError::CreateFolder {
+            folder: settings.folder.clone(),
+            error: io::ErrorKind::NotADirectory
+        }
+    );
+    let why = err.to_string();
     assert!(
         why.starts_with(&format!(
             "cannot record this run in {}:",
@@ -238,4 +246,37 @@ fn truth_of_a_robot() -> mechweed_hw::sim::TruthHandle {
     let (camera, _robot_end) = mechweed_hw::sim::byte_pipe(64);
     let robot = mechweed_hw::sim::SimRobot::new(&Settings::shipped().sim, camera);
     mechweed_hw::sim::SimHw::new(robot).truth_handle()
+}
+
+#[test]
+fn a_record_that_cannot_be_read_back_is_an_error_naming_the_file_line_and_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing.csv");
+    assert_eq!(
+        read::read(&missing, &["t_s"]).unwrap_err(),
+        RecordError::Read {
+            file: missing,
+            problem: ReadProblem::CannotRead(io::ErrorKind::NotFound)
+        }
+    );
+    let bad = dir.path().join("bad.csv");
+    std::fs::write(&bad, "t_s,tick\n0.01,1\n0.02,\"2\n").unwrap();
+    let err = read::read(&bad, &["tick"]).unwrap_err();
+    let RecordError::Read { file, problem } = &err else {
+        panic!("{err:?}")
+    };
+    assert_eq!(
+        (file, problem),
+        (&bad, &ReadProblem::UnclosedQuote { line: 3 })
+    );
+    std::fs::write(&bad, "t_s,tick\n0.01,1\n0.02,two\n").unwrap();
+    let record = read::read(&bad, &["tick"]).unwrap();
+    assert_eq!(
+        record.ticks.number(1, 0).unwrap_err(),
+        ReadProblem::NotANumber {
+            place: Place::Line(3),
+            column: "tick".into(),
+            text: "two".into()
+        }
+    );
 }

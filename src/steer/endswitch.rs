@@ -7,7 +7,7 @@
 //! drives the steering further into the switch; this procedure finishes the job.
 
 use mechweed_hw::Inputs;
-use mechweed_hw::sim::Side;
+use mechweed_hw::Side;
 
 /// Where the procedure is; the supervisor watches it (a switch that stays closed
 /// without the procedure running is a fault).

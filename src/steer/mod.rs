@@ -7,7 +7,7 @@ pub mod endswitch;
 pub mod joystick;
 pub mod law;
 
-use mechweed_hw::sim::Side;
+use mechweed_hw::Side;
 
 use crate::camlink::LinkStatus;
 use crate::config::{Settings, SteerSettings};

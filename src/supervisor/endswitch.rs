@@ -3,7 +3,7 @@
 //! however briefly, notice when the procedure is done, and never drive the steering
 //! further into a closed switch.
 
-use mechweed_hw::sim::Side;
+use mechweed_hw::Side;
 use mechweed_hw::{Inputs, Outputs};
 
 use crate::steer::SteerCommand;

@@ -7,24 +7,13 @@
 
 use std::fmt;
 
+use crate::{EncoderId, Side};
+
 /// One action at one time (seconds since the start of the run).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SimEvent {
     pub t_s: f64,
     pub action: EventAction,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Side {
-    Left,
-    Right,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum EncoderId {
-    Left,
-    Right,
-    Steer,
 }
 
 /// The operator's mode request (the controller's modes without Fault).

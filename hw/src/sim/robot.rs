@@ -14,13 +14,14 @@ use super::body::Pose;
 use super::camera::CameraComputer;
 use super::crosstrack::CrossTrackStats;
 use super::drive::DriveWheel;
-use super::events::{EncoderId, EventAction, SimEvent};
+use super::events::{EventAction, SimEvent};
 use super::field::Field;
 use super::params::SimParams;
 use super::pipe::PipeEnd;
 use super::steering::Steering;
 use super::tool::ToolTrack;
 use super::{SEED_POT, Truth};
+use crate::EncoderId;
 use crate::{Inputs, Outputs};
 
 /// Amplifier output range, V.

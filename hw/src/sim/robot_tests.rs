@@ -1,8 +1,9 @@
 //! Tests of the whole simulated robot, in lockstep.
 
 use super::*;
+use crate::Side;
 use crate::camproto::{CMD_START, Decoder, Frame};
-use crate::sim::events::{Side, parse_events};
+use crate::sim::events::parse_events;
 use crate::sim::params::RowShape;
 use crate::sim::pipe::byte_pipe;
 

@@ -5,7 +5,7 @@
 //! end switches close beyond +-28 deg; the potentiometer gives the absolute angle,
 //! the motor's encoder the angle relative to where it was at power-up.
 
-use super::events::Side;
+use crate::Side;
 
 /// Potentiometer: 2.5 V at straight ahead, 2 V per 30 deg (0.5 V at -30, 4.5 V at +30).
 pub(crate) const POT_CENTRE_V: f64 = 2.5;
