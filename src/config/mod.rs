@@ -13,7 +13,7 @@ mod sim;
 use std::path::Path;
 
 pub use camera_port::{BAUD_RATES, CameraPort};
-pub use reader::ConfigError;
+pub use reader::{ConfigError, Place};
 pub use record::{RecordFormats, RecordSettings};
 
 use reader::Reader;
@@ -187,13 +187,16 @@ impl Settings {
         let label = path.display().to_string();
         let bytes = std::fs::read(path).map_err(|e| {
             vec![ConfigError {
-                place: label.clone(),
+                place: Place::File(label.clone()),
                 what: format!("cannot read the settings file: {e}"),
             }]
         })?;
         let text = lines::decode(&bytes).map_err(|(line, what)| {
             vec![ConfigError {
-                place: format!("{label} line {line}"),
+                place: Place::Line {
+                    file: label.clone(),
+                    line,
+                },
                 what,
             }]
         })?;

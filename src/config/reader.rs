@@ -8,11 +8,32 @@ use ini::{Ini, ParseOption};
 
 use super::lines;
 
+/// Where in the settings a problem is.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Place {
+    /// A line of the file, counted from 1.
+    Line { file: String, line: usize },
+    /// A `--set SECTION.KEY=VALUE` of the command line (its text).
+    Override(String),
+    /// The file as a whole (a missing section, a file that cannot be read).
+    File(String),
+}
+
+impl fmt::Display for Place {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Place::Line { file, line } => write!(f, "{file} line {line}"),
+            Place::Override(item) => write!(f, "--set {item}"),
+            Place::File(file) => f.write_str(file),
+        }
+    }
+}
+
 /// One thing wrong with the settings, said so that a person can fix it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ConfigError {
     /// Where: "config/robot.ini line 42" or "--set pid.left.kp=abc".
-    pub place: String,
+    pub place: Place,
     /// What: "[pid.steer] kp = 'abc' is not a number".
     pub what: String,
 }
@@ -53,7 +74,10 @@ impl Reader {
             .errors
             .iter()
             .map(|(line, what)| ConfigError {
-                place: format!("{file} line {line}"),
+                place: Place::Line {
+                    file: file.to_string(),
+                    line: *line,
+                },
                 what: what.clone(),
             })
             .collect();
@@ -135,9 +159,12 @@ impl Reader {
 
     fn push(&mut self, origin: Origin, what: String) {
         let place = match origin {
-            Origin::Line(n) => format!("{} line {n}", self.file),
-            Origin::Override(item) => format!("--set {item}"),
-            Origin::Nowhere => self.file.clone(),
+            Origin::Line(line) => Place::Line {
+                file: self.file.clone(),
+                line,
+            },
+            Origin::Override(item) => Place::Override(item),
+            Origin::Nowhere => Place::File(self.file.clone()),
         };
         self.errors.push(ConfigError { place, what });
     }
