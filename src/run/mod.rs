@@ -2,132 +2,35 @@
 //! owns the hardware; the steer thread and the camera-link thread each own their own
 //! state; they meet only through protected objects (state.rs) and bounded channels.
 
+mod realtime;
+mod types;
+
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::thread::JoinHandle;
 use std::time::Instant;
 
-use crossbeam_channel::{Sender, bounded};
+use crossbeam_channel::bounded;
 use mechweed_hw::Hw;
-use mechweed_hw::sim::{CrossTrackSummary, SimControl, SimHw, SimRobot, TruthHandle, byte_pipe};
+use mechweed_hw::sim::{SimControl, SimHw, SimRobot, TruthHandle, byte_pipe};
 
 use crate::camlink::thread::{LinkThread, LinkWires};
 use crate::camlink::{LinkCore, LinkStatus, simwire};
 use crate::config::CameraPort;
-use crate::config::{Backend, RtSettings, Settings, SteerSettings};
+use crate::config::{Backend, Settings};
 use crate::health::{self, PanicFlag, ThreadName};
-use crate::inject::Injection;
-use crate::modes::Mode;
-use crate::record::{self, RecordOutcome, Recorder};
-use crate::request_channel::{self, SupervisorHandle};
-use crate::rt::{self, LoopSummary};
-use crate::state::{self, Reader, Writer, shared};
-use crate::status::{FaultRecord, Notice, Status};
+use crate::record::{self, Recorder};
+use crate::request_channel;
+use crate::rt::LoopSummary;
+use crate::state::{self, Reader, shared};
+use crate::status::Status;
 use crate::steer::{SteerCommand, SteerCore};
 use crate::supervisor::Supervisor;
+use realtime::rt_setup;
+
 use crate::threads::{SteerThread, SteerWires, SupervisorThread, SupervisorWires};
-
-/// What an operator interface (the console or the GUI) reads and sends.
-pub struct Handles {
-    pub supervisor: SupervisorHandle,
-    pub link: Reader<LinkStatus>,
-    /// Loop figures of the supervisor and the steer thread, about once a second.
-    pub loops: [Reader<LoopSummary>; 2],
-    pub truth: TruthHandle,
-    /// The simulated robot's buttons, joystick and faults (None on real hardware).
-    pub sim: Option<SimControl>,
-    /// Ask the camera link for a PING (its round trip shows in LinkStatus).
-    pub ping: Sender<()>,
-    /// The GUI's heartbeat, s since start: NaN until the GUI first beats; from then on
-    /// the supervisor watches it (`ThreadHealth::gui_beat_s`).
-    pub gui_beat: Writer<f64>,
-    /// The steer thread's steering-law parameters as they are now.
-    pub steer_settings: Reader<SteerSettings>,
-    /// The steer thread's figures of the steering law (for plots).
-    pub steer: Reader<SteerCommand>,
-    pub clock: Instant,
-    /// Said in the status line and the GUI's header while the real robot runs without
-    /// real-time priorities.
-    pub not_realtime: Option<String>,
-}
-
-pub struct RunOptions {
-    pub settings: Settings,
-    pub start_mode: Mode,
-    pub duration_s: Option<f64>,
-    /// Print a status line this often, s (0 = never).
-    pub status_every_s: f64,
-    /// For tests: make one thread fail on purpose.
-    pub inject: Option<Injection>,
-}
-
-/// Why a run could not start (nothing has started then).
-#[derive(Debug, thiserror::Error)]
-pub enum RunError {
-    /// The I/O cards could not be found or opened (every card's problem, one per line).
-    #[error("{0}")]
-    Cards(mechweed_hw::OpenError),
-    #[error("cannot make a pseudo-terminal for the simulated camera computer: {0}")]
-    SimulatedCameraWire(std::io::Error),
-    #[error(
-        "[camera] port = sim needs the simulated robot: set [camera] port to the camera computer's serial device (e.g. /dev/ttyS0) or tcp://HOST:PORT"
-    )]
-    SimulatedCameraOnRealRobot,
-}
-
-/// What a run leaves behind for the report.
-pub struct RunOutcome {
-    pub final_status: Status,
-    pub faults: Vec<FaultRecord>,
-    pub notices: Vec<Notice>,
-    pub supervisor_loop: LoopSummary,
-    pub steer_loop: LoopSummary,
-    pub link: LinkStatus,
-    /// Warnings about real-time settings the system refused.
-    pub rt_warnings: Vec<String>,
-    pub cross_track: CrossTrackSummary,
-    pub record: RecordOutcome,
-}
-
-/// Lock memory and find out whether real-time priorities are granted: one warning for
-/// each thing the system refuses, printed once, and the program runs on. Also returns
-/// the refusal of the priorities on its own, as the threads then run without them.
-fn rt_setup(rt: &RtSettings) -> (Vec<String>, Option<String>) {
-    let priorities_refused = rt::priorities_allowed(rt);
-    let warnings: Vec<String> = [
-        rt.lock_memory.then(rt::lock_memory).flatten(),
-        priorities_refused.clone(),
-    ]
-    .into_iter()
-    .flatten()
-    .collect();
-    for warning in &warnings {
-        tracing::warn!("{warning}");
-    }
-    (warnings, priorities_refused)
-}
-
-/// What the operator must see at all times when the real robot drives without
-/// real-time priorities, refused by the system or set to 0 in [rt] (the status line, the
-/// GUI's header); None when it has them or is the simulated robot.
-pub fn not_realtime(
-    backend: Backend,
-    rt: &RtSettings,
-    priorities_refused: Option<&str>,
-) -> Option<String> {
-    if backend != Backend::Cards {
-        return None;
-    }
-    if let Some(why) = priorities_refused {
-        return Some(format!(
-            "NOT REAL-TIME: the robot drives without real-time priorities ({why})"
-        ));
-    }
-    (rt.supervisor_priority == 0).then(|| {
-        "NOT REAL-TIME: [rt] supervisor_priority = 0, the robot drives at normal priority"
-            .to_string()
-    })
-}
+pub use realtime::not_realtime;
+pub use types::{Handles, RunError, RunOptions, RunOutcome};
 
 fn spawn<T: Send + 'static>(name: &str, f: impl FnOnce() -> T + Send + 'static) -> JoinHandle<T> {
     std::thread::Builder::new()

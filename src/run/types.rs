@@ -1,0 +1,80 @@
+//! What a run is given, what its operator interface holds while it runs, and what it
+//! leaves behind.
+
+use std::time::Instant;
+
+use crossbeam_channel::Sender;
+use mechweed_hw::sim::{CrossTrackSummary, SimControl, TruthHandle};
+
+use crate::camlink::LinkStatus;
+use crate::config::{Settings, SteerSettings};
+use crate::inject::Injection;
+use crate::modes::Mode;
+use crate::record::RecordOutcome;
+use crate::request_channel::SupervisorHandle;
+use crate::rt::LoopSummary;
+use crate::state::{Reader, Writer};
+use crate::status::{FaultRecord, Notice, Status};
+use crate::steer::SteerCommand;
+
+/// What an operator interface (the console or the GUI) reads and sends.
+pub struct Handles {
+    pub supervisor: SupervisorHandle,
+    pub link: Reader<LinkStatus>,
+    /// Loop figures of the supervisor and the steer thread, about once a second.
+    pub loops: [Reader<LoopSummary>; 2],
+    pub truth: TruthHandle,
+    /// The simulated robot's buttons, joystick and faults (None on real hardware).
+    pub sim: Option<SimControl>,
+    /// Ask the camera link for a PING (its round trip shows in LinkStatus).
+    pub ping: Sender<()>,
+    /// The GUI's heartbeat, s since start: NaN until the GUI first beats; from then on
+    /// the supervisor watches it (`ThreadHealth::gui_beat_s`).
+    pub gui_beat: Writer<f64>,
+    /// The steer thread's steering-law parameters as they are now.
+    pub steer_settings: Reader<SteerSettings>,
+    /// The steer thread's figures of the steering law (for plots).
+    pub steer: Reader<SteerCommand>,
+    pub clock: Instant,
+    /// Said in the status line and the GUI's header while the real robot runs without
+    /// real-time priorities.
+    pub not_realtime: Option<String>,
+}
+
+pub struct RunOptions {
+    pub settings: Settings,
+    pub start_mode: Mode,
+    pub duration_s: Option<f64>,
+    /// Print a status line this often, s (0 = never).
+    pub status_every_s: f64,
+    /// For tests: make one thread fail on purpose.
+    pub inject: Option<Injection>,
+}
+
+/// Why a run could not start (nothing has started then).
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The I/O cards could not be found or opened (every card's problem, one per line).
+    #[error("{0}")]
+    Cards(mechweed_hw::OpenError),
+    #[error("cannot make a pseudo-terminal for the simulated camera computer: {0}")]
+    SimulatedCameraWire(std::io::Error),
+    #[error(
+        "[camera] port = sim needs the simulated robot: set [camera] port to the camera computer's serial device (e.g. /dev/ttyS0) or tcp://HOST:PORT"
+    )]
+    SimulatedCameraOnRealRobot,
+}
+
+/// What a run leaves behind for the report.
+pub struct RunOutcome {
+    pub final_status: Status,
+    pub faults: Vec<FaultRecord>,
+    pub notices: Vec<Notice>,
+    pub supervisor_loop: LoopSummary,
+    pub steer_loop: LoopSummary,
+    pub link: LinkStatus,
+    /// Warnings about real-time settings the system refused.
+    pub rt_warnings: Vec<String>,
+    pub cross_track: CrossTrackSummary,
+    pub record: RecordOutcome,
+}
