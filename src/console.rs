@@ -1,11 +1,13 @@
 //! The headless operator console of `mechweed run`: follows the operator script,
-//! prints faults and notices as they happen and a status line every few seconds, and
+//! prints scripted events, mode changes, faults and notices as they happen and a status line every few seconds, and
 //! ends the run at its duration, on Ctrl-C, or when a thread has stopped.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
+use crate::config::Backend;
+use crate::modes::Mode;
 use crate::operator::OperatorScript;
 use crate::rt::liu_layland;
 use crate::run::{Handles, RunError, RunOptions, RunOutcome, start};
@@ -40,6 +42,14 @@ pub fn operate(
         ..
     } = handles;
     let mut script = OperatorScript::new(&opts.settings.sim.events, opts.start_mode);
+    // Every scripted event, the plant's and the operator's, is said as it becomes due,
+    // so that a run's output tells what was done to the robot and when.
+    // On the real robot nothing plays the plant's events.
+    let simulated = opts.settings.backend == Backend::Sim;
+    let mut events = (opts.settings.sim.events.iter())
+        .filter(|e| simulated || e.action.is_operator())
+        .peekable();
+    let mut mode_seen = Mode::Halt;
     let mut last_refusal = String::new();
     let mut faults_seen = None;
     let mut notice_seen = None;
@@ -55,7 +65,14 @@ pub fn operate(
             eprintln!("a controller thread stopped unexpectedly; ending the run");
             return;
         }
+        while let Some(event) = events.next_if(|e| e.t_s <= now_s) {
+            println!("{now_s:7.2} s  scripted event: {}", event.action);
+        }
         let status = supervisor.status.snapshot();
+        if status.mode != mode_seen {
+            println!("{now_s:7.2} s  mode: {mode_seen} -> {}", status.mode);
+            mode_seen = status.mode;
+        }
         if let Some(request) = script.due(now_s, &status)
             && let Err(why) = supervisor.request(request)
             && why != last_refusal

@@ -1,0 +1,62 @@
+//! A new user's first hour: what the README's steps print, through the real program.
+
+use std::process::{Command, Output};
+
+fn mechweed() -> Command {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_mechweed"));
+    cmd.current_dir(env!("CARGO_MANIFEST_DIR"));
+    cmd
+}
+
+/// `mechweed run --headless ARGS`, its record in a temporary folder.
+fn run_headless(args: &[&str]) -> (Output, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = mechweed()
+        .args(["run", "--headless"])
+        // A busy test machine may overrun now and then; that fault has its own test.
+        .args([
+            "--set",
+            "rt.max_overruns=1000000",
+            "--set",
+            "rt.max_late_periods=20",
+        ])
+        .arg("--set")
+        .arg(format!("record.folder={}", dir.path().display()))
+        .args(args)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    (out, stdout)
+}
+
+#[test]
+fn the_readme_s_scripted_events_each_print_a_line_as_they_happen() {
+    let (out, stdout) = run_headless(&[
+        "--mode",
+        "autonomous",
+        "--duration",
+        "10",
+        "--set",
+        "sim.events=4 estop_front, 6 estop_release, 7 power_up, 8 mode autonomous",
+    ]);
+    assert!(out.status.success(), "{stdout}");
+    let line = |what: &str| {
+        stdout
+            .lines()
+            .position(|l| l.contains(what))
+            .unwrap_or_else(|| panic!("no line with {what:?} in\n{stdout}"))
+    };
+    let release = line("scripted event: estop_release");
+    let power_up = line("scripted event: power_up");
+    let mode = line("scripted event: mode autonomous");
+    assert!(line("scripted event: estop_front") < release && release < power_up);
+    assert!(power_up < mode);
+    // The mode changes, with the way back to autonomous after the fault.
+    let fault = line("mode: autonomous -> fault");
+    assert!(line("mode: halt -> autonomous") < fault);
+    let lines: Vec<&str> = stdout.lines().collect();
+    let back = lines
+        .iter()
+        .rposition(|l| l.contains("mode: ") && l.ends_with("-> autonomous"));
+    assert!(back.is_some_and(|b| b > mode), "{stdout}");
+}
