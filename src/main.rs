@@ -206,9 +206,14 @@ fn run_command(args: RunArgs) -> ExitCode {
         return ExitCode::FAILURE;
     }
     let stop = Arc::new(AtomicBool::new(false));
+    // Told apart from the end of --duration, so that the run says who ended it.
+    let interrupted = Arc::new(AtomicBool::new(false));
     {
-        let stop = stop.clone();
-        if let Err(e) = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed)) {
+        let (stop, interrupted) = (stop.clone(), interrupted.clone());
+        if let Err(e) = ctrlc::set_handler(move || {
+            interrupted.store(true, Ordering::Relaxed);
+            stop.store(true, Ordering::Relaxed);
+        }) {
             eprintln!("cannot catch Ctrl-C ({e}); stop with --duration");
         }
     }
@@ -259,6 +264,12 @@ fn run_command(args: RunArgs) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
+    if interrupted.load(Ordering::Relaxed) {
+        // The threads have ended: the supervisor wrote the safe outputs as it stopped.
+        println!(
+            "run stopped by the operator (Ctrl-C); the outputs are safe: amplifiers 0 V, motor power off, brakes on, tool off"
+        );
+    }
     let report = Report::from_run(&outcome);
     print!("{}", report.human());
     if let Some(path) = args.report {

@@ -60,3 +60,46 @@ fn the_readme_s_scripted_events_each_print_a_line_as_they_happen() {
         .rposition(|l| l.contains("mode: ") && l.ends_with("-> autonomous"));
     assert!(back.is_some_and(|b| b > mode), "{stdout}");
 }
+
+#[test]
+fn ctrl_c_ends_a_run_saying_the_operator_stopped_it_and_the_outputs_are_safe() {
+    use std::io::{BufRead, BufReader, Read};
+    use std::process::Stdio;
+    let dir = tempfile::tempdir().unwrap();
+    // Driving, with no --duration: only Ctrl-C ends it.
+    let mut child = mechweed()
+        .args(["run", "--headless", "--mode", "autonomous"])
+        .args([
+            "--set",
+            "rt.max_overruns=1000000",
+            "--set",
+            "rt.max_late_periods=20",
+        ])
+        .arg("--set")
+        .arg(format!("record.folder={}", dir.path().display()))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut stdout = BufReader::new(child.stdout.take().unwrap());
+    let mut seen = String::new();
+    while !seen.contains("-> autonomous") {
+        let mut line = String::new();
+        assert!(
+            stdout.read_line(&mut line).unwrap() > 0,
+            "ended early:\n{seen}"
+        );
+        seen += &line;
+    }
+    let pid = i32::try_from(child.id()).unwrap();
+    // SAFETY: kill() with a child's own pid and a signal number has no memory effects.
+    assert_eq!(unsafe { libc::kill(pid, libc::SIGINT) }, 0);
+    stdout.read_to_string(&mut seen).unwrap();
+    let status = child.wait().unwrap();
+    assert!(status.success(), "{seen}");
+    assert!(
+        seen.contains("run stopped by the operator (Ctrl-C); the outputs are safe"),
+        "{seen}"
+    );
+    assert!(seen.contains("final mode: autonomous"), "{seen}");
+}
