@@ -86,6 +86,10 @@ struct RunArgs {
     /// Write the run report as JSON to this file.
     #[arg(long, value_name = "FILE")]
     report: Option<PathBuf>,
+    /// Tool cross-track figures from this distance on, m [default: 5, while the robot
+    /// settles onto the row; 0 for short runs]
+    #[arg(long, value_name = "METRES", value_parser = parse_metres)]
+    from_m: Option<f64>,
 }
 
 #[derive(Clone, Copy, ValueEnum, Default)]
@@ -192,13 +196,16 @@ fn run_command(args: RunArgs) -> ExitCode {
     if let Some(seed) = args.seed {
         overrides.push(format!("sim.seed={seed}"));
     }
-    let settings = match load_settings(args.config.as_deref(), &overrides) {
+    let mut settings = match load_settings(args.config.as_deref(), &overrides) {
         Ok(s) => s,
         Err(errors) => {
             print_errors(&errors);
             return ExitCode::FAILURE;
         }
     };
+    if let Some(from_m) = args.from_m {
+        settings.sim.cross_track_from_m = from_m;
+    }
     if !args.headless
         && let Some(why) = mechweed::gui::display_missing()
     {

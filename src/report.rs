@@ -45,13 +45,48 @@ pub struct LinkReport {
     pub ping_rtt_ms: Option<f64>,
 }
 
+/// The tool's cross-track figures in cm (share as a fraction 0..1 of distance); null
+/// where nothing was measured, so that no data never reads as a perfect run.
+#[derive(Debug, Serialize)]
+pub struct CrossTrackReport {
+    /// Travel before this distance is left out, m.
+    pub from_m: f64,
+    pub mean_cm: Option<f64>,
+    pub sd_cm: Option<f64>,
+    pub rms_cm: Option<f64>,
+    pub p95_cm: Option<f64>,
+    pub max_cm: Option<f64>,
+    pub share_over_2cm: Option<f64>,
+    /// Distance over which the error was measured, m.
+    pub distance_m: f64,
+}
+
+impl CrossTrackReport {
+    fn new(summary: Option<CrossTrackSummary>, from_m: f64) -> CrossTrackReport {
+        let c = summary.filter(|c| c.distance_m > 0.0);
+        CrossTrackReport {
+            from_m,
+            mean_cm: c.map(|c| c.mean_cm),
+            sd_cm: c.map(|c| c.sd_cm),
+            rms_cm: c.map(|c| c.rms_cm),
+            p95_cm: c.map(|c| c.p95_cm),
+            max_cm: c.map(|c| c.max_cm),
+            share_over_2cm: c.map(|c| c.share_over_2cm),
+            distance_m: c.map_or(0.0, |c| c.distance_m),
+        }
+    }
+}
+
 #[derive(Debug, Serialize)]
 pub struct Report {
     pub mode_final: String,
     pub faults: Vec<FaultEntry>,
     pub notices: Vec<NoticeEntry>,
     pub distance_m: f64,
-    pub cross_track_cm: CrossTrackSummary,
+    pub cross_track_cm: CrossTrackReport,
+    /// False on the real robot, where there are no cross-track figures.
+    #[serde(skip)]
+    simulated: bool,
     pub loops: Loops,
     pub link: LinkReport,
     /// Real-time settings the system refused (the run went on without them).
@@ -105,7 +140,8 @@ impl Report {
                 })
                 .collect(),
             distance_m: run.final_status.measured.distance_m,
-            cross_track_cm: run.cross_track,
+            cross_track_cm: CrossTrackReport::new(run.cross_track, run.cross_track_from_m),
+            simulated: run.cross_track.is_some(),
             loops: Loops {
                 supervisor: run.supervisor_loop,
                 steer: run.steer_loop,
@@ -127,7 +163,6 @@ impl Report {
     /// A few lines for the terminal.
     pub fn human(&self) -> String {
         let mut out = String::new();
-        let c = &self.cross_track_cm;
         out += &format!(
             "final mode: {}, distance {:.1} m\n",
             self.mode_final, self.distance_m
@@ -144,16 +179,7 @@ impl Report {
         for n in &self.notices {
             out += &format!("at {:.2} s: {}\n", n.t_s, n.what);
         }
-        out += &format!(
-            "tool cross-track (after the first 5 m, over {:.1} m): mean {:.2} cm, s.d. {:.2} cm, RMS {:.2} cm, p95 {:.2} cm, max {:.2} cm, {:.1} % of distance over 2 cm\n",
-            c.distance_m,
-            c.mean_cm,
-            c.sd_cm,
-            c.rms_cm,
-            c.p95_cm,
-            c.max_cm,
-            c.share_over_2cm * 100.0
-        );
+        out += &self.cross_track_line();
         for (name, l) in [
             ("supervisor", &self.loops.supervisor),
             ("steer", &self.loops.steer),
@@ -192,6 +218,36 @@ impl Report {
         );
         out += &self.record_lines();
         out
+    }
+
+    /// The tool's cross-track figures, or why there are none.
+    fn cross_track_line(&self) -> String {
+        let c = &self.cross_track_cm;
+        let from_m = c.from_m;
+        match (
+            c.mean_cm,
+            c.sd_cm,
+            c.rms_cm,
+            c.p95_cm,
+            c.max_cm,
+            c.share_over_2cm,
+        ) {
+            (Some(mean), Some(sd), Some(rms), Some(p95), Some(max), Some(share)) => format!(
+                "tool cross-track (after the first {from_m} m, over {:.1} m): mean {mean:.2} cm, s.d. {sd:.2} cm, RMS {rms:.2} cm, p95 {p95:.2} cm, max {max:.2} cm, {:.1} % of distance over 2 cm\n",
+                c.distance_m,
+                share * 100.0
+            ),
+            _ if !self.simulated => {
+                "tool cross-track: none (only the simulated robot knows where the row is)\n".into()
+            }
+            _ if self.distance_m < from_m => format!(
+                "no cross-track figures: the robot drove {:.1} m, fewer than the first {from_m} m left out (--from-m)\n",
+                self.distance_m
+            ),
+            _ => format!(
+                "no cross-track figures: no travel along the row from {from_m} m on (--from-m)\n"
+            ),
+        }
     }
 
     /// Where the record went, and how whole it is.

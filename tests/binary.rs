@@ -39,7 +39,8 @@ fn run_with_report(args: &[&str]) -> (String, serde_json::Value) {
 #[test]
 fn a_short_autonomous_run_on_real_threads_writes_its_report() {
     let (stdout, report) =
-        run_with_report(&["--mode", "autonomous", "--duration", "4", "--seed", "3"]);
+        // 4 s drive about 2 m: the figures start at 0 m, not after the usual 5 m.
+        run_with_report(&["--mode", "autonomous", "--duration", "4", "--seed", "3", "--from-m", "0"]);
     assert!(stdout.contains("tool cross-track"), "{stdout}");
     assert_eq!(report["mode_final"], "autonomous", "{report:#}");
     assert_eq!(report["faults"].as_array().unwrap().len(), 0, "{report:#}");

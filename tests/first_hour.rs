@@ -103,3 +103,46 @@ fn ctrl_c_ends_a_run_saying_the_operator_stopped_it_and_the_outputs_are_safe() {
     );
     assert!(seen.contains("final mode: autonomous"), "{seen}");
 }
+
+#[test]
+fn a_run_shorter_than_the_lead_in_says_it_has_no_cross_track_figures_and_writes_null() {
+    let dir = tempfile::tempdir().unwrap();
+    let report_path = dir.path().join("report.json");
+    let report_arg = report_path.to_str().unwrap();
+    // Standing in halt for a second: the robot drives nothing at all.
+    let (out, stdout) = run_headless(&["--duration", "1", "--report", report_arg]);
+    assert!(out.status.success(), "{stdout}");
+    assert!(
+        stdout.contains(
+            "no cross-track figures: the robot drove 0.0 m, fewer than the first 5 m left out"
+        ),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("mean 0.00 cm"), "{stdout}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report_path).unwrap()).unwrap();
+    let c = &report["cross_track_cm"];
+    for key in [
+        "mean_cm",
+        "sd_cm",
+        "rms_cm",
+        "p95_cm",
+        "max_cm",
+        "share_over_2cm",
+    ] {
+        assert!(c[key].is_null(), "{key}: {report:#}");
+    }
+    assert_eq!(c["distance_m"], 0.0, "{report:#}");
+}
+
+#[test]
+fn from_m_gives_a_short_run_its_cross_track_figures() {
+    let (out, stdout) =
+        run_headless(&["--mode", "autonomous", "--duration", "3", "--from-m", "0.2"]);
+    assert!(out.status.success(), "{stdout}");
+    assert!(
+        stdout.contains("tool cross-track (after the first 0.2 m, over "),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("no cross-track figures"), "{stdout}");
+}

@@ -220,7 +220,9 @@ impl Running {
             steer_loop,
             link: self.link_status.snapshot(),
             rt_warnings: self.rt_warnings,
-            cross_track: self.truth.cross_track().summary(),
+            cross_track: (self.settings.backend == Backend::Sim)
+                .then(|| self.truth.cross_track().summary()),
+            cross_track_from_m: self.settings.sim.cross_track_from_m,
             record,
         }
     }

@@ -75,6 +75,9 @@ pub struct RunOutcome {
     pub link: LinkStatus,
     /// Warnings about real-time settings the system refused.
     pub rt_warnings: Vec<String>,
-    pub cross_track: CrossTrackSummary,
+    /// The tool's cross-track figures (None on the real robot: nothing knows the row there).
+    pub cross_track: Option<CrossTrackSummary>,
+    /// The figures leave out the travel before this distance, m.
+    pub cross_track_from_m: f64,
     pub record: RecordOutcome,
 }

@@ -30,7 +30,7 @@ pub(crate) mod alloc_tests;
 
 pub use crosstrack::{CrossTrackStats, CrossTrackSummary};
 pub use events::{EventAction, OperatorMode, SimEvent, parse_events};
-pub use params::{RowShape, SimParams};
+pub use params::{CROSS_TRACK_FROM_M, RowShape, SimParams};
 pub use pipe::{PipeEnd, byte_pipe};
 pub use realtime::{SimControl, SimHw, TruthHandle};
 pub use robot::SimRobot;

@@ -77,7 +77,13 @@ pub struct SimParams {
     pub camera_reboot_s: f64,
     /// Scheduled plant and operator events.
     pub events: Vec<SimEvent>,
+    /// The tool's cross-track figures leave out the travel before this distance, m
+    /// (plant.md: the first 5 m, while the robot settles onto the row).
+    pub cross_track_from_m: f64,
 }
+
+/// plant.md: cross-track statistics start after the first 5 m.
+pub const CROSS_TRACK_FROM_M: f64 = 5.0;
 
 impl Default for SimParams {
     fn default() -> Self {
@@ -120,6 +126,7 @@ impl Default for SimParams {
             camera_corrupt: 0.0,
             camera_reboot_s: 2.0,
             events: Vec::new(),
+            cross_track_from_m: CROSS_TRACK_FROM_M,
         }
     }
 }
@@ -198,6 +205,7 @@ impl SimParams {
             camera_drop: non_negative_or(self.camera_drop, 0.0).min(1.0),
             camera_corrupt: non_negative_or(self.camera_corrupt, 0.0).min(1.0),
             camera_reboot_s: non_negative_or(self.camera_reboot_s, d.camera_reboot_s),
+            cross_track_from_m: non_negative_or(self.cross_track_from_m, d.cross_track_from_m),
             events: self
                 .events
                 .iter()

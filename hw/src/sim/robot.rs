@@ -110,7 +110,7 @@ impl SimRobot {
             stuck_counts: [None; 3],
             events,
             next_event: 0,
-            tool: ToolTrack::new(p.tool_offset_m),
+            tool: ToolTrack::new(p.tool_offset_m, p.cross_track_from_m),
             field,
             p,
         };

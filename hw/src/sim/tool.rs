@@ -1,7 +1,7 @@
 //! The weeding tool's path relative to the row: where the tool is now, and the
 //! cross-track samples the benchmark is judged by.
 //!
-//! plant.md: measure after the first 5 m, against the interpolated centre line. One
+//! plant.md: measure after the first 5 m (`SimParams::cross_track_from_m`), against the interpolated centre line. One
 //! sample per centimetre travelled by the rear axle, while the tool is within the row.
 //! The newest samples are also kept in a fixed journal, so that `SimHw` can copy them
 //! into the statistics it shares with other threads without allocating.
@@ -10,14 +10,14 @@ use super::body::Pose;
 use super::crosstrack::{CrossTrackStats, SAMPLE_SPACING_M};
 use super::field::{Field, Projection};
 
-/// plant.md: cross-track statistics start after the first 5 m.
-const MEASURE_FROM_M: f64 = 5.0;
 /// Samples remembered for `SimHw` to copy (see `journal`).
 pub(crate) const JOURNAL_LEN: usize = 1024;
 
 pub(crate) struct ToolTrack {
     /// Tool point along the heading from the rear axle, m (negative = behind).
     offset_m: f64,
+    /// No samples before this distance travelled, m.
+    from_m: f64,
     hint: usize,
     now: Projection,
     row_done: bool,
@@ -30,9 +30,10 @@ pub(crate) struct ToolTrack {
 }
 
 impl ToolTrack {
-    pub fn new(offset_m: f64) -> ToolTrack {
+    pub fn new(offset_m: f64, from_m: f64) -> ToolTrack {
         ToolTrack {
             offset_m,
+            from_m,
             hint: 0,
             now: Projection::default(),
             row_done: false,
@@ -69,7 +70,7 @@ impl ToolTrack {
         }
         let count = marks_passed - self.next_mark + 1;
         self.next_mark = marks_passed + 1;
-        if distance_m >= MEASURE_FROM_M && !self.row_done {
+        if distance_m >= self.from_m && !self.row_done {
             let error_m = self.now.signed_offset_m;
             self.stats.record(error_m, count);
             self.journal[(self.journal_total % JOURNAL_LEN as u64) as usize] = (error_m, count);
@@ -102,7 +103,7 @@ mod tests {
             row_length_m: 20.0,
             ..SimParams::default()
         });
-        let mut tool = ToolTrack::new(-0.4);
+        let mut tool = ToolTrack::new(-0.4, 5.0);
         let mut pose = Pose {
             x_m: 0.0,
             y_m: 0.03,
