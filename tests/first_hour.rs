@@ -146,3 +146,58 @@ fn from_m_gives_a_short_run_its_cross_track_figures() {
     );
     assert!(!stdout.contains("no cross-track figures"), "{stdout}");
 }
+
+/// config/robot.ini with one line replaced, in a temporary folder.
+fn robot_ini_with(line: &str, replacement: &str) -> (tempfile::TempDir, std::path::PathBuf) {
+    let shipped = std::fs::read_to_string("config/robot.ini").unwrap();
+    let lines: Vec<&str> = shipped.lines().collect();
+    assert_eq!(lines.iter().filter(|l| **l == line).count(), 1, "{line}");
+    let edited: Vec<&str> = (lines.iter())
+        .map(|l| if *l == line { replacement } else { l })
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("robot.ini");
+    std::fs::write(&path, edited.join("\n")).unwrap();
+    (dir, path)
+}
+
+#[test]
+fn a_speed_above_the_limit_is_refused_by_check_config_and_run() {
+    let expected = "[steer] speed_mps = 2 is above [supervisor] max_speed_mps = 1.2";
+    let (_dir, ini) = robot_ini_with("speed_mps = 0.5", "speed_mps = 2");
+    let out = mechweed().arg("check-config").arg(&ini).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains(expected),
+        "{stderr}"
+    );
+    // --set is checked the same way, before anything starts.
+    let (out, stdout) = run_headless(&["--duration", "1", "--set", "steer.speed_mps=2"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains(expected),
+        "{stderr}"
+    );
+    assert!(
+        !stdout.contains("mechweed on the simulated robot"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn a_steer_priority_above_the_supervisor_s_is_refused_by_check_config_and_run() {
+    let expected = "[rt] steer_priority = 90 must be below [rt] supervisor_priority = 80";
+    let (_dir, ini) = robot_ini_with("steer_priority = 70", "steer_priority = 90");
+    let out = mechweed().arg("check-config").arg(&ini).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains(expected),
+        "{stderr}"
+    );
+    let (out, _) = run_headless(&["--duration", "1", "--set", "rt.steer_priority=90"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains(expected),
+        "{stderr}"
+    );
+}
