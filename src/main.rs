@@ -206,6 +206,16 @@ fn run_command(args: RunArgs) -> ExitCode {
     if let Some(from_m) = args.from_m {
         settings.sim.cross_track_from_m = from_m;
     }
+    // Found out now, not after a run whose figures would then be lost.
+    if let Some(path) = &args.report
+        && let Err(e) = check_writable(path)
+    {
+        eprintln!(
+            "cannot write the report to {}: {e} (nothing started)",
+            path.display()
+        );
+        return ExitCode::FAILURE;
+    }
     if !args.headless
         && let Some(why) = mechweed::gui::display_missing()
     {
@@ -287,6 +297,21 @@ fn run_command(args: RunArgs) -> ExitCode {
         }
     }
     ExitCode::SUCCESS
+}
+
+/// Can `path` be written? Opens it as the report will be written, without changing an
+/// existing file and without leaving a new one behind.
+fn check_writable(path: &Path) -> std::io::Result<()> {
+    let existed = path.exists();
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(false)
+        .open(path)?;
+    if !existed {
+        std::fs::remove_file(path)?;
+    }
+    Ok(())
 }
 
 fn check_config(file: Option<PathBuf>) -> ExitCode {

@@ -201,3 +201,30 @@ fn a_steer_priority_above_the_supervisor_s_is_refused_by_check_config_and_run() 
         "{stderr}"
     );
 }
+
+#[test]
+fn a_report_file_that_cannot_be_written_stops_the_run_before_it_starts() {
+    let dir = tempfile::tempdir().unwrap();
+    let report = dir.path().join("no such folder").join("report.json");
+    // 30 s: the old program ran all of it before it said the report could not be written.
+    let (out, stdout) = run_headless(&["--duration", "30", "--report", report.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stdout}");
+    assert!(
+        stderr.contains(&format!("cannot write the report to {}", report.display())),
+        "{stderr}"
+    );
+    assert!(
+        !stdout.contains("mechweed on the simulated robot"),
+        "{stdout}"
+    );
+    // A writable one is left as it was until the run writes it.
+    let fine = dir.path().join("report.json");
+    let (out, stdout) = run_headless(&["--duration", "0.5", "--report", fine.to_str().unwrap()]);
+    assert!(out.status.success(), "{stdout}");
+    assert!(
+        std::fs::read_to_string(&fine)
+            .unwrap()
+            .contains("mode_final")
+    );
+}
