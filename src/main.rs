@@ -1,154 +1,22 @@
 //! The mechweed command line.
 
+mod cli;
+
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::Parser;
 
 use mechweed::bench_rows;
 use mechweed::config::{Backend, ConfigError, DEFAULT_INI, Settings};
 use mechweed::console::run;
-use mechweed::gui::Tab;
 use mechweed::modes::Mode;
 use mechweed::report::Report;
 use mechweed::run::RunOptions;
 
-#[derive(Parser)]
-#[command(
-    name = "mechweed",
-    version,
-    about = "Control program for the weeding robot. Runs on the simulated robot unless config/robot.ini [hw] says otherwise.",
-    after_help = "Without a command, mechweed runs as `mechweed run`: the operator GUI on the simulated robot."
-)]
-struct Cli {
-    #[command(subcommand)]
-    command: Option<Command>,
-}
-
-#[derive(Subcommand)]
-enum Command {
-    /// Run the controller on real threads and real time.
-    Run(RunArgs),
-    /// Check a settings file: prints "ok", or every error found (exit 1).
-    CheckConfig {
-        /// The settings file [default: config/robot.ini]
-        file: Option<PathBuf>,
-    },
-    /// Benchmarks on the simulated robot.
-    #[command(subcommand)]
-    Bench(BenchCommand),
-    /// A stand-alone simulated camera computer, for bench tests of a link.
-    Camsim(mechweed::camsim_main::CamsimArgs),
-    /// Find the I/O cards and read every input once (writes nothing but safe outputs).
-    Probe {
-        /// Also print the cards' registers.
-        #[arg(long)]
-        raw: bool,
-        /// Settings file (card locations, wiring) [default: config/robot.ini, or the built-in copy]
-        #[arg(long)]
-        config: Option<PathBuf>,
-    },
-    /// Run records (CSV or MCAP) left by `mechweed run`.
-    #[command(subcommand)]
-    Record(RecordCommand),
-}
-
-#[derive(clap::Args, Default)]
-struct RunArgs {
-    /// Settings file [default: config/robot.ini, or the built-in copy if there is none]
-    #[arg(long)]
-    config: Option<PathBuf>,
-    /// Run without the operator GUI: the console prints the status instead.
-    #[arg(long)]
-    headless: bool,
-    /// The operator GUI's tab at start.
-    #[arg(
-        long,
-        value_enum,
-        default_value = "status",
-        conflicts_with = "headless"
-    )]
-    tab: Tab,
-    /// Mode to bring the robot into at start (powering up first).
-    #[arg(long, value_enum, default_value = "halt")]
-    mode: StartMode,
-    /// Stop after this many seconds (default: run until Ctrl-C).
-    #[arg(long, value_name = "SECONDS")]
-    duration: Option<f64>,
-    /// Seed of the simulation (overrides [sim] seed).
-    #[arg(long)]
-    seed: Option<u64>,
-    /// Override one setting, e.g. --set steer.speed_mps=0.3 (repeatable).
-    #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
-    set: Vec<String>,
-    /// Write the run report as JSON to this file.
-    #[arg(long, value_name = "FILE")]
-    report: Option<PathBuf>,
-    /// Tool cross-track figures from this distance on, m [default: 5, while the robot
-    /// settles onto the row; 0 for short runs]
-    #[arg(long, value_name = "METRES", value_parser = parse_metres)]
-    from_m: Option<f64>,
-}
-
-#[derive(Clone, Copy, ValueEnum, Default)]
-enum StartMode {
-    #[default]
-    Halt,
-    Joystick,
-    Autonomous,
-}
-
-#[derive(Subcommand)]
-enum BenchCommand {
-    /// The real threads on the simulated robot: loop lateness and execution time.
-    Loop {
-        /// Supervisor rate.
-        #[arg(long, default_value_t = 100.0, value_name = "HZ")]
-        rate: f64,
-        #[arg(long, default_value_t = 10.0, value_name = "N")]
-        seconds: f64,
-        /// With the operator GUI open (needs a display).
-        #[arg(long)]
-        gui: bool,
-        /// The GUI's tab while it is open [default: status]
-        #[arg(long, value_enum, requires = "gui")]
-        tab: Option<Tab>,
-        /// Also write the figures as JSON to this file.
-        #[arg(long, value_name = "FILE")]
-        json: Option<PathBuf>,
-    },
-    /// The row-following benchmark of shared/plant.md: 3 rows x 3 speeds, lockstep.
-    Rows {
-        /// Seed of the simulation.
-        #[arg(long, default_value_t = 1)]
-        seed: u64,
-        /// Also write the results as JSON to this file.
-        #[arg(long, value_name = "FILE")]
-        json: Option<PathBuf>,
-    },
-}
-
-#[derive(Subcommand)]
-enum RecordCommand {
-    /// Print a record's duration, distance, modes, faults and cross-track figures.
-    Summary {
-        /// The record: NAME.csv (with NAME.events.csv beside it) or NAME.mcap.
-        file: PathBuf,
-        /// Cross-track figures from this distance on, m (the run report's 5 m; 0 for
-        /// short runs).
-        #[arg(long, value_name = "METRES", default_value_t = 5.0, value_parser = parse_metres)]
-        from_m: f64,
-    },
-}
-
-fn parse_metres(text: &str) -> Result<f64, String> {
-    match text.parse::<f64>() {
-        Ok(m) if m.is_finite() && m >= 0.0 => Ok(m),
-        _ => Err(format!("'{text}' is not a distance in m (0 or more)")),
-    }
-}
+use cli::{BenchCommand, Cli, Command, RecordCommand, RunArgs, StartMode};
 
 fn record(command: RecordCommand) -> ExitCode {
     let RecordCommand::Summary { file, from_m } = command;
@@ -192,6 +60,10 @@ fn settings_file(file: Option<&Path>) -> Option<PathBuf> {
 }
 
 fn run_command(args: RunArgs) -> ExitCode {
+    if args.list_events {
+        print!("{}", mechweed::operator::events_help());
+        return ExitCode::SUCCESS;
+    }
     let mut overrides = args.set.clone();
     if let Some(seed) = args.seed {
         overrides.push(format!("sim.seed={seed}"));

@@ -4,7 +4,7 @@
 
 use std::io::{BufRead, Write};
 
-use mechweed_hw::sim::{EventAction, OperatorMode, SimEvent};
+use mechweed_hw::sim::{EventAction, OperatorMode, SimEvent, action_list};
 
 use crate::config::Backend;
 use crate::modes::{Mode, Request};
@@ -72,6 +72,26 @@ impl OperatorScript {
             _ => None,
         }
     }
+}
+
+/// `mechweed run --list-events`: every action of [sim] events with its argument and an
+/// example, from the parser's own list.
+pub fn events_help() -> String {
+    use std::fmt::Write;
+    let mut out = String::from(
+        "[sim] events: a comma-separated list of TIME_S ACTION [ARGUMENT], times in seconds from the start,\n\
+         e.g. --set \"sim.events=4 estop_front, 6 estop_release, 7 power_up, 8 mode autonomous\"\n\
+         (operator actions, power_up and mode, only on the simulated robot)\n\n",
+    );
+    for help in action_list() {
+        let argument = help.argument.as_deref().unwrap_or("no argument");
+        let _ = writeln!(
+            out,
+            "{:<17} {:<35} {}\n{:<17} example: {}",
+            help.name, argument, help.what, "", help.example
+        );
+    }
+    out
 }
 
 /// On the real robot nobody is assumed to stand by: a start mode other than Halt powers

@@ -228,3 +228,35 @@ fn a_report_file_that_cannot_be_written_stops_the_run_before_it_starts() {
             .contains("mode_final")
     );
 }
+
+#[test]
+fn list_events_shows_every_scripted_event_with_its_argument_and_an_example() {
+    let out = mechweed().args(["run", "--list-events"]).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    for (action, argument, example) in [
+        ("estop_front", "no argument", "estop_front"),
+        (
+            "mode",
+            "halt, joystick, autonomous or test",
+            "mode autonomous",
+        ),
+        ("link_silent", "a duration in seconds", "link_silent 2"),
+        ("steer_slip", "an angle in degrees", "steer_slip -3"),
+        ("contactor_welded", "no argument", "contactor_welded"),
+    ] {
+        let line = stdout
+            .lines()
+            .position(|l| l.starts_with(&format!("{action} ")))
+            .unwrap_or_else(|| panic!("no {action} in\n{stdout}"));
+        let lines: Vec<&str> = stdout.lines().collect();
+        assert!(lines[line].contains(argument), "{}", lines[line]);
+        assert!(
+            lines[line + 1].contains("example: ") && lines[line + 1].ends_with(example),
+            "{}",
+            lines[line + 1]
+        );
+    }
+    // Nothing ran: no start line, no record.
+    assert!(!stdout.contains("mechweed on the"), "{stdout}");
+}

@@ -99,3 +99,22 @@ fn errors_name_the_item_and_the_problem() {
             .contains("unexpected word \"3\"")
     );
 }
+
+#[test]
+fn the_action_list_covers_every_action_and_its_examples_parse() {
+    let list = action_list();
+    let names: Vec<&str> = list.iter().map(|a| a.name).collect();
+    assert_eq!(names, ACTIONS);
+    for help in &list {
+        let events = parse_events(&help.example).unwrap();
+        assert_eq!(events.len(), 1, "{}", help.example);
+        assert_eq!(help.argument.is_some(), takes_argument(help.name));
+    }
+    let mode = list.iter().find(|a| a.name == "mode").unwrap();
+    assert_eq!(
+        mode.argument.as_deref(),
+        Some("halt, joystick, autonomous or test")
+    );
+    let battery = list.iter().find(|a| a.name == "battery").unwrap();
+    assert_eq!(battery.argument.as_deref(), Some("a voltage in volts"));
+}

@@ -29,7 +29,7 @@ mod tool;
 pub(crate) mod alloc_tests;
 
 pub use crosstrack::{CrossTrackStats, CrossTrackSummary};
-pub use events::{EventAction, OperatorMode, SimEvent, parse_events};
+pub use events::{ActionHelp, EventAction, OperatorMode, SimEvent, action_list, parse_events};
 pub use params::{CROSS_TRACK_FROM_M, RowShape, SimParams};
 pub use pipe::{PipeEnd, byte_pipe};
 pub use realtime::{SimControl, SimHw, TruthHandle};
