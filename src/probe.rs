@@ -23,7 +23,9 @@ use crate::config::Settings;
 #[derive(Debug, thiserror::Error)]
 pub enum ProbeError {
     /// The cards could not be found, opened or started (every card's problem).
-    #[error("the robot's I/O cards are not usable on this computer:\n{0}")]
+    #[error(
+        "the robot's I/O cards are not usable on this computer:\n{0}\nsee docs/robot-pc.md (in mechweed's source folder): giving the program its cards, step by step"
+    )]
     NotUsable(OpenError),
     /// A card stopped answering while its inputs were read.
     #[error(transparent)]

@@ -260,3 +260,18 @@ fn list_events_shows_every_scripted_event_with_its_argument_and_an_example() {
     // Nothing ran: no start line, no record.
     assert!(!stdout.contains("mechweed on the"), "{stdout}");
 }
+
+#[test]
+fn probe_without_the_cards_points_to_the_robot_computer_s_set_up() {
+    let out = mechweed().arg("probe").output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    if out.status.success() {
+        return; // a computer with the cards: nothing to point to
+    }
+    assert!(
+        stderr.contains("the robot's I/O cards are not usable on this computer"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("see docs/robot-pc.md"), "{stderr}");
+    assert!(std::path::Path::new("docs/robot-pc.md").exists());
+}
