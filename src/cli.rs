@@ -11,11 +11,17 @@ use mechweed::gui::Tab;
     name = "mechweed",
     version,
     about = "Control program for the weeding robot. Runs on the simulated robot unless config/robot.ini [hw] says otherwise.",
-    after_help = "Without a command, mechweed runs as `mechweed run`: the operator GUI on the simulated robot."
+    after_help = "Without a command, mechweed runs as `mechweed run` and takes its options (e.g. `mechweed --headless`): the operator GUI on the simulated robot.",
+    // `mechweed --headless` is `mechweed run --headless`; the run's options mean nothing
+    // before another command.
+    args_conflicts_with_subcommands = true
 )]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
+    /// The options of `run`, for `mechweed` without a command.
+    #[command(flatten)]
+    pub run: RunArgs,
 }
 
 #[derive(Subcommand)]

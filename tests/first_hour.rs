@@ -275,3 +275,37 @@ fn probe_without_the_cards_points_to_the_robot_computer_s_set_up() {
     assert!(stderr.contains("see docs/robot-pc.md"), "{stderr}");
     assert!(std::path::Path::new("docs/robot-pc.md").exists());
 }
+
+#[test]
+fn mechweed_without_a_command_takes_the_run_options() {
+    let dir = tempfile::tempdir().unwrap();
+    let report = dir.path().join("report.json");
+    let out = mechweed()
+        .args(["--headless", "--duration", "1", "--set"])
+        .arg(format!("record.folder={}", dir.path().display()))
+        .args([
+            "--set",
+            "rt.max_overruns=1000000",
+            "--set",
+            "rt.max_late_periods=20",
+        ])
+        .arg("--report")
+        .arg(&report)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    assert!(
+        stdout.contains("mechweed on the simulated robot"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("final mode: halt"), "{stdout}");
+    assert!(report.exists());
+    // A run's option before another command is an error, not silently dropped.
+    let out = mechweed()
+        .args(["--headless", "check-config"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+}
