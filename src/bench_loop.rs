@@ -36,6 +36,13 @@ pub fn bench_loop(
     seconds: f64,
     gui: Option<Tab>,
 ) -> Result<LoopBench, String> {
+    // bench loop has no --headless: without --gui it is headless.
+    const ADVICE: &str = "drop --gui to measure without the GUI";
+    if gui.is_some()
+        && let Some(why) = crate::gui::display_missing()
+    {
+        return Err(format!("{why}: {ADVICE} (nothing started)"));
+    }
     let mut settings = settings.clone();
     settings.supervisor.rate_hz = rate_hz;
     let options = RunOptions {
@@ -47,7 +54,7 @@ pub fn bench_loop(
     };
     let stop = Arc::new(AtomicBool::new(false));
     let outcome = match gui {
-        Some(tab) => crate::gui::run_gui(&options, None, tab, stop)?,
+        Some(tab) => crate::gui::run_gui(&options, None, tab, stop, ADVICE)?,
         None => run(&options, stop).map_err(|e| e.to_string())?,
     };
     Ok(LoopBench {

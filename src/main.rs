@@ -1,6 +1,7 @@
 //! The mechweed command line.
 
 mod cli;
+mod log_style;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -59,6 +60,9 @@ fn settings_file(file: Option<&Path>) -> Option<PathBuf> {
     }
 }
 
+/// What to do when the GUI has no window to open.
+const RUN_ADVICE: &str = "run with --headless for the console, or start it in a desktop session";
+
 fn run_command(args: RunArgs) -> ExitCode {
     if args.list_events {
         print!("{}", mechweed::operator::events_help());
@@ -91,7 +95,7 @@ fn run_command(args: RunArgs) -> ExitCode {
     if !args.headless
         && let Some(why) = mechweed::gui::display_missing()
     {
-        eprintln!("{why}");
+        eprintln!("{why}: {RUN_ADVICE} (nothing started)");
         return ExitCode::FAILURE;
     }
     let stop = Arc::new(AtomicBool::new(false));
@@ -144,7 +148,7 @@ fn run_command(args: RunArgs) -> ExitCode {
         run(&options, stop).map_err(|e| e.to_string())
     } else {
         let settings_file = settings_file(args.config.as_deref());
-        mechweed::gui::run_gui(&options, settings_file, args.tab, stop)
+        mechweed::gui::run_gui(&options, settings_file, args.tab, stop, RUN_ADVICE)
     };
     let outcome = match outcome {
         Ok(outcome) => outcome,
@@ -280,12 +284,7 @@ fn probe(raw: bool, config: Option<PathBuf>) -> ExitCode {
 }
 
 fn main() -> ExitCode {
-    use std::io::IsTerminal;
-    tracing_subscriber::fmt()
-        .with_writer(std::io::stderr)
-        .with_target(false)
-        .with_ansi(std::io::stderr().is_terminal())
-        .init();
+    log_style::init();
     let cli = Cli::parse();
     match cli.command {
         None => run_command(cli.run),

@@ -18,6 +18,7 @@
 //! made by hand (tests/gui_panels.rs).
 
 pub mod app;
+mod display;
 pub mod header;
 pub mod ini_edit;
 pub mod modes;
@@ -42,34 +43,22 @@ use crate::run::{RunOptions, RunOutcome, Running, start};
 pub type Controller = Arc<Mutex<Option<Running>>>;
 
 pub use app::{GuiApp, Tab};
-
-/// Why there is no window to open, if there is none: checked before anything starts,
-/// so that a GUI run without a display fails with a message, never a panic.
-pub fn display_missing() -> Option<String> {
-    let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
-    if set("DISPLAY") || set("WAYLAND_DISPLAY") {
-        None
-    } else {
-        Some(
-            "no display for the operator GUI (neither DISPLAY nor WAYLAND_DISPLAY is set): \
-             run with --headless for the console, or start it in a desktop session"
-                .to_string(),
-        )
-    }
-}
+pub use display::{display_missing, window_failed};
 
 /// Run the controller with the GUI on this (the main) thread until the window closes,
 /// `duration_s` passes, or `stop` is set; then stop the threads (safe outputs).
 /// `settings_file` is where "Save to robot.ini" writes (None: built-in settings);
-/// `first_tab` is the tab shown at start.
+/// `first_tab` is the tab shown at start; `advice` ends a message that there is no
+/// window (what to type instead).
 pub fn run_gui(
     opts: &RunOptions,
     settings_file: Option<PathBuf>,
     first_tab: Tab,
     stop: Arc<AtomicBool>,
+    advice: &str,
 ) -> Result<RunOutcome, String> {
     if let Some(why) = display_missing() {
-        return Err(why);
+        return Err(format!("{why}: {advice}"));
     }
     // The controller's own stop flag: a reset stops one controller and starts another,
     // while `stop` (Ctrl-C) closes the window.
@@ -97,8 +86,10 @@ pub fn run_gui(
         .finish();
     match shown {
         Ok(()) => Ok(outcome),
-        Err(e) => Err(format!(
-            "the operator GUI could not open its window ({e}); the controller was stopped with safe outputs. Run with --headless for the console."
+        // The window library's own message quotes its source files: said in our words.
+        Err(_) => Err(format!(
+            "{}; the controller was stopped with safe outputs: {advice}",
+            window_failed()
         )),
     }
 }
