@@ -124,6 +124,13 @@ fn run_command(args: RunArgs) -> ExitCode {
         ),
         Backend::Cards => println!("mechweed on the I/O cards; start mode {start_mode}"),
     }
+    if (settings.camera_port).is_outside_of(settings.backend) {
+        println!(
+            "camera: {}; {}",
+            settings.camera_port.describe(),
+            mechweed::report::OUTSIDE_CAMERA
+        );
+    }
     // Nothing powers the real robot up without a person: the console asks here, the GUI
     // in a window of its own.
     let start_mode = if args.headless

@@ -87,6 +87,9 @@ pub struct Report {
     /// False on the real robot, where there are no cross-track figures.
     #[serde(skip)]
     simulated: bool,
+    /// The simulated robot steered by an outside camera: its cross-track figures are null,
+    /// since the camera's rows are not the simulated field's.
+    pub outside_camera: bool,
     pub loops: Loops,
     pub link: LinkReport,
     /// Real-time settings the system refused (the run went on without them).
@@ -94,6 +97,9 @@ pub struct Report {
     /// The run's record: its files, ticks recorded and dropped, and any problem.
     pub record: RecordOutcome,
 }
+
+/// Said at the start and in the summary of a simulated run with an outside camera.
+pub const OUTSIDE_CAMERA: &str = "no cross-track figures: the camera is outside (camera.port), so the simulated field's rows are not the ones steered along and its cross-track is not meaningful";
 
 /// One loop's figures on one line.
 pub fn loop_line(name: &str, l: &LoopSummary) -> String {
@@ -142,6 +148,7 @@ impl Report {
             distance_m: run.final_status.measured.distance_m,
             cross_track_cm: CrossTrackReport::new(run.cross_track, run.cross_track_from_m),
             simulated: run.cross_track.is_some(),
+            outside_camera: run.outside_camera,
             loops: Loops {
                 supervisor: run.supervisor_loop,
                 steer: run.steer_loop,
@@ -237,6 +244,7 @@ impl Report {
                 c.distance_m,
                 share * 100.0
             ),
+            _ if self.outside_camera => format!("{OUTSIDE_CAMERA}\n"),
             _ if !self.simulated => {
                 "tool cross-track: none (only the simulated robot knows where the row is)\n".into()
             }

@@ -103,3 +103,62 @@ fn bench_loop_gui_without_a_display_advises_dropping_gui() {
     assert!(!stderr.contains("--headless"), "{stderr}");
     assert!(!dir.path().join("records").exists());
 }
+
+/// `mechweed camsim --listen 127.0.0.1:0` and the address it listens on.
+fn camsim_on_tcp(args: &[&str]) -> (std::process::Child, String) {
+    use std::io::BufRead;
+    let mut child = mechweed()
+        .args(["camsim", "--listen", "127.0.0.1:0"])
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut lines = std::io::BufReader::new(child.stdout.take().unwrap()).lines();
+    let first = lines.next().unwrap().unwrap();
+    let address = first.rsplit(' ').next().unwrap().to_string();
+    // Keep reading its lines, so that it never blocks on a full pipe.
+    std::thread::spawn(move || for _ in lines {});
+    (child, address)
+}
+
+#[test]
+fn an_outside_camera_on_the_simulated_robot_leaves_cross_track_out_and_says_so() {
+    let (mut camsim, address) = camsim_on_tcp(&[]);
+    let dir = tempfile::tempdir().unwrap();
+    let report = dir.path().join("report.json");
+    let port = format!("camera.port=tcp://{address}");
+    let out = mechweed_recording(
+        &[
+            "run",
+            "--headless",
+            "--mode",
+            "autonomous",
+            "--duration",
+            "6",
+            "--from-m",
+            "0",
+            "--set",
+            &port,
+            "--report",
+            report.to_str().unwrap(),
+        ],
+        dir.path(),
+    );
+    camsim.kill().unwrap();
+    let _ = camsim.wait();
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    let said = |l: &&str| l.contains("cross-track is not meaningful");
+    let lines: Vec<&str> = stdout.lines().collect();
+    let at_start = lines.iter().position(said).expect(&stdout);
+    let in_summary = lines.iter().rposition(said).unwrap();
+    assert!(at_start < 3 && in_summary > at_start, "{stdout}");
+    assert!(!stdout.contains("tool cross-track (after"), "{stdout}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    // The robot drove along the camera's rows: there was travel to (mis)measure.
+    assert!(json["distance_m"].as_f64().unwrap() > 0.5, "{json}");
+    assert!(json["cross_track_cm"]["mean_cm"].is_null(), "{json}");
+    assert!(json["cross_track_cm"]["max_cm"].is_null(), "{json}");
+    assert_eq!(json["outside_camera"], true);
+}

@@ -212,6 +212,7 @@ impl Running {
         }
         // The supervisor thread has ended and dropped its tap: the recorder closes the files.
         let record = self.recorder.finish();
+        let outside_camera = (self.settings.camera_port).is_outside_of(self.settings.backend);
         RunOutcome {
             final_status: *supervisor.status(),
             faults: supervisor.faults().to_vec(),
@@ -220,9 +221,10 @@ impl Running {
             steer_loop,
             link: self.link_status.snapshot(),
             rt_warnings: self.rt_warnings,
-            cross_track: (self.settings.backend == Backend::Sim)
+            cross_track: (self.settings.backend == Backend::Sim && !outside_camera)
                 .then(|| self.truth.cross_track().summary()),
             cross_track_from_m: self.settings.sim.cross_track_from_m,
+            outside_camera,
             record,
         }
     }

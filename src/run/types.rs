@@ -79,5 +79,8 @@ pub struct RunOutcome {
     pub cross_track: Option<CrossTrackSummary>,
     /// The figures leave out the travel before this distance, m.
     pub cross_track_from_m: f64,
+    /// The simulated robot with an outside camera: the field's cross-track is not
+    /// meaningful, and `cross_track` is None.
+    pub outside_camera: bool,
     pub record: RecordOutcome,
 }
