@@ -119,8 +119,14 @@ pub enum BenchCommand {
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
     },
-    /// The row-following benchmark of shared/plant.md: 3 rows x 3 speeds, lockstep.
+    /// The row-following benchmark: 3 rows x 3 speeds, in simulated time.
     Rows {
+        /// Settings file (the controller's; [sim] is the benchmark's own) [default: config/robot.ini, or the built-in copy]
+        #[arg(long)]
+        config: Option<PathBuf>,
+        /// Override one setting (SECTION.KEY=VALUE); repeatable.
+        #[arg(long, value_name = "SECTION.KEY=VALUE")]
+        set: Vec<String>,
         /// Seed of the simulation.
         #[arg(long, default_value_t = 1)]
         seed: u64,

@@ -223,39 +223,36 @@ fn write_json(path: Option<PathBuf>, value: &impl serde::Serialize) -> ExitCode 
 }
 
 fn bench(command: BenchCommand) -> ExitCode {
-    let settings = match load_settings(None, &[]) {
-        Ok(s) => s,
-        Err(errors) => {
-            print_errors(&errors);
-            return ExitCode::FAILURE;
-        }
-    };
-    let (seed, json) = match command {
-        BenchCommand::Rows { seed, json } => (seed, json),
+    let (config, set, seed, json) = match command {
+        BenchCommand::Rows {
+            config,
+            set,
+            seed,
+            json,
+        } => (config, set, seed, json),
         BenchCommand::Loop {
             rate,
             seconds,
             gui,
             tab,
             json,
-        } => {
-            if !(1.0..=10_000.0).contains(&rate) || !(0.001..=86_400.0).contains(&seconds) {
-                eprintln!("--rate must be 1 to 10000 Hz and --seconds 0.001 to 86400");
-                return ExitCode::FAILURE;
-            }
-            let gui = gui.then(|| tab.unwrap_or_default());
-            return match mechweed::bench_loop::bench_loop(&settings, rate, seconds, gui) {
-                Ok(figures) => {
-                    print!("{}", figures.text());
-                    write_json(json, &figures)
-                }
-                Err(why) => {
-                    eprintln!("{why}");
-                    ExitCode::FAILURE
-                }
-            };
+        } => return bench_loop(rate, seconds, gui.then(|| tab.unwrap_or_default()), json),
+    };
+    let settings = match load_settings(config.as_deref(), &set) {
+        Ok(s) => s,
+        Err(errors) => {
+            print_errors(&errors);
+            return ExitCode::FAILURE;
         }
     };
+    // Said, since the figures depend on the controller's settings in it.
+    match settings_file(config.as_deref()) {
+        Some(path) => println!(
+            "settings: {} ([sim] is the benchmark's own)",
+            path.display()
+        ),
+        None => println!("settings: the built-in robot.ini ([sim] is the benchmark's own)"),
+    }
     let mut runs = Vec::new();
     for row in bench_rows::ROWS {
         for speed in bench_rows::SPEEDS_MPS {
@@ -268,6 +265,35 @@ fn bench(command: BenchCommand) -> ExitCode {
     }
     print!("{}", bench_rows::table(&runs));
     write_json(json, &runs)
+}
+
+fn bench_loop(
+    rate: f64,
+    seconds: f64,
+    gui: Option<mechweed::gui::Tab>,
+    json: Option<PathBuf>,
+) -> ExitCode {
+    let settings = match load_settings(None, &[]) {
+        Ok(s) => s,
+        Err(errors) => {
+            print_errors(&errors);
+            return ExitCode::FAILURE;
+        }
+    };
+    if !(1.0..=10_000.0).contains(&rate) || !(0.001..=86_400.0).contains(&seconds) {
+        eprintln!("--rate must be 1 to 10000 Hz and --seconds 0.001 to 86400");
+        return ExitCode::FAILURE;
+    }
+    match mechweed::bench_loop::bench_loop(&settings, rate, seconds, gui) {
+        Ok(figures) => {
+            print!("{}", figures.text());
+            write_json(json, &figures)
+        }
+        Err(why) => {
+            eprintln!("{why}");
+            ExitCode::FAILURE
+        }
+    }
 }
 
 fn probe(raw: bool, config: Option<PathBuf>) -> ExitCode {

@@ -162,3 +162,40 @@ fn an_outside_camera_on_the_simulated_robot_leaves_cross_track_out_and_says_so()
     assert!(json["cross_track_cm"]["max_cm"].is_null(), "{json}");
     assert_eq!(json["outside_camera"], true);
 }
+
+#[test]
+fn bench_rows_takes_config_and_set_and_says_which_settings_file_it_used() {
+    let dir = tempfile::tempdir().unwrap();
+    // No config/robot.ini in this folder: the built-in settings, and it says so.
+    let out = mechweed()
+        .current_dir(dir.path())
+        .args(["bench", "rows"])
+        .output()
+        .unwrap();
+    let stdout = text(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    assert!(
+        stdout.starts_with("settings: the built-in robot.ini"),
+        "{stdout}"
+    );
+    let ini = dir.path().join("bench.ini");
+    std::fs::copy("config/robot.ini", &ini).unwrap();
+    let out = mechweed()
+        .args(["bench", "rows", "--config"])
+        .arg(&ini)
+        .output()
+        .unwrap();
+    let stdout = text(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    assert!(
+        stdout.starts_with(&format!("settings: {}", ini.display())),
+        "{stdout}"
+    );
+    // --set is read, and checked like run's.
+    let out = mechweed()
+        .args(["bench", "rows", "--set", "steer.nonsense=1"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains("--set steer.nonsense=1"));
+}
