@@ -12,7 +12,8 @@ use crate::config::Settings;
 use crate::console::run;
 use crate::gui::Tab;
 use crate::modes::Mode;
-use crate::report::loop_line;
+use crate::record::RecordOutcome;
+use crate::report::{loop_line, record_lines};
 use crate::rt::{LiuLayland, LoopSummary, liu_layland};
 use crate::run::RunOptions;
 
@@ -26,6 +27,8 @@ pub struct LoopBench {
     pub liu_layland: LiuLayland,
     pub faults: Vec<String>,
     pub rt_warnings: Vec<String>,
+    /// Its run record: a bench run is recorded like any run.
+    pub record: RecordOutcome,
 }
 
 /// With `gui`, the operator GUI is open on that tab for the whole run (on this, the
@@ -49,7 +52,8 @@ pub fn bench_loop(
         settings,
         start_mode: Mode::Autonomous,
         duration_s: Some(seconds),
-        status_every_s: 0.0,
+        // A status line every 5 s, as `run` prints, so that a long bench is not silent.
+        status_every_s: 5.0,
         inject: None,
     };
     let stop = Arc::new(AtomicBool::new(false));
@@ -70,6 +74,7 @@ pub fn bench_loop(
             .map(|f| format!("{:.2} s: {}", f.t_s, f.cause))
             .collect(),
         rt_warnings: outcome.rt_warnings,
+        record: outcome.record,
     })
 }
 
@@ -100,6 +105,7 @@ impl LoopBench {
         for warning in &self.rt_warnings {
             out += &format!("real-time: {warning}\n");
         }
+        out += &record_lines(&self.record);
         out
     }
 }

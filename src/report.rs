@@ -223,7 +223,7 @@ impl Report {
                 .ping_rtt_ms
                 .map_or("-".to_string(), |ms| format!("{ms:.1} ms")),
         );
-        out += &self.record_lines();
+        out += &record_lines(&self.record);
         out
     }
 
@@ -257,27 +257,26 @@ impl Report {
             ),
         }
     }
+}
 
-    /// Where the record went, and how whole it is.
-    fn record_lines(&self) -> String {
-        let r = &self.record;
-        let mut out = String::new();
-        if r.files.is_empty() {
-            out += "record: none\n";
-        } else {
-            out += &format!(
-                "record: {} ({} ticks recorded, {} dropped)\n",
-                r.files.join(", "),
-                r.ticks_recorded,
-                r.ticks_dropped
-            );
-        }
-        for problem in &r.problems {
-            out += &format!("record: {problem}\n");
-        }
-        if r.events_dropped > 0 {
-            out += &format!("record: {} events dropped\n", r.events_dropped);
-        }
-        out
+/// Where a run's record went, and how whole it is (`run` and `bench loop`).
+pub fn record_lines(r: &RecordOutcome) -> String {
+    let mut out = String::new();
+    if r.files.is_empty() {
+        out += "record: none\n";
+    } else {
+        out += &format!(
+            "record: {} ({} ticks recorded, {} dropped)\n",
+            r.files.join(", "),
+            r.ticks_recorded,
+            r.ticks_dropped
+        );
     }
+    for problem in &r.problems {
+        out += &format!("record: {problem}\n");
+    }
+    if r.events_dropped > 0 {
+        out += &format!("record: {} events dropped\n", r.events_dropped);
+    }
+    out
 }

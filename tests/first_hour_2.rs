@@ -199,3 +199,27 @@ fn bench_rows_takes_config_and_set_and_says_which_settings_file_it_used() {
     assert_eq!(out.status.code(), Some(1));
     assert!(text(&out.stderr).contains("--set steer.nonsense=1"));
 }
+
+#[test]
+fn bench_loop_prints_a_status_line_every_5_s_and_says_where_its_record_went() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = mechweed()
+        .current_dir(dir.path())
+        .args(["bench", "loop", "--seconds", "6"])
+        .output()
+        .unwrap();
+    let stdout = text(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    assert!(
+        stdout
+            .lines()
+            .any(|l| l.trim_start().starts_with("5.0") && l.contains("speed")),
+        "{stdout}"
+    );
+    let record = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("record: records/"))
+        .expect(&stdout);
+    let csv = record.split(',').next().unwrap();
+    assert!(dir.path().join("records").join(csv).exists(), "{stdout}");
+}
