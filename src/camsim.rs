@@ -40,8 +40,31 @@ const FRAME_INTERVAL_S: f64 = 0.1;
 const NOISE_OFFSET_M: f64 = 0.01;
 const NOISE_ANGLE_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
 
+/// What a camsim has sent and heard since it started, for its once-a-second line.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Sent {
+    pub row_frames: u64,
+    /// ROW frames left out on purpose (--drop).
+    pub dropped: u64,
+    pub pongs: u64,
+    pub commands_received: u64,
+}
+
+impl Sent {
+    /// What happened since `before`.
+    pub fn since(&self, before: &Sent) -> Sent {
+        Sent {
+            row_frames: self.row_frames - before.row_frames,
+            dropped: self.dropped - before.dropped,
+            pongs: self.pongs - before.pongs,
+            commands_received: self.commands_received - before.commands_received,
+        }
+    }
+}
+
 pub struct CamSim {
     opts: CamSimOptions,
+    pub sent: Sent,
     rng: ChaCha8Rng,
     streaming: bool,
     seq: u8,
@@ -58,6 +81,7 @@ impl CamSim {
             seq: 0,
             next_frame_s: 0.0,
             pongs_due: 0,
+            sent: Sent::default(),
         }
     }
 
@@ -67,6 +91,12 @@ impl CamSim {
 
     /// A byte from the robot computer; returns the command's name if it was one.
     pub fn receive(&mut self, byte: u8, now_s: f64) -> Option<&'static str> {
+        let name = self.command(byte, now_s);
+        self.sent.commands_received += u64::from(name.is_some());
+        name
+    }
+
+    fn command(&mut self, byte: u8, now_s: f64) -> Option<&'static str> {
         match byte {
             CMD_START => {
                 if !self.streaming {
@@ -134,33 +164,43 @@ impl CamSim {
             self.seq = self.seq.wrapping_add(1);
             self.damage(&mut frame);
             out.extend_from_slice(&frame);
+            self.sent.pongs += 1;
         }
         while self.streaming && now_s >= self.next_frame_s {
             self.next_frame_s += FRAME_INTERVAL_S;
             let estimate = self.estimate(now_s);
             if self.rng.random::<f64>() < self.opts.drop {
+                self.sent.dropped += 1;
                 continue;
             }
             let mut frame = encode_row(&estimate);
             self.damage(&mut frame);
             out.extend_from_slice(&frame);
+            self.sent.row_frames += 1;
         }
     }
 }
 
 /// Serve one robot computer on `stream` until it closes or `stop` is set.
-/// `on_command(t_s, name)` hears every command received.
+/// `on_command(t_s, name)` hears every command received; `each_second(t_s, sim)` is
+/// called once a second, so that a bench test can see the camera is alive.
 pub fn serve(
     sim: &mut CamSim,
     stream: &mut dyn ByteStream,
     clock: Instant,
     stop: &AtomicBool,
     on_command: &mut dyn FnMut(f64, &'static str),
+    each_second: &mut dyn FnMut(f64, &CamSim),
 ) -> io::Result<()> {
     let mut buf = [0u8; 64];
     let mut out = Vec::with_capacity(64);
+    let mut next_second_s = clock.elapsed().as_secs_f64() + 1.0;
     while !stop.load(Ordering::Relaxed) {
         let now_s = clock.elapsed().as_secs_f64();
+        if now_s >= next_second_s {
+            each_second(now_s, sim);
+            next_second_s += 1.0;
+        }
         match stream.read(&mut buf) {
             Ok(0) => return Ok(()),
             Ok(n) => {

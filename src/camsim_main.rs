@@ -1,5 +1,6 @@
 //! Where `mechweed camsim` speaks: a serial device (or a new pseudo-terminal), or a TCP
-//! port that takes one robot computer at a time. It prints every command it receives.
+//! port that takes one robot computer at a time. It prints every command it receives, and
+//! once a second what it sent.
 
 use std::net::TcpListener;
 use std::sync::atomic::AtomicBool;
@@ -7,7 +8,7 @@ use std::time::{Duration, Instant};
 
 use serialport::{SerialPort, TTYPort};
 
-use crate::camsim::{CamSim, CamSimOptions, Pattern, serve};
+use crate::camsim::{CamSim, CamSimOptions, Pattern, Sent, serve};
 use crate::config::BAUD_RATES;
 
 /// A read waits at most this long, so frames go out on time.
@@ -17,13 +18,33 @@ fn print_command(t_s: f64, name: &'static str) {
     println!("{t_s:8.3} s  received {name}");
 }
 
+/// A line a second of what went out and came in during that second.
+fn each_second_printer() -> impl FnMut(f64, &CamSim) {
+    let mut before = Sent::default();
+    move |t_s, sim| {
+        let s = sim.sent.since(&before);
+        before = sim.sent;
+        let state = if sim.is_streaming() {
+            "streaming"
+        } else {
+            "not streaming (waiting for START)"
+        };
+        println!(
+            "{t_s:8.3} s  {state}: sent {} ROW frames ({} left out by --drop), {} PONGs; received {} commands",
+            s.row_frames, s.dropped, s.pongs, s.commands_received
+        );
+    }
+}
+
 /// Serve on a serial device, or on a new pseudo-terminal for DEVICE = "pty".
 pub fn on_serial(device: &str, baud: u32, options: CamSimOptions) -> Result<(), String> {
     let mut port: Box<dyn SerialPort> = if device == "pty" {
         let (master, slave) =
             TTYPort::pair().map_err(|e| format!("cannot make a pseudo-terminal: {e}"))?;
         let path = slave.name().unwrap_or_default();
-        println!("simulated camera computer on {path}: try  mechweed run --set camera.port={path}");
+        println!(
+            "simulated camera computer on {path}: try  mechweed run --headless --set camera.port={path}"
+        );
         // The far end stays open here so the robot computer may open and close it.
         std::mem::forget(slave);
         Box::new(master)
@@ -42,6 +63,7 @@ pub fn on_serial(device: &str, baud: u32, options: CamSimOptions) -> Result<(), 
         Instant::now(),
         &stop,
         &mut print_command,
+        &mut each_second_printer(),
     )
     .map_err(|e| format!("{device}: {e}"))
 }
@@ -76,7 +98,14 @@ pub fn on_tcp(address: &str, options: CamSimOptions) -> Result<(), String> {
         let _ = stream.set_nodelay(true);
         // A new connection is a new conversation: the camera waits for START again.
         let mut sim = CamSim::new(options);
-        match serve(&mut sim, &mut stream, clock, &stop, &mut print_command) {
+        match serve(
+            &mut sim,
+            &mut stream,
+            clock,
+            &stop,
+            &mut print_command,
+            &mut each_second_printer(),
+        ) {
             Ok(()) => println!("robot computer at {peer} closed the connection"),
             Err(e) => println!("robot computer at {peer}: {e}"),
         }

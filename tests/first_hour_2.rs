@@ -104,8 +104,14 @@ fn bench_loop_gui_without_a_display_advises_dropping_gui() {
     assert!(!dir.path().join("records").exists());
 }
 
-/// `mechweed camsim --listen 127.0.0.1:0` and the address it listens on.
-fn camsim_on_tcp(args: &[&str]) -> (std::process::Child, String) {
+/// `mechweed camsim --listen 127.0.0.1:0`, the address it listens on, and its lines.
+fn camsim_on_tcp(
+    args: &[&str],
+) -> (
+    std::process::Child,
+    String,
+    std::sync::mpsc::Receiver<String>,
+) {
     use std::io::BufRead;
     let mut child = mechweed()
         .args(["camsim", "--listen", "127.0.0.1:0"])
@@ -117,13 +123,18 @@ fn camsim_on_tcp(args: &[&str]) -> (std::process::Child, String) {
     let first = lines.next().unwrap().unwrap();
     let address = first.rsplit(' ').next().unwrap().to_string();
     // Keep reading its lines, so that it never blocks on a full pipe.
-    std::thread::spawn(move || for _ in lines {});
-    (child, address)
+    let (send, receive) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in lines.map_while(Result::ok) {
+            let _ = send.send(line);
+        }
+    });
+    (child, address, receive)
 }
 
 #[test]
 fn an_outside_camera_on_the_simulated_robot_leaves_cross_track_out_and_says_so() {
-    let (mut camsim, address) = camsim_on_tcp(&[]);
+    let (mut camsim, address, _lines) = camsim_on_tcp(&[]);
     let dir = tempfile::tempdir().unwrap();
     let report = dir.path().join("report.json");
     let port = format!("camera.port=tcp://{address}");
@@ -222,4 +233,73 @@ fn bench_loop_prints_a_status_line_every_5_s_and_says_where_its_record_went() {
         .expect(&stdout);
     let csv = record.split(',').next().unwrap();
     assert!(dir.path().join("records").join(csv).exists(), "{stdout}");
+}
+
+#[test]
+fn camsim_says_once_a_second_what_it_sent_and_received() {
+    use std::io::Write;
+    let (mut camsim, address, lines) = camsim_on_tcp(&[]);
+    let mut robot = std::net::TcpStream::connect(&address).unwrap();
+    robot
+        .write_all(&[mechweed_hw::camproto::CMD_START])
+        .unwrap();
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(10);
+    let mut seen = Vec::new();
+    let streaming = loop {
+        let left = deadline.saturating_duration_since(std::time::Instant::now());
+        match lines.recv_timeout(left) {
+            Ok(line) if line.contains("streaming: sent") => break Some(line),
+            Ok(line) => seen.push(line),
+            Err(_) => break None,
+        }
+    };
+    camsim.kill().unwrap();
+    let _ = camsim.wait();
+    let line = streaming.unwrap_or_else(|| panic!("no line a second: {seen:?}"));
+    assert!(
+        line.contains("ROW frames") && line.contains("commands"),
+        "{line}"
+    );
+    assert!(!line.contains("sent 0 ROW frames"), "{line}");
+}
+
+#[test]
+fn camsim_s_pty_hint_runs_headless() {
+    let mut child = mechweed()
+        .args(["camsim", "--port", "pty"])
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    std::io::BufRead::read_line(
+        &mut std::io::BufReader::new(child.stdout.take().unwrap()),
+        &mut first,
+    )
+    .unwrap();
+    child.kill().unwrap();
+    let _ = child.wait();
+    assert!(
+        first.contains("mechweed run --headless --set camera.port=/dev/"),
+        "{first}"
+    );
+}
+
+#[test]
+fn a_camera_port_without_tcp_says_tcp_is_missing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = mechweed_recording(
+        &[
+            "run",
+            "--headless",
+            "--duration",
+            "1",
+            "--set",
+            "camera.port=127.0.0.1:5000",
+        ],
+        dir.path(),
+    );
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("lacks tcp://"), "{stderr}");
+    assert!(stderr.contains("tcp://127.0.0.1:5000"), "{stderr}");
 }

@@ -39,6 +39,15 @@ impl CameraPort {
                 baud,
             });
         }
+        // HOST:PORT is how camsim --listen is written: the likely slip is the missing tcp://.
+        let looks_like_tcp = text.rsplit_once(':').is_some_and(|(host, port)| {
+            !host.is_empty() && port.parse::<u16>().is_ok_and(|p| p > 0)
+        });
+        if looks_like_tcp {
+            return Err(format!(
+                "'{text}' lacks tcp://: a camera computer on the network is written tcp://{text}"
+            ));
+        }
         Err(format!(
             "'{text}' is not sim, a device such as /dev/ttyS0, or tcp://HOST:PORT"
         ))
