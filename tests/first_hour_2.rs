@@ -303,3 +303,45 @@ fn a_camera_port_without_tcp_says_tcp_is_missing() {
     assert!(stderr.contains("lacks tcp://"), "{stderr}");
     assert!(stderr.contains("tcp://127.0.0.1:5000"), "{stderr}");
 }
+
+/// The distance a headless joystick run driven by these scripted events reports.
+fn joystick_run_distance_m(events: &str) -> f64 {
+    let dir = tempfile::tempdir().unwrap();
+    let report = dir.path().join("report.json");
+    let events = format!("sim.events={events}");
+    let out = mechweed_recording(
+        &[
+            "run",
+            "--headless",
+            "--mode",
+            "joystick",
+            "--duration",
+            "7",
+            "--set",
+            &events,
+            "--report",
+            report.to_str().unwrap(),
+        ],
+        dir.path(),
+    );
+    let stdout = text(&out.stdout);
+    assert!(out.status.success(), "{stdout}\n{}", text(&out.stderr));
+    assert!(stdout.contains("scripted event: joystick 0 2"), "{stdout}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(json["faults"], serde_json::json!([]), "{json}");
+    json["distance_m"].as_f64().unwrap()
+}
+
+#[test]
+fn scripted_joystick_events_drive_the_robot_headless_with_the_dead_man_held() {
+    // Half deflection forward (2 V of 4 V) for 3 s, the dead-man button held.
+    let driven_m = joystick_run_distance_m("3 deadman on, 3 joystick 0 2, 6 joystick 0 0");
+    assert!(driven_m > 0.5, "drove {driven_m} m");
+    // The same stick without the dead-man button: the robot stays put.
+    let held_m = joystick_run_distance_m("3 joystick 0 2, 6 joystick 0 0");
+    assert!(
+        held_m < 0.05,
+        "drove {held_m} m without the dead-man button"
+    );
+}

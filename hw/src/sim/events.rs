@@ -59,6 +59,11 @@ pub enum EventAction {
     /// The steering encoder's coupling slips by this many degrees (positive: the
     /// encoder reads that much further left than the wheel is).
     SteerSlip(f64),
+    /// The operator's joystick axes move to these voltages (as wired: steer + = right,
+    /// speed + = forward); they stay there until the next joystick event.
+    Joystick { steer_v: f64, speed_v: f64 },
+    /// The operator holds (true) or lets go of (false) the joystick's dead-man button.
+    Deadman(bool),
 }
 
 impl EventAction {
@@ -89,6 +94,12 @@ impl EventAction {
             EventAction::SteerSlip(_) => {
                 "the steering encoder's coupling slips this many degrees (+ = reads further left)"
             }
+            EventAction::Joystick { .. } => {
+                "the joystick's axes move to these volts and stay (steer + = right, speed + = forward)"
+            }
+            EventAction::Deadman(_) => {
+                "the joystick's dead-man button is held (on) or let go (off)"
+            }
         }
     }
 }
@@ -112,6 +123,8 @@ fn example_argument(name: &str) -> Option<&'static str> {
         "link_silent" => Some("2"),
         "battery" => Some("21.5"),
         "steer_slip" => Some("-3"),
+        "joystick" => Some("0 2"),
+        "deadman" => Some("on"),
         _ => None,
     }
 }
@@ -161,6 +174,8 @@ const ACTIONS: &[&str] = &[
     "pot_broken",
     "contactor_welded",
     "steer_slip",
+    "joystick",
+    "deadman",
 ];
 
 impl fmt::Display for EventAction {
@@ -182,6 +197,8 @@ impl fmt::Display for EventAction {
             EventAction::PotBroken => write!(f, "pot_broken"),
             EventAction::ContactorWelded => write!(f, "contactor_welded"),
             EventAction::SteerSlip(deg) => write!(f, "steer_slip {deg}"),
+            EventAction::Joystick { steer_v, speed_v } => write!(f, "joystick {steer_v} {speed_v}"),
+            EventAction::Deadman(held) => write!(f, "deadman {}", if *held { "on" } else { "off" }),
         }
     }
 }
@@ -240,10 +257,14 @@ fn parse_item(item: &str) -> Result<SimEvent, String> {
         ));
     }
     let name = words.next().ok_or("missing action after the time")?;
-    let arg = words.next();
-    if let Some(extra) = words.next() {
+    let rest: Vec<&str> = words.collect();
+    // joystick takes two words, steer then speed: given to its parser as one argument.
+    let words_taken = if name == "joystick" { 2 } else { 1 };
+    if let Some(extra) = rest.get(words_taken) {
         return Err(format!("unexpected word \"{extra}\" after the argument"));
     }
+    let joined = rest.join(" ");
+    let arg = (!rest.is_empty()).then_some(joined.as_str());
     let action = parse_action(name, arg)?;
     if arg.is_some() && !takes_argument(name) {
         return Err(format!("action \"{name}\" takes no argument"));
@@ -254,7 +275,14 @@ fn parse_item(item: &str) -> Result<SimEvent, String> {
 fn takes_argument(name: &str) -> bool {
     matches!(
         name,
-        "mode" | "encoder_stuck" | "link_silent" | "endswitch" | "battery" | "steer_slip"
+        "mode"
+            | "encoder_stuck"
+            | "link_silent"
+            | "endswitch"
+            | "battery"
+            | "steer_slip"
+            | "joystick"
+            | "deadman"
     )
 }
 
@@ -291,6 +319,19 @@ fn parse_action(name: &str, arg: Option<&str>) -> Result<EventAction, String> {
         "link_silent" => EventAction::LinkSilent(number(arg, "a duration in seconds")?),
         "battery" => EventAction::Battery(number(arg, "a voltage in volts")?),
         "steer_slip" => EventAction::SteerSlip(signed(arg, "an angle in degrees")?),
+        "joystick" => {
+            const WHAT: &str = "STEER_V SPEED_V, two voltages (+ = right, + = forward)";
+            let words = arg.ok_or_else(|| format!("missing argument: {WHAT}"))?;
+            let mut volts = words.split_whitespace();
+            let (Some(steer), Some(speed)) = (volts.next(), volts.next()) else {
+                return Err(format!("argument \"{words}\" is not {WHAT}"));
+            };
+            EventAction::Joystick {
+                steer_v: signed(Some(steer), WHAT)?,
+                speed_v: signed(Some(speed), WHAT)?,
+            }
+        }
+        "deadman" => EventAction::Deadman(choice(arg, &["on", "off"])? == "on"),
         _ => {
             return Err(format!(
                 "unknown action \"{name}\" (known: {})",

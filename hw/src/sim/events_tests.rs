@@ -38,6 +38,12 @@ fn display_round_trips_every_action() {
         EventAction::PotBroken,
         EventAction::ContactorWelded,
         EventAction::SteerSlip(-3.5),
+        EventAction::Joystick {
+            steer_v: -0.5,
+            speed_v: 2.0,
+        },
+        EventAction::Deadman(true),
+        EventAction::Deadman(false),
     ];
     for action in all {
         let text = SimEvent { t_s: 1.5, action }.to_string();
@@ -117,4 +123,16 @@ fn the_action_list_covers_every_action_and_its_examples_parse() {
     );
     let battery = list.iter().find(|a| a.name == "battery").unwrap();
     assert_eq!(battery.argument.as_deref(), Some("a voltage in volts"));
+}
+
+#[test]
+fn joystick_takes_two_voltages_and_says_so_when_one_is_missing() {
+    let err = parse_events("1 joystick 2").unwrap_err();
+    assert!(err.contains("STEER_V SPEED_V"), "{err}");
+    let err = parse_events("1 joystick 0 2 3").unwrap_err();
+    assert!(err.contains("unexpected word \"3\""), "{err}");
+    let err = parse_events("1 deadman maybe").unwrap_err();
+    assert!(err.contains("on or off"), "{err}");
+    let err = parse_events("1 battery 2 3").unwrap_err();
+    assert!(err.contains("unexpected word \"3\""), "{err}");
 }

@@ -229,6 +229,13 @@ impl SimRobot {
             EventAction::Battery(_) => {}
             EventAction::PotBroken => self.pot_broken = true,
             EventAction::ContactorWelded => self.contactor_welded = true,
+            EventAction::Joystick { steer_v, speed_v } => {
+                let (enable, finite) = (self.joystick.enable, |v: f64| v.is_finite());
+                if finite(steer_v) && finite(speed_v) {
+                    self.set_joystick(steer_v, speed_v, enable);
+                }
+            }
+            EventAction::Deadman(held) => self.joystick.enable = held,
             EventAction::SteerSlip(deg) => {
                 // `as` saturates, so no slip can make this panic.
                 self.steer_slip_counts += (deg * self.p.steer_counts_per_deg).round() as i64
