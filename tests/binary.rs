@@ -176,7 +176,16 @@ fn camsim_serves_a_robot_computer_over_tcp() {
     read_for(&mut stream, 0.2);
     assert!(read_for(&mut stream, 0.5).is_empty(), "frames after STOP");
     drop(stream);
-    let printed: Vec<String> = lines.by_ref().take(4).map(|l| l.unwrap()).collect();
+    // Up to STOP: the once-a-second lines of what it sent come in between.
+    let mut printed: Vec<String> = Vec::new();
+    for line in lines.by_ref().take(20) {
+        let line = line.unwrap();
+        let stop_seen = line.contains("received STOP");
+        printed.push(line);
+        if stop_seen {
+            break;
+        }
+    }
     child.kill().unwrap();
     let _ = child.wait();
     let printed = printed.join("\n");
