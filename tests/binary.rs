@@ -1,5 +1,7 @@
 //! The real program, from outside: a short real-time run, and check-config.
 
+mod common;
+
 use std::process::Command;
 
 fn mechweed() -> Command {
@@ -14,16 +16,7 @@ fn run_with_report(args: &[&str]) -> (String, serde_json::Value) {
     let report_path = dir.path().join("report.json");
     let out = mechweed()
         .args(["run", "--headless"])
-        // A busy test machine may overrun now and then; that fault has its own test.
-        .args([
-            "--set",
-            "rt.max_overruns=1000000",
-            "--set",
-            "rt.max_late_periods=20",
-        ])
-        // The run's record goes to the temporary folder, not into the repository.
-        .arg("--set")
-        .arg(format!("record.folder={}", dir.path().display()))
+        .args(common::test_run_settings(dir.path()))
         .args(args)
         .arg("--report")
         .arg(&report_path)

@@ -1,5 +1,7 @@
 //! A new user's first hour: what the README's steps print, through the real program.
 
+mod common;
+
 use std::process::{Command, Output};
 
 fn mechweed() -> Command {
@@ -13,15 +15,7 @@ fn run_headless(args: &[&str]) -> (Output, String) {
     let dir = tempfile::tempdir().unwrap();
     let out = mechweed()
         .args(["run", "--headless"])
-        // A busy test machine may overrun now and then; that fault has its own test.
-        .args([
-            "--set",
-            "rt.max_overruns=1000000",
-            "--set",
-            "rt.max_late_periods=20",
-        ])
-        .arg("--set")
-        .arg(format!("record.folder={}", dir.path().display()))
+        .args(common::test_run_settings(dir.path()))
         .args(args)
         .output()
         .unwrap();
@@ -69,14 +63,7 @@ fn ctrl_c_ends_a_run_saying_the_operator_stopped_it_and_the_outputs_are_safe() {
     // Driving, with no --duration: only Ctrl-C ends it.
     let mut child = mechweed()
         .args(["run", "--headless", "--mode", "autonomous"])
-        .args([
-            "--set",
-            "rt.max_overruns=1000000",
-            "--set",
-            "rt.max_late_periods=20",
-        ])
-        .arg("--set")
-        .arg(format!("record.folder={}", dir.path().display()))
+        .args(common::test_run_settings(dir.path()))
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
         .spawn()
@@ -281,14 +268,8 @@ fn mechweed_without_a_command_takes_the_run_options() {
     let dir = tempfile::tempdir().unwrap();
     let report = dir.path().join("report.json");
     let out = mechweed()
-        .args(["--headless", "--duration", "1", "--set"])
-        .arg(format!("record.folder={}", dir.path().display()))
-        .args([
-            "--set",
-            "rt.max_overruns=1000000",
-            "--set",
-            "rt.max_late_periods=20",
-        ])
+        .args(["--headless", "--duration", "1"])
+        .args(common::test_run_settings(dir.path()))
         .arg("--report")
         .arg(&report)
         .output()

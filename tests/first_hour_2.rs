@@ -1,6 +1,8 @@
 //! A new user's first hour, continued: what the console, bench and camsim steps print,
 //! through the real program.
 
+mod common;
+
 use std::process::{Command, Output};
 
 fn mechweed() -> Command {
@@ -17,14 +19,7 @@ fn text(bytes: &[u8]) -> String {
 fn mechweed_recording(args: &[&str], folder: &std::path::Path) -> Output {
     mechweed()
         .args(args)
-        .args([
-            "--set",
-            "rt.max_overruns=1000000",
-            "--set",
-            "rt.max_late_periods=20",
-        ])
-        .arg("--set")
-        .arg(format!("record.folder={}", folder.display()))
+        .args(common::test_run_settings(folder))
         .output()
         .unwrap()
 }

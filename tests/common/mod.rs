@@ -52,3 +52,17 @@ pub fn record(sim: &mut Lockstep, seconds: f64) -> Vec<Tick> {
 pub fn autonomous(settings: &Settings) -> Lockstep {
     Lockstep::new(settings, Mode::Autonomous)
 }
+
+/// The `--set` items every run of the program in a test shares: its record goes to
+/// `folder`, not into the repository, and a busy test machine's late ticks are
+/// tolerated (those faults have tests of their own).
+pub fn test_run_settings(folder: &std::path::Path) -> Vec<String> {
+    [
+        "rt.max_overruns=1000000".to_string(),
+        "rt.max_late_periods=20".to_string(),
+        format!("record.folder={}", folder.display()),
+    ]
+    .into_iter()
+    .flat_map(|item| ["--set".to_string(), item])
+    .collect()
+}
