@@ -140,8 +140,15 @@ pub enum BenchCommand {
 pub enum RecordCommand {
     /// Print a record's duration, distance, modes, faults and cross-track figures.
     Summary {
-        /// The record: NAME.csv (with NAME.events.csv beside it) or NAME.mcap.
+        /// The record: NAME.csv (with NAME.events.csv beside it) or NAME.mcap, or
+        /// `latest` for the newest record in the settings' [record] folder.
         file: PathBuf,
+        /// Settings file, for `latest` [default: config/robot.ini, or the built-in copy]
+        #[arg(long, value_name = "FILE")]
+        config: Option<PathBuf>,
+        /// Override one setting, e.g. --set record.folder=old-records (repeatable).
+        #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
+        set: Vec<String>,
         /// Cross-track figures from this distance on, m (the run report's 5 m; 0 for
         /// short runs).
         #[arg(long, value_name = "METRES", default_value_t = 5.0, value_parser = parse_metres)]

@@ -20,7 +20,33 @@ use mechweed::run::RunOptions;
 use cli::{BenchCommand, Cli, Command, RecordCommand, RunArgs, StartMode};
 
 fn record(command: RecordCommand) -> ExitCode {
-    let RecordCommand::Summary { file, from_m } = command;
+    let RecordCommand::Summary {
+        file,
+        from_m,
+        config,
+        set,
+    } = command;
+    let file = if file.as_os_str() == "latest" {
+        let settings = match load_settings(config.as_deref(), &set) {
+            Ok(settings) => settings,
+            Err(errors) => {
+                print_errors(&errors);
+                return ExitCode::FAILURE;
+            }
+        };
+        match mechweed::record::keep::latest(&settings.record.folder) {
+            Ok(newest) => {
+                println!("the newest record: {}", newest.display());
+                newest
+            }
+            Err(why) => {
+                eprintln!("{why}");
+                return ExitCode::FAILURE;
+            }
+        }
+    } else {
+        file
+    };
     match mechweed::record::summary::summarise(&file, from_m) {
         Ok(summary) => {
             print!("{}", summary.text());

@@ -30,6 +30,8 @@ pub struct RecordSettings {
     /// Record every Nth supervisor tick (1 = all).
     pub every_n_ticks: u64,
     pub formats: RecordFormats,
+    /// How many records the folder keeps, the newest (None: all of them).
+    pub keep_records: Option<usize>,
 }
 
 const FORMATS: [(&str, RecordFormats); 3] = [
@@ -54,5 +56,20 @@ pub(super) fn load(r: &mut Reader) -> RecordSettings {
             .unwrap_or_default(),
         every_n_ticks: r.u64(s, "every_n_ticks", 1, 10_000),
         formats: FORMATS[r.choice(s, "formats", &names)].1,
+        keep_records: r.parsed(s, "keep", parse_keep).flatten(),
+    }
+}
+
+/// `keep = 50` (records) or `0` / `all` (keep everything).
+fn parse_keep(text: &str) -> Result<Option<usize>, String> {
+    if text.eq_ignore_ascii_case("all") {
+        return Ok(None);
+    }
+    match text.parse::<usize>() {
+        Ok(0) => Ok(None),
+        Ok(n) => Ok(Some(n)),
+        Err(_) => Err(format!(
+            "'{text}' is not a number of records (for example 50, or 0 or all to keep every record)"
+        )),
     }
 }

@@ -9,12 +9,14 @@
 //! that cannot be written is a warning; the robot runs on.
 //!
 //! `mechweed record summary FILE` (summary.rs, reading with read.rs) prints a record's
-//! duration, distance, faults and cross-track figures.
+//! duration, distance, faults and cross-track figures; `latest` is the newest record
+//! in the folder (keep.rs), which also deletes the oldest records beyond `[record] keep`.
 
 mod csv;
 mod error;
 mod event;
 mod files;
+pub mod keep;
 mod mcap;
 pub mod read;
 mod row;
@@ -126,6 +128,17 @@ pub fn start_for_run(settings: &RecordSettings, truth: TruthHandle) -> (RecordTa
     match start(settings, Some(truth), Delivery::NeverWait) {
         Ok((tap, recorder)) => {
             println!("recording into {}", recorder.files().join(", "));
+            if let Some(keep) = settings.keep_records {
+                // The record just made is never deleted, even if the clock went back.
+                let current = recorder
+                    .files()
+                    .first()
+                    .and_then(|f| keep::record_of(std::path::Path::new(f)));
+                let current = current.unwrap_or_default();
+                for line in keep::remove_oldest(&settings.folder, keep, &current) {
+                    println!("{line}");
+                }
+            }
             (tap, recorder)
         }
         Err(why) => {
