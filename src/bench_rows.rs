@@ -1,4 +1,4 @@
-//! The row-following benchmark of shared/plant.md: three row shapes at three speeds,
+//! The row-following benchmark: three row shapes at three speeds,
 //! every disturbance on, in lockstep simulation; the tool's cross-track error after
 //! the first 5 m of each row.
 

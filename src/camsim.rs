@@ -1,5 +1,5 @@
 //! `mechweed camsim`: a stand-alone simulated camera computer, for bench-testing a robot
-//! computer or a link without the camera. It speaks shared/camera-link.md: after START
+//! computer or a link without the camera. It speaks docs/function_spec.md section 7: after START
 //! it sends a ROW frame about every 0.1 s, STOP stops them, PING gets one PONG; any
 //! other byte is ignored. Frames can be dropped or damaged on purpose.
 
@@ -35,7 +35,7 @@ pub struct CamSimOptions {
     pub corrupt: f64,
 }
 
-/// Frame interval and camera noise (shared/plant.md).
+/// Frame interval and camera noise (the [sim] settings in config/robot.ini).
 const FRAME_INTERVAL_S: f64 = 0.1;
 const NOISE_OFFSET_M: f64 = 0.01;
 const NOISE_ANGLE_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;

@@ -96,7 +96,7 @@ fn same_seed_gives_the_same_run_and_another_seed_does_not() {
 
 #[test]
 fn benchmark_scurve_at_half_a_metre_per_second_stays_on_the_row() {
-    // Every plant.md disturbance on. The aim is an s.d. of 1 cm; this test guards
+    // Every disturbance of the simulated plant on. The aim is an s.d. of 1 cm; this test guards
     // against a controller that loses the row, with room for noise between seeds.
     let run = run_row(&settings_with("", &[]), RowShape::SCurve, 0.5, 1);
     assert!(run.faults.is_empty(), "{:?}", run.faults);

@@ -1,4 +1,4 @@
-//! The camera link's bytes (shared/camera-link.md): frames, CRC, and a streaming
+//! The camera link's bytes (docs/function_spec.md, section 7): frames, CRC, and a streaming
 //! decoder that resynchronises on garbage.
 //!
 //! It lives in the hardware crate because both sides speak it: the program decodes
@@ -25,7 +25,7 @@ pub const CMD_PING: u8 = 0x12;
 /// 1e4 rather than multiplying by 1e-4 gives the exact decimal: 300 -> 0.03).
 const ANGLE_UNITS_PER_RAD: f64 = 1e4;
 const OFFSET_UNITS_PER_M: f64 = 1e4;
-/// Estimates beyond these are not physical for this camera (camera-link.md).
+/// Estimates beyond these are not physical for this camera (function_spec.md, section 7).
 pub const MAX_ANGLE_RAD: f64 = 0.8;
 pub const MAX_OFFSET_M: f64 = 0.5;
 

@@ -1,4 +1,4 @@
-//! Driver of the PCI-DAS08 (shared/io-cards.md): 12-bit A/D on eight inputs of fixed
+//! Driver of the PCI-DAS08 (docs/function_spec.md, section 4a): 12-bit A/D on eight inputs of fixed
 //! +-5 V range, three digital inputs IP1..IP3 and four digital outputs OP1..OP4.
 //!
 //! Register +2 is status when read and control when written, and the control byte

@@ -1,4 +1,4 @@
-//! Driver of the PCIM-DDA06/16 (shared/io-cards.md): six 16-bit DACs and an 8255 with
+//! Driver of the PCIM-DDA06/16 (docs/function_spec.md, section 4a): six 16-bit DACs and an 8255 with
 //! 24 digital lines in three ports.
 //!
 //! A DAC takes its low byte, then its high byte, which updates the output. Each DAC's

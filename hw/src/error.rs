@@ -15,7 +15,7 @@ use std::io::ErrorKind;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum HwError {
     /// A card did not answer as it should at one of its registers (offset in its
-    /// register window, as in shared/io-cards.md).
+    /// register window, as in docs/function_spec.md section 4a).
     CardNotAnswering {
         card: &'static str,
         register: u16,
@@ -65,7 +65,7 @@ impl HwError {
     }
 }
 
-/// A register offset as shared/io-cards.md writes it: +2, +9, +0x0c.
+/// A register offset as docs/function_spec.md section 4a writes it: +2, +9, +0x0c.
 struct Register(u16);
 
 impl fmt::Display for Register {

@@ -3,7 +3,7 @@
 //!
 //! Once per supervisor tick the controller calls [`Hw::read`] for every input and
 //! [`Hw::write`] for every output. Values are in physical units after the robot's
-//! wiring (shared/io-cards.md): volts at the connector, encoder counts, switch states.
+//! wiring (docs/function_spec.md section 4a): volts at the connector, encoder counts, switch states.
 //! Scaling to angles and speeds is the controller's job, so the same numbers can be
 //! checked with a voltmeter on the real robot.
 

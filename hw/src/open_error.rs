@@ -1,6 +1,6 @@
 //! What goes wrong while the cards are found, opened and started, as values that name
 //! the card, the file or PCI address, and the system's reason; each says what to do
-//! about it (shared/io-cards.md, "Reaching a card").
+//! about it (docs/function_spec.md section 4a).
 //!
 //! These happen once, before the robot can move, so they may hold paths and lists.
 //! A card's problem is a [`CardOpenError`]; the cards together give an [`OpenError`],

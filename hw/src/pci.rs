@@ -1,5 +1,5 @@
 //! Finding the three Measurement Computing cards and opening their register windows,
-//! with no kernel driver (shared/io-cards.md, "Reaching a card").
+//! with no kernel driver (docs/function_spec.md section 4a).
 //!
 //! A card is found under /sys/bus/pci/devices by vendor 0x1307 and its device id, or
 //! named by its PCI address in robot.ini; its I/O BAR is opened through sysfs after

@@ -1,5 +1,5 @@
 //! One card's register window, one byte at a time: the only thing the card drivers
-//! need from Linux (shared/io-cards.md).
+//! need from Linux (docs/function_spec.md section 4a).
 //!
 //! Every access is exactly one byte at the register's own offset, because that is one
 //! port access on the card. The LS7266R1's three count bytes, for example, are three

@@ -1,9 +1,9 @@
-//! Driver of the PCI-QUAD04 (shared/io-cards.md): four quadrature counters on two
+//! Driver of the PCI-QUAD04 (docs/function_spec.md section 4a): four quadrature counters on two
 //! LS7266R1 chips, channel n (1..4) with its data port at 2(n-1) and its control
 //! port at 2(n-1)+1.
 //!
 //! Nothing is documented at power-up, so every channel is initialised at open, in the
-//! order io-cards.md gives, for x4 counting. A count is latched and read as three
+//! order function_spec.md section 4a gives, for x4 counting. A count is latched and read as three
 //! bytes of the same port (low, middle, high). The chip counts in 24 bits and wraps;
 //! the driver extends each change between two reads to a signed step and adds it to
 //! an i64 position, which therefore survives any number of wraps in either direction
@@ -26,7 +26,7 @@ const CASCADE: u16 = 9;
 /// to 625 kHz (at least 8x the highest A/B edge rate), far above the robot's encoders.
 const PRESCALER: u8 = 1;
 
-/// Initialisation of one channel, after io-cards.md: what goes to the control port
+/// Initialisation of one channel, after function_spec.md section 4a: what goes to the control port
 /// (`true`) or the data port (`false`), in order.
 const INIT: [(bool, u8); 10] = [
     (true, 0x02),       // RLD: reset the counter

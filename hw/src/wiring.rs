@@ -1,4 +1,4 @@
-//! How the robot is wired to the cards (robot.ini [io], after shared/io-cards.md):
+//! How the robot is wired to the cards (robot.ini [io], after docs/function_spec.md section 4a):
 //! for each signal its card, channel or bit, polarity and scale; and the conversion of
 //! card values into [`Inputs`] and of [`Outputs`] into card values.
 //!

@@ -1,6 +1,6 @@
 //! Where the camera link's bytes travel: a serial device (the robot's RS-232 port, a
 //! USB adapter, or a pseudo-terminal) through the serialport crate, or TCP to a camera
-//! computer on Ethernet. The bytes are the same on both (camera-link.md).
+//! computer on Ethernet. The bytes are the same on both (function_spec.md section 7).
 
 use std::io::{self, Read, Write};
 use std::net::{SocketAddr, TcpStream, ToSocketAddrs};

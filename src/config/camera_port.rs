@@ -1,6 +1,6 @@
 //! Where the camera computer is: robot.ini [camera] port and baud.
 
-/// Baud rates the camera computer can be set to (camera-link.md).
+/// Baud rates the camera computer can be set to (function_spec.md section 7).
 pub const BAUD_RATES: [u32; 5] = [9600, 19200, 38400, 57600, 115200];
 
 /// Where to find the camera computer: robot.ini [camera] port.

@@ -378,7 +378,7 @@ fn camera(r: &mut Reader) -> CameraSettings {
         // Only when START is sent again (link_timeout_s guards the driving); longer than a
         // few seconds just delays finding a rebooted camera computer.
         restart_after_s: r.f64(s, "restart_after_s", 0.05, 5.0),
-        // Quality 0 means "no row seen" (camera-link.md): such a frame must never steer.
+        // Quality 0 means "no row seen" (function_spec.md section 7): such a frame must never steer.
         min_quality: r.u64(s, "min_quality", 1, 100) as u8,
     }
 }

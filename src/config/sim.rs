@@ -1,4 +1,4 @@
-//! The [sim] section: the simulated robot, field and camera computer (shared/plant.md).
+//! The [sim] section: the simulated robot, field and camera computer.
 //! These are the plant's true values; the controller's own model is in [robot].
 
 use mechweed_hw::sim::{CROSS_TRACK_FROM_M, RowShape, SimParams, parse_events};
@@ -53,7 +53,7 @@ pub(super) fn load(r: &mut Reader) -> SimParams {
         camera_corrupt: r.f64(s, "camera_corrupt", 0.0, 1.0),
         camera_reboot_s: r.f64(s, "camera_reboot_s", 0.0, 600.0),
         events: r.parsed(s, "events", parse_events).unwrap_or_default(),
-        // Not a setting: plant.md's rule, which `run --from-m` changes for one run.
+        // Not a setting: the simulated plant's rule, which `run --from-m` changes for one run.
         cross_track_from_m: CROSS_TRACK_FROM_M,
     }
 }

@@ -2,7 +2,7 @@
 //! terminal: duration, distance, modes, faults with their causes, notices, and the
 //! tool's cross-track error.
 //!
-//! The cross-track figures are those of the run report (plant.md: by distance, from
+//! The cross-track figures are those of the run report (the simulated plant: by distance, from
 //! 5 m on, until the tool passes the row's end), taken from the recorded ticks: each
 //! tick's error weighs as much as the distance the robot truly drove since the last
 //! recorded tick. `--from-m` moves the start, for short runs.

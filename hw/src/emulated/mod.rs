@@ -1,4 +1,4 @@
-//! Register-level emulations of the three cards (shared/io-cards.md), so the drivers are
+//! Register-level emulations of the three cards (docs/function_spec.md section 4a), so the drivers are
 //! tested against the cards' behaviour rather than against an echo.
 //!
 //! Each emulated card is a cloneable handle to one set of registers: one clone goes to
@@ -8,7 +8,7 @@
 //! (DAC volts, digital outputs). Failures on demand: an A/D that never finishes, a
 //! counter that stops, a card that reads 0xFF everywhere (dead).
 //!
-//! Where io-cards.md leaves the power-up state undocumented, the emulation powers up
+//! Where function_spec.md section 4a leaves the power-up state undocumented, the emulation powers up
 //! in the worst plausible state (outputs on, counters holding garbage), so a driver
 //! that forgets to initialise something is caught.
 

@@ -1,4 +1,4 @@
-//! The robot's body: a kinematic bicycle about the rear axle centre (plant.md).
+//! The robot's body: a kinematic bicycle about the rear axle centre (the simulated plant).
 //!
 //! Speed is the mean of the two rear wheels; the heading turns at v*tan(delta)/L. A
 //! difference between the wheels that Ackermann geometry does not ask for is taken up

@@ -1,4 +1,4 @@
-//! The simulated row camera computer: speaks shared/camera-link.md on its end of a pipe.
+//! The simulated row camera computer: speaks docs/function_spec.md section 7 on its end of a pipe.
 //!
 //! After START it captures every 1/rate s: the row's offset and angle at the look-ahead
 //! line (sight.rs) plus Gaussian noise. Each frame goes out after the latency (uniform

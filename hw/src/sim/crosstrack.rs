@@ -1,6 +1,6 @@
 //! The benchmark's figure of merit: the weeding tool's cross-track error, by distance.
 //!
-//! plant.md asks for statistics "by distance", so the error is sampled once per
+//! the simulated plant asks for statistics "by distance", so the error is sampled once per
 //! centimetre of travel (SAMPLE_SPACING_M): a robot that stands still adds nothing, and a
 //! fast one is not under-weighted. Running sums give mean, s.d. and RMS; an HDR
 //! histogram of |error| at micrometre resolution gives the 95th percentile. Recording
@@ -16,7 +16,7 @@ const UNITS_PER_M: f64 = 1e6;
 /// but `max_cm` still shows them.
 const HIGHEST_UM: u64 = 10_000_000;
 
-/// Cross-track statistics (plant.md): mean, s.d., RMS, p95, max, share over 2 cm.
+/// Cross-track statistics (the simulated plant): mean, s.d., RMS, p95, max, share over 2 cm.
 #[derive(Clone)]
 pub struct CrossTrackStats {
     abs_um: Histogram<u64>,

@@ -1,6 +1,6 @@
 //! One drive wheel: amplifier voltage -> wheel speed, with the spring brake.
 //!
-//! plant.md: dv/dt = (K*V_eff - v)/tau, where V_eff is the voltage beyond a dead band of
+//! the simulated plant: dv/dt = (K*V_eff - v)/tau, where V_eff is the voltage beyond a dead band of
 //! +-0.3 V (friction the motor must overcome first). The brake, when on, slows the wheel
 //! at a fixed rate (1.2 m/s in brake_stop_s) and holds it at rest: the motor can slow
 //! the wheel faster than that, never speed it up against the brake.

@@ -1,4 +1,4 @@
-//! The simulated robot, field and camera computer (shared/plant.md).
+//! The simulated robot, field and camera computer (the [sim] settings in config/robot.ini).
 //!
 //! [`SimRobot`] is the plant on simulated time: the controller (or a test) calls
 //! `advance_to` and reads sensors and truth in lockstep. [`SimHw`] is the same plant on

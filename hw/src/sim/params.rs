@@ -1,4 +1,4 @@
-//! Every number of the simulated plant (shared/plant.md), with its default.
+//! Every number of the simulated plant (the [sim] settings in config/robot.ini), with its default.
 //!
 //! config/robot.ini [sim] overrides any of them. Whatever arrives here is made safe by
 //! [`SimParams::sanitized`] before the plant uses it, so no setting can make the
@@ -24,7 +24,7 @@ pub struct SimParams {
     pub seed: u64,
     /// Integration step, s.
     pub step_s: f64,
-    // --- the robot (plant.md table) ---
+    // --- the robot (the simulated plant's table) ---
     pub wheelbase_m: f64,
     pub track_m: f64,
     /// Drive motor: wheel speed per volt at steady state, m/s per V.
@@ -78,11 +78,11 @@ pub struct SimParams {
     /// Scheduled plant and operator events.
     pub events: Vec<SimEvent>,
     /// The tool's cross-track figures leave out the travel before this distance, m
-    /// (plant.md: the first 5 m, while the robot settles onto the row).
+    /// (the simulated plant: the first 5 m, while the robot settles onto the row).
     pub cross_track_from_m: f64,
 }
 
-/// plant.md: cross-track statistics start after the first 5 m.
+/// the simulated plant: cross-track statistics start after the first 5 m.
 pub const CROSS_TRACK_FROM_M: f64 = 5.0;
 
 impl Default for SimParams {
@@ -132,7 +132,7 @@ impl Default for SimParams {
 }
 
 impl SimParams {
-    /// The benchmark scenario of plant.md for one row shape: straight 60 m starting 5 cm
+    /// The benchmark scenario of the simulated plant for one row shape: straight 60 m starting 5 cm
     /// left of the row, S-curve 60 m, arc 40 m; every disturbance on (the defaults).
     /// The speed is the controller's business, so it is not a parameter of the plant.
     pub fn benchmark(row: RowShape, seed: u64) -> SimParams {

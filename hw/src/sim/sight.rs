@@ -1,6 +1,6 @@
 //! What the row camera sees: the row's offset and angle at the look-ahead line.
 //!
-//! camera-link.md's geometry in the robot frame (x forward, y left): follow the robot's
+//! the camera link's geometry (function_spec.md section 7) in the robot frame (x forward, y left): follow the robot's
 //! lateral line x = look-ahead until it meets the row's centre line; `offset` is the y
 //! of that meeting point (positive: the row lies to the left), `angle` the row's heading
 //! there relative to the robot's heading (positive: the row turns left).

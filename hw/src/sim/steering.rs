@@ -1,6 +1,6 @@
 //! The steered front wheel: steering voltage -> wheel angle, with its sensors.
 //!
-//! plant.md: the angle moves at a rate proportional to the voltage (6 deg/s per V),
+//! the simulated plant: the angle moves at a rate proportional to the voltage (6 deg/s per V),
 //! through a first-order lag of 0.05 s on that rate, and stops hard at +-30 deg. The
 //! end switches close beyond +-28 deg; the potentiometer gives the absolute angle,
 //! the motor's encoder the angle relative to where it was at power-up.

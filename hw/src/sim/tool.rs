@@ -1,7 +1,7 @@
 //! The weeding tool's path relative to the row: where the tool is now, and the
 //! cross-track samples the benchmark is judged by.
 //!
-//! plant.md: measure after the first 5 m (`SimParams::cross_track_from_m`), against the interpolated centre line. One
+//! the simulated plant: measure after the first 5 m (`SimParams::cross_track_from_m`), against the interpolated centre line. One
 //! sample per centimetre travelled by the rear axle, while the tool is within the row.
 //! The newest samples are also kept in a fixed journal, so that `SimHw` can copy them
 //! into the statistics it shares with other threads without allocating.

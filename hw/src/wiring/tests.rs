@@ -1,9 +1,9 @@
 //! The wiring: parsing robot.ini's lines, the conversions in both directions for the
-//! robot's wiring of io-cards.md, and the checks of a whole wiring.
+//! robot's wiring of function_spec.md section 4a, and the checks of a whole wiring.
 
 use super::*;
 
-/// The robot's wiring as io-cards.md's table gives it (and config/robot.ini ships).
+/// The robot's wiring as the table of function_spec.md section 4a gives it (and config/robot.ini ships).
 pub(crate) fn robot() -> Wiring {
     let ai = |t: &str| parse_analog_in(t).unwrap();
     let sw_in = |t: &str| parse_switch_in(t).unwrap();
