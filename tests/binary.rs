@@ -2,13 +2,7 @@
 
 mod common;
 
-use std::process::Command;
-
-fn mechweed() -> Command {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_mechweed"));
-    cmd.current_dir(env!("CARGO_MANIFEST_DIR"));
-    cmd
-}
+use common::mechweed;
 
 /// `mechweed run --headless ARGS --report FILE`: its standard output and its report.
 fn run_with_report(args: &[&str]) -> (String, serde_json::Value) {

@@ -2,13 +2,9 @@
 
 mod common;
 
-use std::process::{Command, Output};
+use common::mechweed;
 
-fn mechweed() -> Command {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_mechweed"));
-    cmd.current_dir(env!("CARGO_MANIFEST_DIR"));
-    cmd
-}
+use std::process::Output;
 
 /// `mechweed run --headless ARGS`, its record in a temporary folder.
 fn run_headless(args: &[&str]) -> (Output, String) {

@@ -3,13 +3,9 @@
 
 mod common;
 
-use std::process::{Command, Output};
+use common::mechweed;
 
-fn mechweed() -> Command {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_mechweed"));
-    cmd.current_dir(env!("CARGO_MANIFEST_DIR"));
-    cmd
-}
+use std::process::{Command, Output};
 
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).to_string()

@@ -1,17 +1,11 @@
 //! Run records made by the real program, and `mechweed record summary` on them.
 
+mod common;
+
+use common::{mechweed, text};
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn mechweed() -> Command {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_mechweed"));
-    cmd.current_dir(env!("CARGO_MANIFEST_DIR"));
-    cmd
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
+use std::process::Output;
 
 fn summary(file: &Path) -> Output {
     mechweed()

@@ -1,18 +1,12 @@
 //! `mechweed record summary latest` and `[record] keep`, through the real program, in
 //! a record folder of its own (--set record.folder=DIR).
 
+mod common;
+
+use common::{mechweed, text};
+
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn mechweed() -> Command {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_mechweed"));
-    cmd.current_dir(env!("CARGO_MANIFEST_DIR"));
-    cmd
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
+use std::process::Output;
 
 fn folder_setting(folder: &Path) -> String {
     format!("record.folder={}", folder.display())

@@ -66,3 +66,15 @@ pub fn test_run_settings(folder: &std::path::Path) -> Vec<String> {
     .flat_map(|item| ["--set".to_string(), item])
     .collect()
 }
+
+/// The program, run from the project's folder (where config/robot.ini is).
+pub fn mechweed() -> std::process::Command {
+    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_mechweed"));
+    cmd.current_dir(env!("CARGO_MANIFEST_DIR"));
+    cmd
+}
+
+/// A program's output as text.
+pub fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
