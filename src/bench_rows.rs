@@ -37,8 +37,16 @@ pub fn run_row(settings: &Settings, row: RowShape, speed_mps: f64, seed: u64) ->
     s.steer.speed_mps = speed_mps;
     let limit_s = s.sim.row_length_m / speed_mps.max(0.05) + 30.0;
     let mut sim = Lockstep::new(&s, Mode::Autonomous);
+    // The run ends where the tool passes the row's end, or where the supervisor stopped
+    // the robot (its own end of row, or a fault) after it started driving.
+    let mut driving = false;
     while !sim.robot.truth().row_done && sim.now_s() < limit_s {
         sim.tick();
+        let autonomous = sim.supervisor.mode() == Mode::Autonomous;
+        if driving && !autonomous {
+            break;
+        }
+        driving |= autonomous;
     }
     RowRun {
         row: row_name(row).to_string(),

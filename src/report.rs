@@ -7,7 +7,6 @@ use serde::Serialize;
 use crate::record::RecordOutcome;
 use crate::rt::{LiuLayland, LoopSummary, liu_layland};
 use crate::run::RunOutcome;
-use crate::status::Notice;
 
 #[derive(Debug, Serialize)]
 pub struct FaultEntry {
@@ -139,9 +138,7 @@ impl Report {
                 .notices
                 .iter()
                 .map(|n| NoticeEntry {
-                    t_s: match n {
-                        Notice::EndSwitchRecovered { t_s, .. } => *t_s,
-                    },
+                    t_s: n.t_s(),
                     what: n.to_string(),
                 })
                 .collect(),

@@ -34,6 +34,18 @@ pub struct FaultRecord {
 pub enum Notice {
     /// The end-switch procedure stopped the robot and steered back off this switch.
     EndSwitchRecovered { side: Side, t_s: f64 },
+    /// The tool passed the end of the row: the robot stopped in Halt. Driven in
+    /// Autonomous along this row, m.
+    RowEnded { driven_m: f64, t_s: f64 },
+}
+
+impl Notice {
+    /// When it happened, s since the start of the run.
+    pub fn t_s(&self) -> f64 {
+        match self {
+            Notice::EndSwitchRecovered { t_s, .. } | Notice::RowEnded { t_s, .. } => *t_s,
+        }
+    }
 }
 
 impl std::fmt::Display for Notice {
@@ -49,6 +61,10 @@ impl std::fmt::Display for Notice {
                     "the steering hit the {side} end switch: robot stopped, steering moved back off it, now in halt"
                 )
             }
+            Notice::RowEnded { driven_m, .. } => write!(
+                f,
+                "end of row after {driven_m:.1} m: the tool passed the row's end, robot stopped, now in halt"
+            ),
         }
     }
 }

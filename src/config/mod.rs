@@ -64,6 +64,8 @@ pub struct SupervisorSettings {
     pub calibration_s: f64,
     pub power_up_timeout_s: f64,
     pub speed_filter_s: f64,
+    /// Length of the rows, m; 0 = not known (see `Settings::row_length_m`).
+    pub row_length_m: f64,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -270,6 +272,7 @@ fn supervisor(r: &mut Reader) -> SupervisorSettings {
         calibration_s: r.f64(s, "calibration_s", 0.0, 5.0),
         power_up_timeout_s: r.f64(s, "power_up_timeout_s", 0.05, 10.0),
         speed_filter_s: r.f64(s, "speed_filter_s", 0.0, 1.0),
+        row_length_m: r.f64(s, "row_length_m", 0.0, 10000.0),
     }
 }
 

@@ -9,6 +9,7 @@
 
 mod endswitch;
 mod requests;
+pub mod row_end;
 pub mod rules;
 pub mod test_mode;
 
@@ -26,6 +27,7 @@ use crate::pid::{Pd, Pi};
 use crate::status::{FaultRecord, Notice, PowerState, Status};
 use crate::steer::SteerCommand;
 use endswitch::{EndSwitchLatch, guard_steering};
+use row_end::RowEnd;
 
 /// Faults and notices kept for the report; fixed capacity so the tick never allocates.
 const LOG_CAPACITY: usize = 256;
@@ -40,6 +42,7 @@ pub struct Supervisor {
     steering: Pd,
     mode_since_s: f64,
     endswitch: EndSwitchLatch,
+    row_end: RowEnd,
     test_outputs: Outputs,
     /// Steering-law parameters accepted in Halt, not yet passed to the steer thread.
     steer_settings: Option<SteerSettings>,
@@ -66,6 +69,7 @@ impl Supervisor {
             steering: Pd::new(s.pid_steer),
             mode_since_s: 0.0,
             endswitch: EndSwitchLatch::default(),
+            row_end: RowEnd::new(s),
             test_outputs: Outputs::SAFE,
             steer_settings: None,
             status: Status::default(),
@@ -186,8 +190,16 @@ impl Supervisor {
             self.status.power = PowerState::On;
         }
 
-        // A finished end-switch procedure first, so the latch it clears is not checked.
+        // A finished end-switch procedure and the row's end first: a robot that stops
+        // in Halt there is not checked for a row the camera no longer sees.
         self.follow_endswitch_procedure(steer, now_s);
+        if let Some(driven_m) = self.row_end.update(self.status.mode, measured.distance_m) {
+            self.say(Notice::RowEnded {
+                driven_m,
+                t_s: now_s,
+            });
+            self.set_mode(Mode::Halt);
+        }
         let driving = self.status.mode.drives();
         self.endswitch
             .latch(&mut self.status.endswitch_hit, driving, inputs, now_s);
@@ -244,12 +256,16 @@ impl Supervisor {
         if self.status.mode.drives()
             && let Some(side) = finished
         {
-            let notice = Notice::EndSwitchRecovered { side, t_s: now_s };
-            self.status.notice = Some(notice);
-            if self.notice_log.len() < LOG_CAPACITY {
-                self.notice_log.push(notice);
-            }
+            self.say(Notice::EndSwitchRecovered { side, t_s: now_s });
             self.set_mode(Mode::Halt);
+        }
+    }
+
+    /// Publish a notice for the operator and keep it for the report.
+    fn say(&mut self, notice: Notice) {
+        self.status.notice = Some(notice);
+        if self.notice_log.len() < LOG_CAPACITY {
+            self.notice_log.push(notice);
         }
     }
 
