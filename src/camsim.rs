@@ -166,6 +166,16 @@ impl CamSim {
             out.extend_from_slice(&frame);
             self.sent.pongs += 1;
         }
+        while let Some(estimate) = self.next_row(now_s) {
+            let mut frame = encode_row(&estimate);
+            self.damage(&mut frame);
+            out.extend_from_slice(&frame);
+        }
+    }
+
+    /// The next row estimate due at `now_s` while streaming (one every 0.1 s); those
+    /// --drop leaves out are counted and skipped.
+    pub fn next_row(&mut self, now_s: f64) -> Option<RowEstimate> {
         while self.streaming && now_s >= self.next_frame_s {
             self.next_frame_s += FRAME_INTERVAL_S;
             let estimate = self.estimate(now_s);
@@ -173,11 +183,10 @@ impl CamSim {
                 self.sent.dropped += 1;
                 continue;
             }
-            let mut frame = encode_row(&estimate);
-            self.damage(&mut frame);
-            out.extend_from_slice(&frame);
             self.sent.row_frames += 1;
+            return Some(estimate);
         }
+        None
     }
 }
 

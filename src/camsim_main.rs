@@ -115,7 +115,7 @@ pub fn on_tcp(address: &str, options: CamSimOptions) -> Result<(), String> {
 
 /// The command line of `mechweed camsim`.
 #[derive(clap::Args)]
-#[command(group(clap::ArgGroup::new("where").required(true).args(["port", "listen"])))]
+#[command(group(clap::ArgGroup::new("where").required(true).args(["port", "listen", "bus"])))]
 pub struct CamsimArgs {
     /// Serial device to speak on, or "pty" to make a pseudo-terminal and print its path.
     #[arg(long, value_name = "DEVICE")]
@@ -124,6 +124,21 @@ pub struct CamsimArgs {
     /// for 127.0.0.1:PORT.
     #[arg(long, value_name = "ADDR:PORT")]
     pub listen: Option<String>,
+    /// Publish the rows on the bus (ROBOT/camera/row), for a robot program with
+    /// [camera] port = bus.
+    #[arg(long)]
+    pub bus: bool,
+    /// With --bus: where the robot program listens.
+    #[arg(long, value_name = "ENDPOINT", default_value = crate::bus::tools::DEFAULT_ENDPOINT, requires = "bus")]
+    pub connect: String,
+    /// With --bus: the robot's name on the bus ([bus] robot).
+    #[arg(
+        long,
+        value_name = "NAME",
+        default_value = "mechweed",
+        requires = "bus"
+    )]
+    pub robot: String,
     /// Serial line speed.
     #[arg(long, default_value_t = 115200, value_parser = parse_baud)]
     pub baud: u32,
@@ -165,6 +180,11 @@ pub fn run(args: CamsimArgs) -> Result<(), String> {
         drop: args.drop,
         corrupt: args.corrupt,
     };
+    if args.bus {
+        // The robot program may start after the camera: keep trying to reach it.
+        let tool = crate::bus::tools::Tool::connect(&args.connect, &args.robot, true)?;
+        return tool.publish_rows(options);
+    }
     match (args.port, args.listen) {
         (Some(device), _) => on_serial(&device, args.baud, options),
         (None, Some(address)) => on_tcp(&address, options),

@@ -50,6 +50,65 @@ pub enum Command {
     /// Run records (CSV or MCAP) left by `mechweed run`.
     #[command(subcommand)]
     Record(RecordCommand),
+    /// The robot's data flows on the bus, from this or another computer.
+    Bus(BusArgs),
+}
+
+#[derive(clap::Args)]
+pub struct BusArgs {
+    #[command(subcommand)]
+    pub command: BusCommand,
+    /// Where the robot program listens ([bus] listen on the robot).
+    #[arg(long, global = true, value_name = "ENDPOINT", default_value = mechweed::bus::tools::DEFAULT_ENDPOINT)]
+    pub connect: String,
+    /// The robot's name on the bus ([bus] robot on the robot).
+    #[arg(long, global = true, value_name = "NAME", default_value = "mechweed")]
+    pub robot: String,
+}
+
+#[derive(Subcommand)]
+pub enum BusCommand {
+    /// Print a flow's messages as JSON lines: status, tick, event, camera/row, or any key.
+    Echo {
+        key: String,
+        /// Stop after this many messages.
+        #[arg(long, value_name = "N")]
+        count: Option<u64>,
+        /// Stop after this many seconds.
+        #[arg(long, value_name = "SECONDS")]
+        seconds: Option<f64>,
+    },
+    /// Send a request and print the robot's answer: halt, power_up, or mode MODE.
+    Request {
+        #[arg(value_enum)]
+        request: BusRequest,
+        /// For `mode`: halt, joystick, autonomous or test.
+        mode: Option<String>,
+    },
+    /// Print one setting of the running robot, e.g. pid.left.kp.
+    Get {
+        #[arg(value_name = "SECTION.KEY")]
+        setting: String,
+    },
+    /// Change one setting of the running robot (in halt, gains and [steer] only).
+    Set {
+        #[arg(value_name = "SECTION.KEY")]
+        setting: String,
+        value: String,
+    },
+    /// Who is on the bus, and which flows carry messages at what rate.
+    List {
+        /// How long to count messages.
+        #[arg(long, default_value_t = 2.0, value_name = "SECONDS")]
+        seconds: f64,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum BusRequest {
+    Halt,
+    PowerUp,
+    Mode,
 }
 
 #[derive(clap::Args, Default)]
@@ -115,6 +174,9 @@ pub enum BenchCommand {
         /// The GUI's tab while it is open [default: status]
         #[arg(long, value_enum, requires = "gui")]
         tab: Option<Tab>,
+        /// Override one setting (SECTION.KEY=VALUE), e.g. --set bus.enabled=no; repeatable.
+        #[arg(long, value_name = "SECTION.KEY=VALUE")]
+        set: Vec<String>,
         /// Also write the figures as JSON to this file.
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,

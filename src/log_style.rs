@@ -34,11 +34,26 @@ where
     }
 }
 
-/// Send the log lines to stderr in the plain style.
+/// Send the log lines to stderr in the plain style. The bus's library (zenoh) speaks
+/// only of errors: its notes on sessions and gossip mean nothing to a field scientist,
+/// and the bus says in its own words what it does.
 pub fn init() {
-    tracing_subscriber::fmt()
+    use tracing_subscriber::filter::{LevelFilter, Targets};
+    use tracing_subscriber::prelude::*;
+    let filter = Targets::new()
+        .with_target(
+            "zenoh",
+            if std::env::var_os("MECHWEED_ZENOH_DEBUG").is_some() {
+                LevelFilter::DEBUG
+            } else {
+                LevelFilter::ERROR
+            },
+        )
+        .with_default(LevelFilter::INFO);
+    let layer = tracing_subscriber::fmt::layer()
         .with_writer(std::io::stderr)
         .with_ansi(false)
         .event_format(Plain)
-        .init();
+        .with_filter(filter);
+    tracing_subscriber::registry().with(layer).init();
 }

@@ -1,5 +1,6 @@
 //! The mechweed command line.
 
+mod bus_command;
 mod cli;
 mod log_style;
 
@@ -261,8 +262,12 @@ fn bench(command: BenchCommand) -> ExitCode {
             seconds,
             gui,
             tab,
+            set,
             json,
-        } => return bench_loop(rate, seconds, gui.then(|| tab.unwrap_or_default()), json),
+        } => {
+            let gui = gui.then(|| tab.unwrap_or_default());
+            return bench_loop(rate, seconds, gui, &set, json);
+        }
     };
     let settings = match load_settings(config.as_deref(), &set) {
         Ok(s) => s,
@@ -297,9 +302,10 @@ fn bench_loop(
     rate: f64,
     seconds: f64,
     gui: Option<mechweed::gui::Tab>,
+    set: &[String],
     json: Option<PathBuf>,
 ) -> ExitCode {
-    let settings = match load_settings(None, &[]) {
+    let settings = match load_settings(None, set) {
         Ok(s) => s,
         Err(errors) => {
             print_errors(&errors);
@@ -359,5 +365,6 @@ fn main() -> ExitCode {
         },
         Some(Command::Probe { raw, config }) => probe(raw, config),
         Some(Command::Record(command)) => record(command),
+        Some(Command::Bus(args)) => bus_command::bus(args),
     }
 }

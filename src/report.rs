@@ -4,6 +4,8 @@ use mechweed_hw::camproto::LinkCounters;
 use mechweed_hw::sim::CrossTrackSummary;
 use serde::Serialize;
 
+use crate::bus::BusFigures;
+
 use crate::record::RecordOutcome;
 use crate::rt::{LiuLayland, LoopSummary, liu_layland};
 use crate::run::RunOutcome;
@@ -95,6 +97,8 @@ pub struct Report {
     pub rt_warnings: Vec<String>,
     /// The run's record: its files, ticks recorded and dropped, and any problem.
     pub record: RecordOutcome,
+    /// What the bus published and answered.
+    pub bus: BusFigures,
 }
 
 /// Said at the start and in the summary of a simulated run with an outside camera.
@@ -161,6 +165,7 @@ impl Report {
                 ping_rtt_ms: (!run.link.ping_rtt_ms.is_nan()).then_some(run.link.ping_rtt_ms),
             },
             record: run.record.clone(),
+            bus: run.bus,
         }
     }
 
@@ -220,6 +225,8 @@ impl Report {
                 .ping_rtt_ms
                 .map_or("-".to_string(), |ms| format!("{ms:.1} ms")),
         );
+        out += &self.bus.line();
+        out += "\n";
         out += &record_lines(&self.record);
         out
     }

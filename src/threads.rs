@@ -45,6 +45,8 @@ pub(crate) struct SupervisorWires {
     pub(crate) figures: Writer<LoopSummary>,
     /// Hands each tick to the recorder thread; never blocks.
     pub(crate) record: RecordTap,
+    /// The same for the bus thread (off when the bus is).
+    pub(crate) bus: RecordTap,
     pub(crate) panics: Arc<PanicFlag>,
     pub(crate) stop: Arc<AtomicBool>,
 }
@@ -117,6 +119,7 @@ impl SupervisorThread {
             steer_settings,
             figures,
             mut record,
+            mut bus,
             panics,
             stop,
         } = wires;
@@ -177,6 +180,7 @@ impl SupervisorThread {
             lock_ns = lock_ns.max(rt::monotonic_ns() - publish_start);
             periodic.stats.worst_lock_us = periodic.stats.worst_lock_us.max(lock_ns / 1000);
             record.after_tick(core.status(), &steer_now, &link_now);
+            bus.after_tick(core.status(), &steer_now, &link_now);
             if let Some(Injection {
                 thread: ThreadName::Supervisor,
                 at_s,

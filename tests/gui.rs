@@ -30,6 +30,8 @@ fn gui_with(settings_file: Option<PathBuf>) -> Gui {
 /// The GUI over a controller whose handles `adjust` may change first.
 fn gui_customised(settings_file: Option<PathBuf>, adjust: impl FnOnce(&mut Handles)) -> Gui {
     let mut settings = Settings::shipped();
+    // Tests run side by side; the bus has tests of its own, on ports of their own.
+    settings.bus.enabled = false;
     // Software rendering is slow: a late tick now and then is not these tests' subject.
     settings.rt.max_late_periods = 100.0;
     let opts = RunOptions {

@@ -22,6 +22,8 @@ static ONE_RUN_AT_A_TIME: Mutex<()> = Mutex::new(());
 fn run_with(thread: ThreadName, action: Fail, seconds: f64) -> RunOutcome {
     let _turn = ONE_RUN_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let mut settings = Settings::shipped();
+    // Tests run side by side; the bus has tests of its own, on ports of their own.
+    settings.bus.enabled = false;
     if !matches!(action, Fail::Slow { .. }) {
         // A busy test machine may overrun now and then; that fault has its own test.
         settings.rt.max_overruns = 1_000_000;

@@ -23,7 +23,7 @@ use crate::state::{Reader, Writer};
 use crate::status::Status;
 
 /// A read waits at most this long for a byte, so commands go out without delay.
-const READ_TIMEOUT: Duration = Duration::from_millis(10);
+pub const READ_TIMEOUT: Duration = Duration::from_millis(10);
 /// Opening again after a failure waits this long at first, doubling up to the maximum.
 const BACKOFF_MIN: Duration = Duration::from_millis(100);
 const BACKOFF_MAX: Duration = Duration::from_secs(2);
@@ -57,6 +57,8 @@ pub struct LinkThread {
     priority: u8,
     /// For tests: fail on purpose.
     inject: Option<Injection>,
+    /// A stream made before the thread started (the bus's row estimates), used first.
+    ready: Option<Box<dyn ByteStream>>,
     stop: Arc<AtomicBool>,
 }
 
@@ -76,6 +78,7 @@ impl LinkThread {
             panics: wires.panics,
             priority: 0,
             inject: None,
+            ready: None,
             stop: wires.stop,
         }
     }
@@ -95,6 +98,15 @@ impl LinkThread {
         LinkThread { inject, ..self }
     }
 
+    /// Read from `stream`, already open (row estimates from the bus), instead of opening
+    /// the port.
+    pub fn with_stream(self, stream: Box<dyn ByteStream>) -> LinkThread {
+        LinkThread {
+            ready: Some(stream),
+            ..self
+        }
+    }
+
     fn now_s(&self) -> f64 {
         self.clock.elapsed().as_secs_f64()
     }
@@ -109,7 +121,10 @@ impl LinkThread {
         let mut backoff = BACKOFF_MIN;
         let mut last_problem = None;
         while !self.stop.load(Ordering::Relaxed) {
-            let opened = self.open_beating();
+            let opened = match self.ready.take() {
+                Some(stream) => Ok(stream),
+                None => self.open_beating(),
+            };
             if self.stop.load(Ordering::Relaxed) {
                 break;
             }

@@ -40,6 +40,10 @@ pub fn open(
             io::ErrorKind::InvalidInput,
             "the simulated camera computer is reached through its pseudo-terminal",
         )),
+        CameraPort::Bus => Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            "row estimates on the bus come through the bus thread, not a camera port",
+        )),
         CameraPort::Serial { path, baud } => {
             step(OpenStep::Opening);
             // 8 data bits, no parity, 1 stop bit, no flow control: serialport's defaults.

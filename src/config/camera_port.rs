@@ -12,6 +12,8 @@ pub enum CameraPort {
     Serial { path: String, baud: u32 },
     /// A camera computer's TCP port, as HOST:PORT.
     Tcp { address: String },
+    /// Row estimates from a vision program on the bus (`ROBOT/camera/row`, src/bus/).
+    Bus,
 }
 
 impl CameraPort {
@@ -19,6 +21,9 @@ impl CameraPort {
     pub fn parse(text: &str, baud: u32) -> Result<CameraPort, String> {
         if text == "sim" {
             return Ok(CameraPort::Sim);
+        }
+        if text == "bus" {
+            return Ok(CameraPort::Bus);
         }
         if let Some(address) = text.strip_prefix("tcp://") {
             let port_ok = address.rsplit_once(':').is_some_and(|(host, port)| {
@@ -49,7 +54,7 @@ impl CameraPort {
             ));
         }
         Err(format!(
-            "'{text}' is not sim, a device such as /dev/ttyS0, or tcp://HOST:PORT"
+            "'{text}' is not sim, bus, a device such as /dev/ttyS0, or tcp://HOST:PORT"
         ))
     }
 
@@ -66,6 +71,7 @@ impl CameraPort {
             CameraPort::Sim => "the simulated camera computer".to_string(),
             CameraPort::Serial { path, baud } => format!("{path} at {baud} baud"),
             CameraPort::Tcp { address } => format!("tcp://{address}"),
+            CameraPort::Bus => "row estimates on the bus".to_string(),
         }
     }
 }

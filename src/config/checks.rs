@@ -30,6 +30,24 @@ pub(super) fn across(s: &Settings, r: &mut Reader) {
     end_switches(s, r);
     threads(s, r);
     no_script_on_the_real_robot(s, r);
+    rows_need_the_bus(s, r);
+}
+
+/// Row estimates from the bus need the bus.
+fn rows_need_the_bus(s: &Settings, r: &mut Reader) {
+    let keys = [("camera", "port"), ("bus", "enabled")];
+    require(
+        r,
+        s.camera_port != super::CameraPort::Bus || s.bus.enabled,
+        &keys,
+        || {
+            format!(
+                "{} takes the row estimates from the bus, but {}: set [bus] enabled = yes",
+                named("camera", "port", "bus"),
+                named("bus", "enabled", "no")
+            )
+        },
+    );
 }
 
 /// Nothing powers the real robot up without a person: the scripted operator of

@@ -2,6 +2,7 @@
 //! and its unit; there are no hidden defaults in the code, so what the file says is
 //! what the robot does. Errors name the file, line, section and key.
 
+mod bus;
 mod camera_port;
 mod checks;
 mod io;
@@ -9,12 +10,15 @@ mod lines;
 mod reader;
 mod record;
 mod sim;
+mod source;
 
 use std::path::Path;
 
+pub use bus::{AcceptRequests, BusSettings};
 pub use camera_port::{BAUD_RATES, CameraPort};
 pub use reader::{ConfigError, Place};
 pub use record::{RecordFormats, RecordSettings};
+pub use source::SettingsSource;
 
 use reader::Reader;
 
@@ -38,6 +42,7 @@ const SECTIONS: &[&str] = &[
     "io",
     "sim",
     "record",
+    "bus",
 ];
 
 /// The controller's model of the robot (the simulated plant has its own, in [sim]).
@@ -181,6 +186,10 @@ pub struct Settings {
     pub sim: mechweed_hw::sim::SimParams,
     /// Where and how each run is recorded.
     pub record: RecordSettings,
+    /// The data flows to and from other programs ([bus]).
+    pub bus: BusSettings,
+    /// The text these settings were read from, for the bus's configuration ports.
+    pub source: SettingsSource,
 }
 
 impl Settings {
@@ -235,6 +244,12 @@ impl Settings {
             io: io::wiring(&mut r),
             sim: sim::load(&mut r),
             record: record::load(&mut r),
+            bus: bus::load(&mut r),
+            source: SettingsSource {
+                label: file.to_string(),
+                text: text.to_string(),
+                overrides: overrides.to_vec(),
+            },
         };
         checks::across(&settings, &mut r);
         let errors = r.finish(SECTIONS);

@@ -176,6 +176,22 @@ impl Reader {
         self.push(place, what);
     }
 
+    /// A setting as written (the --set item over the file) and its line in the file;
+    /// None if there is no such setting. Records nothing.
+    pub fn written(&self, section: &str, key: &str) -> Option<(String, Option<usize>)> {
+        let value = self
+            .ini
+            .section(Some(section))?
+            .get(key)?
+            .trim()
+            .to_string();
+        let line = self
+            .lines
+            .get(&(section.to_string(), key.to_string()))
+            .copied();
+        Some((value, line))
+    }
+
     /// The raw text of a setting, or None (with an error recorded) if it is missing.
     fn raw(&mut self, section: &str, key: &str) -> Option<String> {
         self.used.insert((section.to_string(), key.to_string()));

@@ -198,4 +198,10 @@ pub fn show(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
     ui.separator();
     ui.heading("Loops");
     loops_grid(ui, view);
+    ui.separator();
+    ui.heading("Bus");
+    ui.label(view.bus.line());
+    if view.bus.state != crate::bus::BusState::Off {
+        ui.label(&view.bus_endpoints);
+    }
 }

@@ -10,6 +10,7 @@
 use crossbeam_channel::Sender;
 use mechweed_hw::sim::Truth;
 
+use crate::bus::BusFigures;
 use crate::camlink::LinkStatus;
 use crate::modes::Request;
 use crate::request_channel::Answer;
@@ -36,6 +37,10 @@ pub struct View {
     pub simulated: bool,
     /// Said in the header while the real robot runs without real-time priorities.
     pub not_realtime: Option<String>,
+    /// The bus: what it published and answered, who is there.
+    pub bus: BusFigures,
+    /// Where the bus listens and connects ([bus] listen and connect).
+    pub bus_endpoints: String,
 }
 
 /// Where the GUI's `View` comes from and where its requests go.
@@ -65,6 +70,8 @@ impl ViewSource for Handles {
             truth: self.truth.truth(),
             simulated: self.sim.is_some(),
             not_realtime: self.not_realtime.clone(),
+            bus: self.bus.snapshot(),
+            bus_endpoints: self.bus_endpoints.clone(),
         }
     }
 

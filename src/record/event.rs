@@ -41,6 +41,16 @@ impl RecordEvent {
         }
     }
 
+    /// The event as one JSON object with the keys of `EVENT_COLUMNS`.
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "t_s": self.t_s,
+            "tick": self.tick,
+            "kind": self.kind_name(),
+            "text": self.text(),
+        })
+    }
+
     /// What happened, as the console says it.
     pub fn text(&self) -> String {
         match self.kind {

@@ -18,7 +18,7 @@ use ::mcap::{Compression, McapError, WriteOptions, Writer};
 use serde_json::json;
 
 use super::event::RecordEvent;
-use super::row::{COLUMNS, TickSample, Value, number_text};
+use super::row::{COLUMNS, TickSample, Value, tick_json};
 use super::thread::Sink;
 
 pub const TICK_TOPIC: &str = "/mechweed/tick";
@@ -164,43 +164,15 @@ impl McapSink {
 
 impl Sink for McapSink {
     fn tick(&mut self, sample: &TickSample) -> io::Result<()> {
-        use std::fmt::Write as _;
         let mut json = std::mem::take(&mut self.json);
-        json.clear();
-        json.push('{');
-        for (i, column) in COLUMNS.iter().enumerate() {
-            if i > 0 {
-                json.push(',');
-            }
-            let _ = write!(json, "\"{}\":", column.name);
-            match (column.value)(sample) {
-                Value::Num(x) => {
-                    if !number_text(x, &mut json) {
-                        json.push_str("null");
-                    }
-                }
-                Value::Int(n) => {
-                    let _ = write!(json, "{n}");
-                }
-                // Fixed words: no character needs escaping (checked in row.rs's tests).
-                Value::Text(t) => {
-                    let _ = write!(json, "\"{t}\"");
-                }
-            }
-        }
-        json.push('}');
+        tick_json(sample, &mut json);
         let result = self.write(self.tick_channel, sample.status.t_s, json.as_bytes());
         self.json = json;
         result
     }
 
     fn event(&mut self, event: &RecordEvent) -> io::Result<()> {
-        let message = json!({
-            "t_s": event.t_s,
-            "tick": event.tick,
-            "kind": event.kind_name(),
-            "text": event.text(),
-        });
+        let message = event.to_json();
         self.write(
             self.event_channel,
             event.t_s,

@@ -39,7 +39,7 @@ pub use self::mcap::{EVENT_TOPIC, TICK_TOPIC};
 pub use error::{Place, ReadProblem, RecordError};
 pub use event::{EVENT_COLUMNS, EventKind, RecordEvent};
 pub use files::utc_stamp;
-pub use row::{COLUMNS, Column, TickSample, Value, column_names};
+pub use row::{COLUMNS, Column, TickSample, Value, column_names, tick_json};
 pub use tap::{Delivery, RecordTap};
 pub use thread::{RecordOutcome, Recorder, Sink};
 
@@ -113,6 +113,47 @@ pub fn start_with_sinks(
     )?;
     let tap = RecordTap::new(tick_tx, event_tx, every_n_ticks, delivery, counters, truth);
     Ok((tap, recorder))
+}
+
+/// The ticks and events of a run for another reader than the recorder (the bus
+/// thread): every `every_n_ticks`th tick and every event, through queues that drop and
+/// count when the reader falls behind, exactly as the recorder's.
+pub fn flow(every_n_ticks: u64, capacity: usize, truth: TruthHandle) -> (RecordTap, TickFlow) {
+    let (tick_tx, ticks) = bounded(capacity.max(1));
+    let (event_tx, events) = bounded(QUEUE_EVENTS);
+    let counters: Arc<tap::Counters> = Arc::default();
+    let tap = RecordTap::new(
+        tick_tx,
+        event_tx,
+        every_n_ticks,
+        Delivery::NeverWait,
+        Arc::clone(&counters),
+        Some(truth),
+    );
+    let flow = TickFlow {
+        ticks,
+        events,
+        counters,
+    };
+    (tap, flow)
+}
+
+/// The reading end of `flow`.
+pub struct TickFlow {
+    pub ticks: crossbeam_channel::Receiver<TickSample>,
+    pub events: crossbeam_channel::Receiver<RecordEvent>,
+    counters: Arc<tap::Counters>,
+}
+
+impl TickFlow {
+    /// Ticks and events the queues had no room for so far.
+    pub fn dropped(&self) -> (u64, u64) {
+        use std::sync::atomic::Ordering::Relaxed;
+        (
+            self.counters.ticks_dropped.load(Relaxed),
+            self.counters.events_dropped.load(Relaxed),
+        )
+    }
 }
 
 /// For `mechweed run`: record as robot.ini says, and say where. If the record cannot

@@ -189,6 +189,35 @@ pub fn number_text(x: f64, out: &mut String) -> bool {
     }
 }
 
+/// One tick as a JSON object, a key per column (MCAP messages and the bus's
+/// ROBOT/tick); `json` is cleared first and reused, so a tick does not allocate.
+pub fn tick_json(sample: &TickSample, json: &mut String) {
+    use std::fmt::Write as _;
+    json.clear();
+    json.push('{');
+    for (i, column) in COLUMNS.iter().enumerate() {
+        if i > 0 {
+            json.push(',');
+        }
+        let _ = write!(json, "\"{}\":", column.name);
+        match (column.value)(sample) {
+            Value::Num(x) => {
+                if !number_text(x, json) {
+                    json.push_str("null");
+                }
+            }
+            Value::Int(n) => {
+                let _ = write!(json, "{n}");
+            }
+            // Fixed words: no character needs escaping (checked in the tests below).
+            Value::Text(t) => {
+                let _ = write!(json, "\"{t}\"");
+            }
+        }
+    }
+    json.push('}');
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -14,12 +14,15 @@ use crossbeam_channel::bounded;
 use mechweed_hw::Hw;
 use mechweed_hw::sim::{SimControl, SimHw, SimRobot, TruthHandle, byte_pipe};
 
-use crate::camlink::thread::{LinkThread, LinkWires};
+use crate::bus::BusFigures;
+use crate::bus::rows::{BusRows, RowCounts};
+use crate::bus::thread::BusWires;
+use crate::camlink::thread::{LinkThread, LinkWires, READ_TIMEOUT};
 use crate::camlink::{LinkCore, LinkStatus, simwire};
 use crate::config::CameraPort;
 use crate::config::{Backend, Settings};
 use crate::health::{self, PanicFlag, ThreadName};
-use crate::record::{self, Recorder};
+use crate::record::{self, RecordTap, Recorder};
 use crate::request_channel;
 use crate::rt::LoopSummary;
 use crate::state::{self, Reader, shared};
@@ -39,11 +42,17 @@ fn spawn<T: Send + 'static>(name: &str, f: impl FnOnce() -> T + Send + 'static) 
         .unwrap_or_else(|e| panic!("cannot start the {name} thread: {e}"))
 }
 
+/// Ticks waiting for the bus thread: it publishes each as it comes, so a second's worth
+/// is plenty; when full, ticks are dropped and counted.
+const BUS_QUEUE_TICKS: usize = 64;
+
 /// The controller's threads while they run; `finish` stops them and collects the outcome.
 pub struct Running {
     supervisor: JoinHandle<(Supervisor, LoopSummary)>,
     steer: JoinHandle<LoopSummary>,
     link: JoinHandle<()>,
+    bus: Option<JoinHandle<BusFigures>>,
+    bus_figures: Reader<BusFigures>,
     cable: Option<JoinHandle<()>>,
     link_status: Reader<LinkStatus>,
     truth: TruthHandle,
@@ -91,6 +100,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
     let panics = Arc::new(PanicFlag::default());
     health::watch_this_thread(&panics, ThreadName::Console);
     let (record_tap, recorder) = record::start_for_run(&s.record, truth.clone());
+    let bus_session = crate::bus::open_for_run(s).map_err(RunError::Bus)?;
 
     let (status_w, status_r) = shared(Status::default());
     let (steer_w, steer_r) = shared(SteerCommand::default());
@@ -103,6 +113,15 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
     let (supervisor_figures_w, supervisor_figures) = shared(LoopSummary::default());
     let (steer_figures_w, steer_figures) = shared(LoopSummary::default());
     let (handle, request_rx) = request_channel::channel(status_r.clone());
+    let (bus_figures_w, bus_figures) = shared(BusFigures::default());
+    let row_counts = Arc::new(RowCounts::default());
+    let (bus_tap, bus_flow) = match &bus_session {
+        Some(_) => {
+            let (tap, flow) = record::flow(s.bus.tick_every_n, BUS_QUEUE_TICKS, truth.clone());
+            (tap, Some(flow))
+        }
+        None => (RecordTap::off(), None),
+    };
 
     let wires = SupervisorWires {
         requests: request_rx,
@@ -113,6 +132,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         steer_settings: new_steer_settings_tx,
         figures: supervisor_figures_w,
         record: record_tap,
+        bus: bus_tap,
         panics: panics.clone(),
         stop: stop.clone(),
     };
@@ -142,9 +162,41 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         panics: panics.clone(),
         stop: stop.clone(),
     };
-    let link = LinkThread::new(LinkCore::new(&s.camera), camera_port, clock, wires)
+    let mut link = LinkThread::new(LinkCore::new(&s.camera), camera_port, clock, wires)
         .with_priority(priority(s.rt.camlink_priority))
         .with_injection(opts.inject);
+    if let (CameraPort::Bus, Some(session)) = (&s.camera_port, &bus_session) {
+        let rows = BusRows::subscribe(
+            session,
+            &s.bus.key("camera/row"),
+            READ_TIMEOUT,
+            row_counts.clone(),
+        )
+        .map_err(|e| RunError::BusRows(e.to_string()))?;
+        link = link.with_stream(Box::new(rows));
+    }
+    let bus = match (bus_session, bus_flow) {
+        (Some(session), Some(flow)) => {
+            let wires = BusWires {
+                status: status_r.clone(),
+                link: link_r.clone(),
+                loops: [supervisor_figures.clone(), steer_figures.clone()],
+                flow,
+                supervisor: handle.clone(),
+                figures: bus_figures_w,
+                rows: row_counts,
+                stop: stop.clone(),
+            };
+            let settings = s.clone();
+            Some(spawn("bus", move || {
+                crate::bus::thread::run(session, &settings, wires).unwrap_or_else(|e| {
+                    tracing::error!("the bus stopped: {e}");
+                    BusFigures::default()
+                })
+            }))
+        }
+        _ => None,
+    };
     let supervisor = spawn("supervisor", move || supervisor.run());
     let steer = spawn("steer", move || steer.run());
     let link = spawn("camlink", move || link.run());
@@ -161,11 +213,15 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         steer: steer_r,
         clock,
         not_realtime: not_realtime(s.backend, &s.rt, priorities_refused.as_deref()),
+        bus: bus_figures.clone(),
+        bus_endpoints: bus_endpoints(s),
     };
     let running = Running {
         supervisor,
         steer,
         link,
+        bus,
+        bus_figures,
         cable,
         link_status: link_r,
         truth,
@@ -176,6 +232,19 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         stop,
     };
     Ok((handles, running))
+}
+
+/// Where the bus listens and connects, in words.
+fn bus_endpoints(s: &Settings) -> String {
+    let list = |endpoints: &[String]| match endpoints {
+        [] => "nothing".to_string(),
+        _ => endpoints.join(", "),
+    };
+    format!(
+        "listening on {}, connecting to {}",
+        list(&s.bus.listen),
+        list(&s.bus.connect)
+    )
 }
 
 impl Running {
@@ -210,6 +279,14 @@ impl Running {
         if let Some(cable) = self.cable {
             let _ = cable.join();
         }
+        let bus = match self.bus.map(JoinHandle::join) {
+            Some(Ok(figures)) => figures,
+            Some(Err(_)) => {
+                tracing::error!("the bus thread panicked");
+                self.bus_figures.snapshot()
+            }
+            None => BusFigures::default(),
+        };
         // The supervisor thread has ended and dropped its tap: the recorder closes the files.
         let record = self.recorder.finish();
         let outside_camera = (self.settings.camera_port).is_outside_of(self.settings.backend);
@@ -226,6 +303,7 @@ impl Running {
             cross_track_from_m: self.settings.sim.cross_track_from_m,
             outside_camera,
             record,
+            bus,
         }
     }
 }

@@ -6,6 +6,7 @@ use std::time::Instant;
 use crossbeam_channel::Sender;
 use mechweed_hw::sim::{CrossTrackSummary, SimControl, TruthHandle};
 
+use crate::bus::BusFigures;
 use crate::camlink::LinkStatus;
 use crate::config::{Settings, SteerSettings};
 use crate::inject::Injection;
@@ -39,6 +40,10 @@ pub struct Handles {
     /// Said in the status line and the GUI's header while the real robot runs without
     /// real-time priorities.
     pub not_realtime: Option<String>,
+    /// The bus's figures, about ten times a second (state Off without a bus).
+    pub bus: Reader<BusFigures>,
+    /// Where the bus listens and connects, for the GUI ("" without a bus).
+    pub bus_endpoints: String,
 }
 
 pub struct RunOptions {
@@ -63,6 +68,10 @@ pub enum RunError {
         "[camera] port = sim needs the simulated robot: set [camera] port to the camera computer's serial device (e.g. /dev/ttyS0) or tcp://HOST:PORT"
     )]
     SimulatedCameraOnRealRobot,
+    #[error("{0}")]
+    Bus(crate::bus::BusError),
+    #[error("cannot subscribe to the row estimates on the bus: {0}")]
+    BusRows(String),
 }
 
 /// What a run leaves behind for the report.
@@ -83,4 +92,6 @@ pub struct RunOutcome {
     /// meaningful, and `cross_track` is None.
     pub outside_camera: bool,
     pub record: RecordOutcome,
+    /// What the bus did (state Off if there was none).
+    pub bus: BusFigures,
 }

@@ -54,12 +54,14 @@ pub fn autonomous(settings: &Settings) -> Lockstep {
 }
 
 /// The `--set` items every run of the program in a test shares: its record goes to
-/// `folder`, not into the repository, and a busy test machine's late ticks are
-/// tolerated (those faults have tests of their own).
+/// `folder`, not into the repository, a busy test machine's late ticks are tolerated
+/// (those faults have tests of their own), and the bus is off.
 pub fn test_run_settings(folder: &std::path::Path) -> Vec<String> {
     [
         "rt.max_overruns=1000000".to_string(),
         "rt.max_late_periods=20".to_string(),
+        // Tests run side by side: the bus's tests give each run a port of its own.
+        "bus.enabled=no".to_string(),
         format!("record.folder={}", folder.display()),
     ]
     .into_iter()

@@ -1,0 +1,118 @@
+//! The bus: mechweed's data flows to and from other programs and machines, on Zenoh.
+//! One-way flows with any number of receivers (status, ticks, events out; row
+//! estimates in), queries for requests and settings, and liveliness tokens for who is
+//! there. The control loops never wait for it: the bus thread reads protected objects
+//! and a queue that drops (thread.rs), and every publisher drops rather than queues.
+//!
+//! Keys (ROBOT = `[bus] robot`): ROBOT/status, ROBOT/tick, ROBOT/event, ROBOT/request,
+//! ROBOT/config/SECTION/KEY, ROBOT/camera/row, ROBOT/alive/NAME. The bus is never a
+//! safety channel: the e-stops are wired, and rows from the bus go through the camera
+//! link's time-out and fault like a camera computer's.
+
+pub mod payload;
+pub mod peers;
+pub mod queries;
+pub mod rows;
+pub mod session;
+pub mod thread;
+pub mod tools;
+
+pub use session::{BusError, Role};
+
+/// The bus as the GUI and the report show it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BusState {
+    /// `[bus] enabled = no`, or it could not start and is not required.
+    #[default]
+    Off,
+    Running,
+    /// The run has ended.
+    Closed,
+}
+
+/// What the bus has done so far.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+pub struct BusFigures {
+    pub state: BusState,
+    /// Other programs present (their liveliness tokens).
+    pub peers: u32,
+    /// Someone subscribes to ROBOT/status now.
+    pub status_receivers: bool,
+    pub status_published: u64,
+    pub ticks_published: u64,
+    pub events_published: u64,
+    /// Ticks and events the bus thread's queue had no room for.
+    pub ticks_dropped: u64,
+    pub events_dropped: u64,
+    pub queries_answered: u64,
+    /// Queries answered with an error: bad input, or not allowed.
+    pub queries_refused: u64,
+    /// Row estimates received on ROBOT/camera/row, and those refused as impossible.
+    pub rows_received: u64,
+    pub rows_rejected: u64,
+}
+
+/// The run's session: None when the bus is off, or when it could not start and the
+/// run does not need it (a warning says why). An error when `[bus] required = yes` or
+/// the camera's rows come from the bus.
+pub fn open_for_run(s: &crate::config::Settings) -> Result<Option<zenoh::Session>, BusError> {
+    if !s.bus.enabled {
+        return Ok(None);
+    }
+    match session::open(Role::Robot(&s.bus)) {
+        Ok(session) => {
+            let listen = if s.bus.listen.is_empty() {
+                "nothing".to_string()
+            } else {
+                s.bus.listen.join(", ")
+            };
+            println!(
+                "bus: listening on {listen}, keys {}/...; requests accepted: {}",
+                s.bus.robot,
+                match s.bus.accept_requests {
+                    crate::config::AcceptRequests::Halt => "halt only",
+                    crate::config::AcceptRequests::Operator => "halt, power up, modes, settings",
+                }
+            );
+            Ok(Some(session))
+        }
+        Err(e) if s.bus.required || s.camera_port == crate::config::CameraPort::Bus => Err(e),
+        Err(e) => {
+            tracing::warn!("{e}; the robot runs without the bus ([bus] required = no)");
+            Ok(None)
+        }
+    }
+}
+
+impl BusFigures {
+    /// One line for the console, the report and the GUI.
+    pub fn line(&self) -> String {
+        if self.state == BusState::Off {
+            return "bus: off".to_string();
+        }
+        let mut line = format!(
+            "bus: {} status, {} ticks, {} events published ({} ticks, {} events dropped); {} queries answered ({} refused); {} other programs present{}",
+            self.status_published,
+            self.ticks_published,
+            self.events_published,
+            self.ticks_dropped,
+            self.events_dropped,
+            self.queries_answered,
+            self.queries_refused,
+            self.peers,
+            if self.status_receivers {
+                ", status received"
+            } else {
+                ""
+            },
+        );
+        if self.rows_received > 0 {
+            line += &format!(
+                "; row estimates: {} received, {} refused",
+                self.rows_received, self.rows_rejected
+            );
+        }
+        line
+    }
+}

@@ -1,0 +1,228 @@
+//! `mechweed bus ...`: small programs for a person at another computer (or a script):
+//! watch a flow, send a request, get or set a setting, see who is there. Each opens its
+//! own session that connects to the robot program and listens on nothing.
+
+use std::collections::BTreeMap;
+use std::time::{Duration, Instant};
+
+use zenoh::{Session, Wait};
+
+use super::payload::row_json;
+use super::session::{Role, open};
+use crate::camsim::{CamSim, CamSimOptions};
+
+/// Where the robot program listens with the shipped settings.
+pub const DEFAULT_ENDPOINT: &str = "tcp/127.0.0.1:7447";
+/// How long a tool waits for the robot program to answer.
+const ANSWER_WAIT: Duration = Duration::from_secs(3);
+
+/// A tool's connection to one robot's flows.
+pub struct Tool {
+    session: Session,
+    robot: String,
+    endpoint: String,
+}
+
+impl Tool {
+    /// Connect to `endpoint`, to the flows of robot `robot` (the key prefix).
+    /// `wait`: keep trying until the robot program is there (camsim may start first).
+    pub fn connect(endpoint: &str, robot: &str, wait: bool) -> Result<Tool, String> {
+        let role = Role::Tool {
+            connect: vec![endpoint.to_string()],
+            wait,
+        };
+        let session = open(role).map_err(|e| e.to_string())?;
+        Ok(Tool {
+            session,
+            robot: robot.to_string(),
+            endpoint: endpoint.to_string(),
+        })
+    }
+
+    /// `ROBOT/KEY`; a key that starts with `/` is taken whole, without it (another
+    /// robot's flows: /farm/robot2/status).
+    pub fn key(&self, key: &str) -> String {
+        match key.strip_prefix('/') {
+            Some(whole) => whole.to_string(),
+            None => format!("{}/{key}", self.robot),
+        }
+    }
+
+    /// Wait (at most ANSWER_WAIT) until the robot program's token is seen, so that a
+    /// query right after connecting finds its queryables.
+    fn wait_for_controller(&self) -> Result<(), String> {
+        let key = self.key("alive/controller");
+        let end = Instant::now() + ANSWER_WAIT;
+        while Instant::now() < end {
+            let replies = self
+                .session
+                .liveliness()
+                .get(&key)
+                .timeout(Duration::from_millis(500))
+                .wait()
+                .map_err(|e| e.to_string())?;
+            if replies.recv().is_ok() {
+                return Ok(());
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        Err(format!(
+            "no mechweed robot program '{}' answers at {} (is it running, with [bus] enabled = yes and this listen endpoint?)",
+            self.robot, self.endpoint
+        ))
+    }
+
+    /// Ask `key` with `payload`; the first answer as text, or the error's text.
+    pub fn ask(&self, key: &str, payload: Option<String>) -> Result<String, String> {
+        self.wait_for_controller()?;
+        let key = self.key(key);
+        let mut get = self.session.get(&key).timeout(ANSWER_WAIT);
+        if let Some(payload) = payload {
+            get = get.payload(payload);
+        }
+        let replies = get.wait().map_err(|e| e.to_string())?;
+        let reply = replies
+            .recv()
+            .map_err(|_| format!("no answer from {key} within {} s", ANSWER_WAIT.as_secs()))?;
+        match reply.result() {
+            Ok(sample) => Ok(text(&sample.payload().to_bytes())),
+            Err(error) => Err(text(&error.payload().to_bytes())),
+        }
+    }
+
+    /// Print each message on `key` as one line of JSON, `{"key", "payload"}`, until
+    /// `count` messages or `seconds` have passed (None: for ever).
+    pub fn echo(&self, key: &str, count: Option<u64>, seconds: Option<f64>) -> Result<(), String> {
+        let key = self.key(key);
+        let subscriber = self
+            .session
+            .declare_subscriber(&key)
+            .wait()
+            .map_err(|e| e.to_string())?;
+        // Seen by the robot program as a receiver (its status and the GUI count them).
+        let _alive = self
+            .session
+            .liveliness()
+            .declare_token(self.key(&format!("alive/echo-{}", std::process::id())))
+            .wait()
+            .map_err(|e| e.to_string())?;
+        let end = seconds.map(|s| Instant::now() + Duration::from_secs_f64(s));
+        let mut printed = 0;
+        while count.is_none_or(|n| printed < n) {
+            let wait = end.map_or(Duration::from_millis(200), |end| {
+                end.saturating_duration_since(Instant::now())
+            });
+            if end.is_some_and(|end| Instant::now() >= end) {
+                break;
+            }
+            let Ok(Some(sample)) = subscriber.recv_timeout(wait) else {
+                continue;
+            };
+            let payload = text(&sample.payload().to_bytes());
+            // A JSON payload stays JSON; anything else is quoted.
+            let payload: serde_json::Value =
+                serde_json::from_str(&payload).unwrap_or(serde_json::Value::String(payload));
+            let line = serde_json::json!({ "key": sample.key_expr().as_str(), "payload": payload });
+            println!("{line}");
+            printed += 1;
+        }
+        Ok(())
+    }
+
+    /// Who is present (liveliness tokens) and which flows carry messages, with their
+    /// rates over `seconds`.
+    pub fn list(&self, seconds: f64) -> Result<String, String> {
+        let alive = self.key("alive/**");
+        let replies = self
+            .session
+            .liveliness()
+            .get(&alive)
+            .timeout(ANSWER_WAIT)
+            .wait()
+            .map_err(|e| e.to_string())?;
+        let mut out = String::from("present:\n");
+        let mut present = Vec::new();
+        while let Ok(reply) = replies.recv() {
+            if let Ok(sample) = reply.result() {
+                present.push(sample.key_expr().as_str().to_string());
+            }
+        }
+        present.sort();
+        if present.is_empty() {
+            out += "  nobody\n";
+        }
+        for name in present {
+            out += &format!("  {name}\n");
+        }
+        let subscriber = self
+            .session
+            .declare_subscriber(self.key("**"))
+            .wait()
+            .map_err(|e| e.to_string())?;
+        let start = Instant::now();
+        let mut counts: BTreeMap<String, u64> = BTreeMap::new();
+        while start.elapsed().as_secs_f64() < seconds {
+            if let Ok(Some(sample)) = subscriber.recv_timeout(Duration::from_millis(50)) {
+                *counts
+                    .entry(sample.key_expr().as_str().to_string())
+                    .or_default() += 1;
+            }
+        }
+        out += &format!("flows over {seconds:.0} s:\n");
+        if counts.is_empty() {
+            out += "  none\n";
+        }
+        for (key, n) in counts {
+            out += &format!("  {key:<32} {:6.1} messages/s\n", n as f64 / seconds);
+        }
+        Ok(out)
+    }
+
+    /// `camsim --bus`: publish the simulated camera's rows on ROBOT/camera/row, with a
+    /// line a second of what went out, until the program is stopped.
+    pub fn publish_rows(&self, options: CamSimOptions) -> Result<(), String> {
+        let key = self.key("camera/row");
+        let publisher = self
+            .session
+            .declare_publisher(&key)
+            .encoding(zenoh::bytes::Encoding::APPLICATION_JSON)
+            .wait()
+            .map_err(|e| e.to_string())?;
+        let _alive = self
+            .session
+            .liveliness()
+            .declare_token(self.key("alive/camsim"))
+            .wait()
+            .map_err(|e| e.to_string())?;
+        println!(
+            "simulated camera publishing row estimates on {key} (via {})",
+            self.endpoint
+        );
+        let mut sim = CamSim::new(options);
+        sim.receive(mechweed_hw::camproto::CMD_START, 0.0);
+        let clock = Instant::now();
+        let (mut next_line_s, mut sent_before) = (1.0, 0);
+        loop {
+            let now_s = clock.elapsed().as_secs_f64();
+            while let Some(row) = sim.next_row(now_s) {
+                let payload = row_json(&row, now_s).to_string();
+                publisher.put(payload).wait().map_err(|e| e.to_string())?;
+            }
+            if now_s >= next_line_s {
+                next_line_s += 1.0;
+                let sent = sim.sent.row_frames;
+                println!(
+                    "{now_s:8.3} s  published {} row estimates ({} left out by --drop so far)",
+                    sent - sent_before,
+                    sim.sent.dropped
+                );
+                sent_before = sent;
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    }
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}

@@ -1,0 +1,103 @@
+//! `mechweed bus ...`: the command line of the bus tools (src/bus/tools.rs).
+
+use std::process::ExitCode;
+
+use mechweed::bus::tools::Tool;
+
+use crate::cli::{BusArgs, BusCommand, BusRequest};
+
+/// SECTION.KEY as the config port's key: SECTION/KEY (sections may hold dots).
+fn config_key(setting: &str) -> Result<String, String> {
+    match setting.rsplit_once('.') {
+        Some((section, key)) if !section.is_empty() && !key.is_empty() => {
+            Ok(format!("config/{section}/{key}"))
+        }
+        _ => Err(format!(
+            "'{setting}' is not SECTION.KEY (for example pid.left.kp)"
+        )),
+    }
+}
+
+/// The request's payload.
+fn request_payload(request: BusRequest, mode: Option<String>) -> Result<String, String> {
+    let json = match (request, mode) {
+        (BusRequest::Halt, _) => serde_json::json!({ "request": "halt" }),
+        (BusRequest::PowerUp, _) => serde_json::json!({ "request": "power_up" }),
+        (BusRequest::Mode, Some(mode)) => serde_json::json!({ "request": "mode", "mode": mode }),
+        (BusRequest::Mode, None) => {
+            return Err(
+                "say which mode: bus request mode autonomous (or joystick, test, halt)".into(),
+            );
+        }
+    };
+    Ok(json.to_string())
+}
+
+/// A request's or a set's answer: `accepted`, or `refused: REASON` (exit 1).
+fn decided(answer: &str) -> Result<String, String> {
+    let value: serde_json::Value = serde_json::from_str(answer).unwrap_or_default();
+    match value.get("accepted").and_then(serde_json::Value::as_bool) {
+        Some(true) => Ok("accepted".to_string()),
+        Some(false) => Err(format!(
+            "refused: {}",
+            value
+                .get("reason")
+                .and_then(|r| r.as_str())
+                .unwrap_or(answer)
+        )),
+        None => Err(format!("an answer that is not a decision: {answer}")),
+    }
+}
+
+/// A setting's answer: `SECTION.KEY = VALUE UNIT  ; comment`.
+fn setting_line(answer: &str) -> String {
+    let value: serde_json::Value = serde_json::from_str(answer).unwrap_or_default();
+    let field = |name: &str| value.get(name).and_then(|v| v.as_str()).unwrap_or("");
+    let unit = field("unit");
+    let unit = if unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {unit}")
+    };
+    format!(
+        "{} = {}{unit}  ; {}",
+        field("setting"),
+        field("value"),
+        field("comment")
+    )
+}
+
+pub fn bus(args: BusArgs) -> ExitCode {
+    let result =
+        Tool::connect(&args.connect, &args.robot, false).and_then(|tool| match args.command {
+            BusCommand::Echo {
+                key,
+                count,
+                seconds,
+            } => tool.echo(&key, count, seconds).map(|()| String::new()),
+            BusCommand::Request { request, mode } => {
+                let payload = request_payload(request, mode)?;
+                decided(&tool.ask("request", Some(payload))?)
+            }
+            BusCommand::Get { setting } => {
+                Ok(setting_line(&tool.ask(&config_key(&setting)?, None)?))
+            }
+            BusCommand::Set { setting, value } => {
+                let payload = serde_json::json!({ "set": value }).to_string();
+                decided(&tool.ask(&config_key(&setting)?, Some(payload))?)
+            }
+            BusCommand::List { seconds } => tool.list(seconds),
+        });
+    match result {
+        Ok(text) => {
+            if !text.is_empty() {
+                println!("{}", text.trim_end());
+            }
+            ExitCode::SUCCESS
+        }
+        Err(why) => {
+            eprintln!("{why}");
+            ExitCode::FAILURE
+        }
+    }
+}
