@@ -67,14 +67,41 @@ fn setting_line(answer: &str) -> String {
     )
 }
 
+/// `--latency`: how old the messages were on arrival.
+fn latency_line(mut ages_s: Vec<f64>) -> String {
+    if ages_s.is_empty() {
+        return "latency: no message said when it was sent (only status carries wall_s)".into();
+    }
+    ages_s.sort_by(f64::total_cmp);
+    let at = |q: f64| ages_s[((ages_s.len() - 1) as f64 * q).round() as usize] * 1e3;
+    format!(
+        "latency from publish to this receiver over {} messages: p50 {:.2} ms, p99 {:.2} ms, max {:.2} ms",
+        ages_s.len(),
+        at(0.5),
+        at(0.99),
+        at(1.0)
+    )
+}
+
 pub fn bus(args: BusArgs) -> ExitCode {
+    // A flow is waited for, as a subscriber does; a question needs the robot there now.
+    let wait = matches!(args.command, BusCommand::Echo { .. });
     let result =
-        Tool::connect(&args.connect, &args.robot, false).and_then(|tool| match args.command {
+        Tool::connect(&args.connect, &args.robot, wait).and_then(|tool| match args.command {
             BusCommand::Echo {
                 key,
                 count,
                 seconds,
-            } => tool.echo(&key, count, seconds).map(|()| String::new()),
+                slow,
+                latency,
+            } => {
+                let ages_s = tool.echo(&key, count, seconds, slow)?;
+                Ok(if latency {
+                    latency_line(ages_s)
+                } else {
+                    String::new()
+                })
+            }
             BusCommand::Request { request, mode } => {
                 let payload = request_payload(request, mode)?;
                 decided(&tool.ask("request", Some(payload))?)

@@ -77,6 +77,13 @@ pub enum BusCommand {
         /// Stop after this many seconds.
         #[arg(long, value_name = "SECONDS")]
         seconds: Option<f64>,
+        /// Take this long over each message: a slow receiver, for tests and measurements.
+        #[arg(long, value_name = "SECONDS", default_value_t = 0.0)]
+        slow: f64,
+        /// At the end, print how old the messages were on arrival (p50, p99, max), from
+        /// the time each was sent (status carries it; needs the same clock).
+        #[arg(long)]
+        latency: bool,
     },
     /// Send a request and print the robot's answer: halt, power_up, or mode MODE.
     Request {
@@ -107,6 +114,8 @@ pub enum BusCommand {
 #[derive(Clone, Copy, ValueEnum)]
 pub enum BusRequest {
     Halt,
+    /// The same word as in the request's JSON (power-up is taken too).
+    #[value(name = "power_up", alias = "power-up")]
     PowerUp,
     Mode,
 }

@@ -21,6 +21,9 @@ pub fn status_json(status: &Status, link: &LinkStatus, loops: &[LoopSummary; 2])
     let finite = |x: f64| if x.is_finite() { json!(x) } else { Value::Null };
     json!({
         "t_s": status.t_s,
+        // Wall-clock time of publishing, s since 1970: a receiver on a machine with the
+        // same clock (NTP, or the same computer) sees how old the status is.
+        "wall_s": wall_s(),
         "tick": status.tick,
         "mode": status.mode.name(),
         "power": power,
@@ -41,6 +44,13 @@ pub fn status_json(status: &Status, link: &LinkStatus, loops: &[LoopSummary; 2])
         },
         "loops": { "supervisor": loops[0], "steer": loops[1] },
     })
+}
+
+/// Now, s since 1970 (the system clock).
+pub fn wall_s() -> f64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0.0, |d| d.as_secs_f64())
 }
 
 /// A payload as a JSON object, or why not.

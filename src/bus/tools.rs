@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use zenoh::{Session, Wait};
 
-use super::payload::row_json;
+use super::payload::{row_json, wall_s};
 use super::session::{Role, open};
 use crate::camsim::{CamSim, CamSimOptions};
 
@@ -90,13 +90,26 @@ impl Tool {
         }
     }
 
-    /// Print each message on `key` as one line of JSON, `{"key", "payload"}`, until
-    /// `count` messages or `seconds` have passed (None: for ever).
-    pub fn echo(&self, key: &str, count: Option<u64>, seconds: Option<f64>) -> Result<(), String> {
+    /// Print each message on `key` as one line of JSON, `{"key", "received_s",
+    /// "payload"}`, until `count` messages or `seconds` have passed (None: for ever).
+    /// `slow_s`: take this long over each message (a slow receiver, for tests and
+    /// measurements). Returns each message's age on arrival, s, where its payload says
+    /// when it was sent (`wall_s`).
+    pub fn echo(
+        &self,
+        key: &str,
+        count: Option<u64>,
+        seconds: Option<f64>,
+        slow_s: f64,
+    ) -> Result<Vec<f64>, String> {
         let key = self.key(key);
+        // A receiver that falls behind drops the oldest messages, never the sender's
+        // pace: of a status only the newest counts; of other flows the newest 256 wait.
+        let keep = if key.ends_with("/status") { 1 } else { 256 };
         let subscriber = self
             .session
             .declare_subscriber(&key)
+            .with(zenoh::handlers::RingChannel::new(keep))
             .wait()
             .map_err(|e| e.to_string())?;
         // Seen by the robot program as a receiver (its status and the GUI count them).
@@ -108,6 +121,7 @@ impl Tool {
             .map_err(|e| e.to_string())?;
         let end = seconds.map(|s| Instant::now() + Duration::from_secs_f64(s));
         let mut printed = 0;
+        let mut ages_s = Vec::new();
         while count.is_none_or(|n| printed < n) {
             let wait = end.map_or(Duration::from_millis(200), |end| {
                 end.saturating_duration_since(Instant::now())
@@ -122,11 +136,22 @@ impl Tool {
             // A JSON payload stays JSON; anything else is quoted.
             let payload: serde_json::Value =
                 serde_json::from_str(&payload).unwrap_or(serde_json::Value::String(payload));
-            let line = serde_json::json!({ "key": sample.key_expr().as_str(), "payload": payload });
+            let received_s = wall_s();
+            if let Some(sent_s) = payload.get("wall_s").and_then(serde_json::Value::as_f64) {
+                ages_s.push(received_s - sent_s);
+            }
+            let line = serde_json::json!({
+                "key": sample.key_expr().as_str(),
+                "received_s": received_s,
+                "payload": payload,
+            });
             println!("{line}");
             printed += 1;
+            if slow_s > 0.0 {
+                std::thread::sleep(Duration::from_secs_f64(slow_s));
+            }
         }
-        Ok(())
+        Ok(ages_s)
     }
 
     /// Who is present (liveliness tokens) and which flows carry messages, with their

@@ -71,7 +71,7 @@ impl CameraPort {
             CameraPort::Sim => "the simulated camera computer".to_string(),
             CameraPort::Serial { path, baud } => format!("{path} at {baud} baud"),
             CameraPort::Tcp { address } => format!("tcp://{address}"),
-            CameraPort::Bus => "row estimates on the bus".to_string(),
+            CameraPort::Bus => "the bus (row estimates on camera/row)".to_string(),
         }
     }
 }
