@@ -2,7 +2,7 @@
 
 use std::process::ExitCode;
 
-use mechweed::bus::tools::Tool;
+use mechweed::bus_tools::Tool;
 
 use crate::cli::{BusArgs, BusCommand, BusRequest};
 
@@ -21,14 +21,19 @@ fn config_key(setting: &str) -> Result<String, String> {
 /// The request's payload.
 fn request_payload(request: BusRequest, mode: Option<String>) -> Result<String, String> {
     let json = match (request, mode) {
-        (BusRequest::Halt, _) => serde_json::json!({ "request": "halt" }),
-        (BusRequest::PowerUp, _) => serde_json::json!({ "request": "power_up" }),
         (BusRequest::Mode, Some(mode)) => serde_json::json!({ "request": "mode", "mode": mode }),
         (BusRequest::Mode, None) => {
             return Err(
                 "say which mode: bus request mode autonomous (or joystick, test, halt)".into(),
             );
         }
+        (_, Some(extra)) => {
+            return Err(format!(
+                "'{extra}' goes only after mode (bus request mode {extra})"
+            ));
+        }
+        (BusRequest::Halt, None) => serde_json::json!({ "request": "halt" }),
+        (BusRequest::PowerUp, None) => serde_json::json!({ "request": "power_up" }),
     };
     Ok(json.to_string())
 }

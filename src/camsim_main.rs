@@ -129,7 +129,7 @@ pub struct CamsimArgs {
     #[arg(long)]
     pub bus: bool,
     /// With --bus: where the robot program listens.
-    #[arg(long, value_name = "ENDPOINT", default_value = crate::bus::tools::DEFAULT_ENDPOINT, requires = "bus")]
+    #[arg(long, value_name = "ENDPOINT", default_value = crate::bus_tools::DEFAULT_ENDPOINT, requires = "bus")]
     pub connect: String,
     /// With --bus: the robot's name on the bus ([bus] robot).
     #[arg(
@@ -182,7 +182,7 @@ pub fn run(args: CamsimArgs) -> Result<(), String> {
     };
     if args.bus {
         // The robot program may start after the camera: keep trying to reach it.
-        let tool = crate::bus::tools::Tool::connect(&args.connect, &args.robot, true)?;
+        let tool = crate::bus_tools::Tool::connect(&args.connect, &args.robot, true)?;
         return tool.publish_rows(options);
     }
     match (args.port, args.listen) {

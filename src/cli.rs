@@ -59,7 +59,7 @@ pub struct BusArgs {
     #[command(subcommand)]
     pub command: BusCommand,
     /// Where the robot program listens ([bus] listen on the robot).
-    #[arg(long, global = true, value_name = "ENDPOINT", default_value = mechweed::bus::tools::DEFAULT_ENDPOINT)]
+    #[arg(long, global = true, value_name = "ENDPOINT", default_value = mechweed::bus_tools::DEFAULT_ENDPOINT)]
     pub connect: String,
     /// The robot's name on the bus ([bus] robot on the robot).
     #[arg(long, global = true, value_name = "NAME", default_value = "mechweed")]
@@ -75,10 +75,10 @@ pub enum BusCommand {
         #[arg(long, value_name = "N")]
         count: Option<u64>,
         /// Stop after this many seconds.
-        #[arg(long, value_name = "SECONDS")]
+        #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
         seconds: Option<f64>,
         /// Take this long over each message: a slow receiver, for tests and measurements.
-        #[arg(long, value_name = "SECONDS", default_value_t = 0.0)]
+        #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = parse_seconds)]
         slow: f64,
         /// At the end, print how old the messages were on arrival (p50, p99, max), from
         /// the time each was sent (status carries it; needs the same clock).
@@ -106,7 +106,7 @@ pub enum BusCommand {
     /// Who is on the bus, and which flows carry messages at what rate.
     List {
         /// How long to count messages.
-        #[arg(long, default_value_t = 2.0, value_name = "SECONDS")]
+        #[arg(long, default_value_t = 2.0, value_name = "SECONDS", value_parser = parse_seconds)]
         seconds: f64,
     },
 }
@@ -225,6 +225,14 @@ pub enum RecordCommand {
         #[arg(long, value_name = "METRES", default_value_t = 5.0, value_parser = parse_metres)]
         from_m: f64,
     },
+}
+
+/// A time of 0 to a day, s.
+fn parse_seconds(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(s) if (0.0..=86_400.0).contains(&s) => Ok(s),
+        _ => Err(format!("'{text}' is not a time in s (0 to 86400)")),
+    }
 }
 
 pub fn parse_metres(text: &str) -> Result<f64, String> {

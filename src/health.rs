@@ -17,6 +17,8 @@ pub enum ThreadName {
     CameraLink = 3,
     Gui = 4,
     Console = 5,
+    /// The bus thread: not a safety channel, but a panic anywhere stops the robot.
+    Bus = 6,
 }
 
 impl ThreadName {
@@ -27,6 +29,7 @@ impl ThreadName {
             ThreadName::CameraLink => "camera link",
             ThreadName::Gui => "GUI",
             ThreadName::Console => "console",
+            ThreadName::Bus => "bus",
         }
     }
 
@@ -37,6 +40,7 @@ impl ThreadName {
             ThreadName::CameraLink,
             ThreadName::Gui,
             ThreadName::Console,
+            ThreadName::Bus,
         ]
         .into_iter()
         .find(|t| *t as u8 == code)

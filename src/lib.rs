@@ -10,6 +10,7 @@ mod backend;
 pub mod bench_loop;
 pub mod bench_rows;
 pub mod bus;
+pub mod bus_tools;
 pub mod camlink;
 pub mod camsim;
 pub mod camsim_main;

@@ -16,6 +16,17 @@ pub struct Gains {
     pub steer: PdSettings,
 }
 
+impl Gains {
+    /// The gains robot.ini gives.
+    pub fn from_settings(s: &crate::config::Settings) -> Gains {
+        Gains {
+            left: s.pid_left,
+            right: s.pid_right,
+            steer: s.pid_steer,
+        }
+    }
+}
+
 /// What the robot is doing. Halt at start; every fault latches Fault.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
 #[serde(rename_all = "lowercase")]

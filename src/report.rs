@@ -99,6 +99,8 @@ pub struct Report {
     pub record: RecordOutcome,
     /// What the bus published and answered.
     pub bus: BusFigures,
+    /// Where the bus listened and connected.
+    pub bus_endpoints: String,
 }
 
 /// Said at the start and in the summary of a simulated run with an outside camera.
@@ -166,6 +168,7 @@ impl Report {
             },
             record: run.record.clone(),
             bus: run.bus,
+            bus_endpoints: run.bus_endpoints.clone(),
         }
     }
 
@@ -226,6 +229,9 @@ impl Report {
                 .map_or("-".to_string(), |ms| format!("{ms:.1} ms")),
         );
         out += &self.bus.line();
+        if self.bus.state != crate::bus::BusState::Off {
+            out += &format!(" ({})", self.bus_endpoints);
+        }
         out += "\n";
         out += &record_lines(&self.record);
         out

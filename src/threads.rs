@@ -13,6 +13,7 @@ use crate::camlink::LinkStatus;
 use crate::config::SteerSettings;
 use crate::health::{self, PanicFlag, ThreadHealth, ThreadName};
 use crate::inject::{Fail, Injection};
+use crate::modes::{Gains, Request};
 use crate::record::RecordTap;
 use crate::request_channel::{Envelope, RequestReceiver};
 use crate::rt::{self, LoopSummary, Periodic};
@@ -42,6 +43,8 @@ pub(crate) struct SupervisorWires {
     pub(crate) gui_beat: Reader<f64>,
     /// Steering-law parameters the supervisor accepted (in Halt), for the steer thread.
     pub(crate) steer_settings: Mailbox<SteerSettings>,
+    /// The gains and steering law in force, published when a request changes them.
+    pub(crate) tuning: Writer<(Gains, SteerSettings)>,
     pub(crate) figures: Writer<LoopSummary>,
     /// Hands each tick to the recorder thread; never blocks.
     pub(crate) record: RecordTap,
@@ -117,6 +120,7 @@ impl SupervisorThread {
             link,
             gui_beat,
             steer_settings,
+            tuning,
             figures,
             mut record,
             mut bus,
@@ -135,17 +139,29 @@ impl SupervisorThread {
             (Latest::new(steer), Latest::new(link), Latest::new(gui_beat));
         let mut paused = false;
         let mut figures_pending = false;
+        let mut tuning_pending = false;
         while !stop.load(Ordering::Relaxed) {
             periodic.wait();
             let now_s = clock.elapsed().as_secs_f64();
             let lock_start = rt::monotonic_ns();
             while let Ok(Envelope { request, reply }) = requests.try_recv() {
-                let _ = reply.try_send((request, core.handle(request)));
+                let answer = core.handle(request);
                 if let Some(accepted) = core.take_steer_settings() {
                     // A newer set replaces one the steer thread has not taken yet, so
                     // that it ends on the law that goes with the gains in use.
                     steer_settings.post(accepted);
                 }
+                // Published before the answer, so that whoever asked reads the new values;
+                // never waiting: a reader holding it now gets them at a next tick.
+                tuning_pending |=
+                    answer.is_ok() && matches!(request, Request::Gains(_) | Request::Tuning(..));
+                if tuning_pending {
+                    tuning_pending = !tuning.try_publish(&core.tuning());
+                }
+                let _ = reply.try_send((request, answer));
+            }
+            if tuning_pending {
+                tuning_pending = !tuning.try_publish(&core.tuning());
             }
             // The only meetings with other threads: copying their objects in and ours out.
             let busy = &mut periodic.stats.locks_busy;
@@ -179,8 +195,7 @@ impl SupervisorThread {
             }
             lock_ns = lock_ns.max(rt::monotonic_ns() - publish_start);
             periodic.stats.worst_lock_us = periodic.stats.worst_lock_us.max(lock_ns / 1000);
-            record.after_tick(core.status(), &steer_now, &link_now);
-            bus.after_tick(core.status(), &steer_now, &link_now);
+            record.after_tick(&mut bus, core.status(), &steer_now, &link_now);
             if let Some(Injection {
                 thread: ThreadName::Supervisor,
                 at_s,

@@ -294,3 +294,27 @@ fn the_status_panel_shows_every_input_and_test_link_pings_the_camera() {
     assert_eq!(h.state().supervisor.pings.get(), 1);
     assert_eq!(h.state().supervisor.waiting(), 0, "a ping is not a request");
 }
+
+#[test]
+fn the_status_panel_shows_the_bus_its_endpoints_and_what_it_published_and_dropped() {
+    let mut view = robot(Mode::Halt, PowerState::Off);
+    assert!({
+        let mut h = panels(view.clone(), draw_status);
+        h.step();
+        shows(&h, "bus: off")
+    });
+    view.bus = mechweed::bus::BusFigures {
+        state: mechweed::bus::BusState::Running,
+        peers: 2,
+        status_published: 321,
+        ticks_dropped: 7,
+        ..Default::default()
+    };
+    view.bus_endpoints = "listening on tcp/127.0.0.1:7447, connecting to nothing".into();
+    let mut h = panels(view, draw_status);
+    h.step();
+    assert!(shows(&h, "321 status"));
+    assert!(shows(&h, "7 ticks, 0 events dropped"));
+    assert!(shows(&h, "2 other programs present"));
+    assert!(shows(&h, "listening on tcp/127.0.0.1:7447"));
+}

@@ -15,7 +15,6 @@ pub mod queries;
 pub mod rows;
 pub mod session;
 pub mod thread;
-pub mod tools;
 
 pub use session::{BusError, Role};
 
@@ -46,8 +45,10 @@ pub struct BusFigures {
     pub ticks_dropped: u64,
     pub events_dropped: u64,
     pub queries_answered: u64,
-    /// Queries answered with an error: bad input, or not allowed.
+    /// Queries refused: bad input, not allowed, or refused by the supervisor.
     pub queries_refused: u64,
+    /// Queries that found their queue full and got no answer.
+    pub queries_dropped: u64,
     /// Row estimates received on ROBOT/camera/row, and those refused as impossible.
     pub rows_received: u64,
     pub rows_rejected: u64,
@@ -92,7 +93,7 @@ impl BusFigures {
             return "bus: off".to_string();
         }
         let mut line = format!(
-            "bus: {} status, {} ticks, {} events published ({} ticks, {} events dropped); {} queries answered ({} refused); {} other programs present{}",
+            "bus: {} status, {} ticks, {} events published ({} ticks, {} events dropped); {} queries answered ({} refused, {} dropped); {} other programs present{}",
             self.status_published,
             self.ticks_published,
             self.events_published,
@@ -100,6 +101,7 @@ impl BusFigures {
             self.events_dropped,
             self.queries_answered,
             self.queries_refused,
+            self.queries_dropped,
             self.peers,
             if self.status_receivers {
                 ", status received"

@@ -53,12 +53,19 @@ pub fn wall_s() -> f64 {
         .map_or(0.0, |d| d.as_secs_f64())
 }
 
-/// A payload as a JSON object, or why not.
-fn object(bytes: &[u8]) -> Result<serde_json::Map<String, Value>, String> {
+/// A payload as a JSON object with no field but `known`, or why not: a misspelt field
+/// is named, never ignored.
+fn object(bytes: &[u8], known: &[&str]) -> Result<serde_json::Map<String, Value>, String> {
     let text =
         std::str::from_utf8(bytes).map_err(|_| "the payload is not UTF-8 text".to_string())?;
     match serde_json::from_str::<Value>(text) {
-        Ok(Value::Object(map)) => Ok(map),
+        Ok(Value::Object(map)) => match map.keys().find(|k| !known.contains(&k.as_str())) {
+            Some(unknown) => Err(format!(
+                "\"{unknown}\" is not a field here (the fields are {})",
+                known.join(", ")
+            )),
+            None => Ok(map),
+        },
         Ok(other) => Err(format!("the payload is JSON but not an object: {other}")),
         Err(e) => Err(format!("the payload is not JSON ({e}): {}", clip(text))),
     }
@@ -75,12 +82,17 @@ fn clip(text: &str) -> String {
 
 /// `ROBOT/request`: `{"request": "halt" | "power_up" | "mode", "mode": "..."}`.
 pub fn parse_request(bytes: &[u8]) -> Result<Request, String> {
-    let map = object(bytes)?;
+    let map = object(bytes, &["request", "mode"])?;
     let word = match map.get("request") {
         Some(Value::String(word)) => word.as_str(),
         Some(other) => return Err(format!("\"request\" must be a word, not {other}")),
         None => return Err("no \"request\": say halt, power_up or mode".to_string()),
     };
+    if word != "mode" && map.contains_key("mode") {
+        return Err(format!(
+            "\"mode\" goes only with a mode request, not with {word}"
+        ));
+    }
     match word {
         "halt" => Ok(Request::Mode(Mode::Halt)),
         "power_up" => Ok(Request::PowerUp),
@@ -115,7 +127,7 @@ pub fn parse_request(bytes: &[u8]) -> Result<Request, String> {
 
 /// `ROBOT/config/SECTION/KEY` set: `{"set": "VALUE"}` (a number may come as a number).
 pub fn parse_set(bytes: &[u8]) -> Result<String, String> {
-    let map = object(bytes)?;
+    let map = object(bytes, &["set"])?;
     match map.get("set") {
         Some(Value::String(text)) => Ok(text.clone()),
         Some(Value::Number(n)) => Ok(n.to_string()),
@@ -127,7 +139,7 @@ pub fn parse_set(bytes: &[u8]) -> Result<String, String> {
 /// `ROBOT/camera/row`: `{"seq", "angle_rad", "offset_m", "quality", "t_s"}` from a vision
 /// program; the ranges are the row camera's (beyond them no camera sees a row).
 pub fn parse_row(bytes: &[u8]) -> Result<RowEstimate, String> {
-    let map = object(bytes)?;
+    let map = object(bytes, &["seq", "angle_rad", "offset_m", "quality", "t_s"])?;
     let number = |key: &str| match map.get(key) {
         Some(Value::Number(n)) => n
             .as_f64()
@@ -252,10 +264,11 @@ mod tests {
     fn a_set_takes_text_or_a_number() {
         assert_eq!(parse_set(br#"{"set":"1.5"}"#).unwrap(), "1.5");
         assert_eq!(parse_set(br#"{"set":1.5}"#).unwrap(), "1.5");
+        let misspelt = parse_set(br#"{"value":1}"#).unwrap_err();
         assert!(
-            parse_set(br#"{"value":1}"#)
-                .unwrap_err()
-                .contains("no \"set\"")
+            misspelt.contains("\"value\" is not a field here"),
+            "{misspelt}"
         );
+        assert!(parse_set(b"{}").unwrap_err().contains("no \"set\""));
     }
 }

@@ -1,50 +1,54 @@
 //! Who is on the bus: every mechweed program declares a liveliness token
 //! `ROBOT/alive/NAME` while it runs, and Zenoh takes it back when the program ends or
-//! its link drops. Watching the tokens is how `bus list`, the GUI and the report know
-//! who is there, without anyone announcing or polling.
+//! its link drops. Watching the tokens is how the GUI and the report know who is there,
+//! without anyone announcing or polling.
 
 use std::collections::BTreeSet;
-use std::sync::Arc;
 
-use parking_lot::Mutex;
+use crossbeam_channel::{Receiver, bounded};
 use zenoh::sample::SampleKind;
 use zenoh::{Session, Wait};
 
+/// Token changes waiting to be counted; more are lost (the count is then off until the
+/// next change of that token).
+const QUEUE_CHANGES: usize = 256;
+
 pub struct Peers {
-    present: Arc<Mutex<BTreeSet<String>>>,
+    present: BTreeSet<String>,
+    /// (appeared, key) as zenoh's callback handed them on.
+    changes: Receiver<(bool, String)>,
     _subscriber: zenoh::pubsub::Subscriber<()>,
 }
 
 impl Peers {
     /// Watch the tokens under `key` (e.g. mechweed/alive/**), those already there too.
     pub fn watch(session: &Session, key: &str) -> zenoh::Result<Peers> {
-        let present: Arc<Mutex<BTreeSet<String>>> = Arc::default();
-        let seen = Arc::clone(&present);
+        let (tx, changes) = bounded(QUEUE_CHANGES);
         let subscriber = session
             .liveliness()
             .declare_subscriber(key)
             .history(true)
             .callback(move |sample| {
-                let name = sample.key_expr().as_str().to_string();
-                match sample.kind() {
-                    SampleKind::Put => seen.lock().insert(name),
-                    SampleKind::Delete => seen.lock().remove(&name),
-                };
+                let appeared = sample.kind() == SampleKind::Put;
+                let _ = tx.try_send((appeared, sample.key_expr().as_str().to_string()));
             })
             .wait()?;
         Ok(Peers {
-            present,
+            present: BTreeSet::new(),
+            changes,
             _subscriber: subscriber,
         })
     }
 
-    /// The keys of the tokens present now, sorted.
-    pub fn present(&self) -> Vec<String> {
-        self.present.lock().iter().cloned().collect()
-    }
-
     /// How many other programs are present (every token but this program's own).
-    pub fn others(&self, own: &str) -> u32 {
-        self.present.lock().iter().filter(|k| *k != own).count() as u32
+    pub fn others(&mut self, own: &str) -> u32 {
+        while let Ok((appeared, key)) = self.changes.try_recv() {
+            if appeared {
+                self.present.insert(key);
+            } else {
+                self.present.remove(&key);
+            }
+        }
+        self.present.iter().filter(|k| *k != own).count() as u32
     }
 }

@@ -5,11 +5,16 @@
 //! wrong and changes nothing.
 
 use serde_json::{Value, json};
+use zenoh::Wait;
+use zenoh::bytes::Encoding;
+use zenoh::query::Query;
 
-use crate::config::{AcceptRequests, Settings};
+use crate::config::{AcceptRequests, PiSettings, Settings, SteerSettings};
 use crate::modes::{Gains, Mode, Request};
 use crate::request_channel::SupervisorHandle;
+use crate::state::Reader;
 
+use super::BusFigures;
 use super::payload::{parse_request, parse_set};
 
 /// Settings a running robot takes (the GUI's Tuning tab); the others are read at start.
@@ -21,13 +26,60 @@ pub type Answer = Result<Value, String>;
 pub struct Queries {
     settings: Settings,
     supervisor: SupervisorHandle,
+    tuning: Reader<(Gains, SteerSettings)>,
 }
 
 impl Queries {
-    pub fn new(settings: &Settings, supervisor: SupervisorHandle) -> Queries {
+    pub fn new(
+        settings: &Settings,
+        supervisor: SupervisorHandle,
+        tuning: Reader<(Gains, SteerSettings)>,
+    ) -> Queries {
         Queries {
             settings: settings.clone(),
             supervisor,
+            tuning,
+        }
+    }
+
+    /// Answer `query` (a request, or a setting under `config_prefix`), counted in
+    /// `figures`. Every answer is JSON; an error answer is `{"error": WHY}`.
+    pub fn serve(
+        &mut self,
+        query: &Query,
+        is_request: bool,
+        config_prefix: &str,
+        figures: &mut BusFigures,
+    ) {
+        let payload = query.payload().map(|p| p.to_bytes().into_owned());
+        let answer = if is_request {
+            self.request(payload.as_deref().unwrap_or_default())
+        } else {
+            let key = query.key_expr().as_str();
+            let path = key.strip_prefix(config_prefix).unwrap_or(key);
+            self.config(path, payload.as_deref())
+        };
+        figures.queries_answered += 1;
+        let sent = match answer {
+            Ok(reply) => {
+                if reply.get("accepted") == Some(&Value::Bool(false)) {
+                    figures.queries_refused += 1;
+                }
+                query
+                    .reply(query.key_expr().clone(), reply.to_string())
+                    .encoding(Encoding::APPLICATION_JSON)
+                    .wait()
+            }
+            Err(why) => {
+                figures.queries_refused += 1;
+                query
+                    .reply_err(json!({ "error": why }).to_string())
+                    .encoding(Encoding::APPLICATION_JSON)
+                    .wait()
+            }
+        };
+        if let Err(e) = sent {
+            tracing::debug!("bus: the answer could not be sent: {e}");
         }
     }
 
@@ -80,6 +132,11 @@ impl Queries {
             return Err(format!("{name} is not a setting in {}", source.label));
         };
         let Some(payload) = payload.filter(|p| !p.is_empty()) else {
+            // A gain or law parameter as in force now (the GUI or the bus may have
+            // changed it since the start); any other setting as the program read it.
+            let (mut gains, mut law) = self.tuning.snapshot();
+            let value =
+                live_field(&mut gains, &mut law, section, key).map_or(value, |v| v.to_string());
             return Ok(json!({
                 "setting": format!("{section}.{key}"),
                 "value": value,
@@ -106,16 +163,19 @@ impl Queries {
                 let lines: Vec<String> = errors.iter().map(ToString::to_string).collect();
                 format!("{name} = {new_value} refused: {}", lines.join("; "))
             })?;
-        let gains = Gains {
-            left: checked.pid_left,
-            right: checked.pid_right,
-            steer: checked.pid_steer,
+        // One value changes; every other gain and law parameter stays as it is in force
+        // now (the GUI's Tuning tab may have changed them since the start).
+        let (mut gains, mut law) = self.tuning.snapshot();
+        let (mut new_gains, mut new_law) = (Gains::from_settings(&checked), checked.steer);
+        let new = live_field(&mut new_gains, &mut new_law, section, key).map(|v| *v);
+        let (Some(new), Some(in_force)) = (new, live_field(&mut gains, &mut law, section, key))
+        else {
+            return Self::refused(format!("{name} cannot be changed on a running robot"));
         };
-        match self
-            .supervisor
-            .request(Request::Tuning(gains, checked.steer))
-        {
+        *in_force = new;
+        match self.supervisor.request(Request::Tuning(gains, law)) {
             Ok(()) => {
+                tracing::info!("bus: {name} set to {new_value} by another program");
                 self.settings = checked;
                 Ok(
                     json!({ "accepted": true, "setting": format!("{section}.{key}"), "value": new_value }),
@@ -123,6 +183,41 @@ impl Queries {
             }
             Err(reason) => Self::refused(reason),
         }
+    }
+}
+
+/// The value of `[section] key` among the gains and the steering law, to read or set;
+/// None if it is not one of them.
+fn live_field<'a>(
+    gains: &'a mut Gains,
+    law: &'a mut SteerSettings,
+    section: &str,
+    key: &str,
+) -> Option<&'a mut f64> {
+    let pi = |p: &'a mut PiSettings| match key {
+        "kp" => Some(&mut p.kp),
+        "ki" => Some(&mut p.ki),
+        "kff" => Some(&mut p.kff),
+        "out_max_v" => Some(&mut p.out_max_v),
+        _ => None,
+    };
+    let pd = &mut gains.steer;
+    match (section, key) {
+        ("pid.left", _) => pi(&mut gains.left),
+        ("pid.right", _) => pi(&mut gains.right),
+        ("pid.steer", "kp") => Some(&mut pd.kp),
+        ("pid.steer", "kd") => Some(&mut pd.kd),
+        ("pid.steer", "d_filter_s") => Some(&mut pd.d_filter_s),
+        ("pid.steer", "out_max_v") => Some(&mut pd.out_max_v),
+        ("steer", "rate_hz") => Some(&mut law.rate_hz),
+        ("steer", "speed_mps") => Some(&mut law.speed_mps),
+        ("steer", "lookahead_m") => Some(&mut law.lookahead_m),
+        ("steer", "ki_per_m2") => Some(&mut law.ki_per_m2),
+        ("steer", "integral_max_deg") => Some(&mut law.integral_max_deg),
+        ("steer", "curvature_filter_m") => Some(&mut law.curvature_filter_m),
+        ("steer", "latency_s") => Some(&mut law.latency_s),
+        ("steer", "endswitch_back_deg") => Some(&mut law.endswitch_back_deg),
+        _ => None,
     }
 }
 

@@ -8,7 +8,7 @@
 use std::io::{self, Read, Write};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use crossbeam_channel::{Receiver, bounded};
 use mechweed_hw::camproto::{FRAME_LEN, encode_row};
@@ -25,53 +25,62 @@ pub struct RowCounts {
 
 /// The camera link's byte stream when the rows come from the bus.
 pub struct BusRows {
-    frames: Receiver<[u8; FRAME_LEN]>,
+    payloads: Receiver<Vec<u8>>,
     read_timeout: Duration,
+    counts: Arc<RowCounts>,
+    key: String,
     _subscriber: zenoh::pubsub::Subscriber<()>,
 }
 
-/// Frames waiting for the link thread; it reads every 10 ms, so a few are plenty, and a
-/// full queue drops the newest estimate rather than wait in zenoh's callback.
-const QUEUE_FRAMES: usize = 8;
+/// Estimates waiting for the link thread; it reads every 10 ms, so a few are plenty, and
+/// a full queue drops the newest rather than wait in zenoh's callback.
+const QUEUE_ROWS: usize = 8;
 
 impl BusRows {
-    /// Subscribe to `key`; bad estimates are counted in `counts` and logged with why.
+    /// Subscribe to `key`; zenoh's callback only hands each payload on.
     pub fn subscribe(
         session: &Session,
         key: &str,
         read_timeout: Duration,
         counts: Arc<RowCounts>,
     ) -> zenoh::Result<BusRows> {
-        let (tx, frames) = bounded(QUEUE_FRAMES);
-        let key_text = key.to_string();
+        let (tx, payloads) = bounded(QUEUE_ROWS);
         let subscriber = session
             .declare_subscriber(key)
             .callback(move |sample| {
-                counts.received.fetch_add(1, Ordering::Relaxed);
-                match parse_row(&sample.payload().to_bytes()) {
-                    Ok(estimate) => {
-                        let _ = tx.try_send(encode_row(&estimate));
-                    }
-                    Err(why) => {
-                        let n = counts.rejected.fetch_add(1, Ordering::Relaxed) + 1;
-                        // The first few name the problem; a flood is only counted.
-                        if n <= 5 {
-                            tracing::warn!("{key_text}: row estimate refused: {why}");
-                        }
-                    }
-                }
+                let _ = tx.try_send(sample.payload().to_bytes().into_owned());
             })
             .wait()?;
         Ok(BusRows {
-            frames,
+            payloads,
             read_timeout,
+            counts,
+            key: key.to_string(),
             _subscriber: subscriber,
         })
+    }
+
+    /// The frame for one payload, or None for one refused (counted, and the first few
+    /// logged with why).
+    fn frame(&self, payload: &[u8]) -> Option<[u8; FRAME_LEN]> {
+        self.counts.received.fetch_add(1, Ordering::Relaxed);
+        match parse_row(payload) {
+            Ok(estimate) => Some(encode_row(&estimate)),
+            Err(why) => {
+                let n = self.counts.rejected.fetch_add(1, Ordering::Relaxed) + 1;
+                // The first few name the problem; a flood is only counted.
+                if n <= 5 {
+                    tracing::warn!("{}: row estimate refused: {why}", self.key);
+                }
+                None
+            }
+        }
     }
 }
 
 impl Read for BusRows {
-    /// The frames that came, or a time-out after `read_timeout` as a serial port gives.
+    /// The frames of the estimates that came, or a time-out after `read_timeout` as a
+    /// serial port gives.
     fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
         if buf.len() < FRAME_LEN {
             return Err(io::Error::new(
@@ -79,24 +88,27 @@ impl Read for BusRows {
                 "read a whole frame at a time",
             ));
         }
-        let first = self
-            .frames
-            .recv_timeout(self.read_timeout)
-            .map_err(|_| io::Error::new(io::ErrorKind::TimedOut, "no row estimate"))?;
-        buf[..FRAME_LEN].copy_from_slice(&first);
-        let mut n = FRAME_LEN;
-        // Take more only while there is room: a frame taken is never cut.
+        let deadline = Instant::now() + self.read_timeout;
+        let mut n = 0;
+        // Wait for the first payload; then take what is there while a frame fits.
         while buf.len() - n >= FRAME_LEN {
-            let Ok(frame) = self.frames.try_recv() else {
-                break;
+            let payload = if n == 0 {
+                self.payloads.recv_deadline(deadline).ok()
+            } else {
+                self.payloads.try_recv().ok()
             };
-            buf[n..n + FRAME_LEN].copy_from_slice(&frame);
-            n += FRAME_LEN;
+            let Some(payload) = payload else { break };
+            if let Some(frame) = self.frame(&payload) {
+                buf[n..n + FRAME_LEN].copy_from_slice(&frame);
+                n += FRAME_LEN;
+            }
+        }
+        if n == 0 {
+            return Err(io::Error::new(io::ErrorKind::TimedOut, "no row estimate"));
         }
         Ok(n)
     }
 }
-
 impl Write for BusRows {
     /// START, STOP and PING mean nothing to a vision program on the bus, which
     /// publishes as long as it runs: they are taken and dropped.

@@ -1,5 +1,16 @@
 //! Where the camera computer is: robot.ini [camera] port and baud.
 
+use super::reader::Reader;
+
+/// Read [camera] port and baud.
+pub(super) fn load(r: &mut Reader) -> CameraPort {
+    let names = BAUD_RATES.map(|b| b.to_string());
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    let baud = BAUD_RATES[r.choice("camera", "baud", &names)];
+    r.parsed("camera", "port", |text| CameraPort::parse(text, baud))
+        .unwrap_or(CameraPort::Sim)
+}
+
 /// Baud rates the camera computer can be set to (function_spec.md section 7).
 pub const BAUD_RATES: [u32; 5] = [9600, 19200, 38400, 57600, 115200];
 

@@ -237,7 +237,7 @@ impl Settings {
             steer: steer(&mut r),
             joystick: joystick(&mut r),
             camera: camera(&mut r),
-            camera_port: camera_port(&mut r),
+            camera_port: camera_port::load(&mut r),
             rt: rt(&mut r),
             backend: [Backend::Sim, Backend::Cards][r.choice("hw", "backend", &["sim", "cards"])],
             cards: io::cards(&mut r),
@@ -378,14 +378,6 @@ fn rt(r: &mut Reader) -> RtSettings {
         overrun_window_s: r.f64(s, "overrun_window_s", 0.1, 3600.0),
         max_late_periods: r.f64(s, "max_late_periods", 1.0, 100.0),
     }
-}
-
-fn camera_port(r: &mut Reader) -> CameraPort {
-    let names = BAUD_RATES.map(|b| b.to_string());
-    let names: Vec<&str> = names.iter().map(String::as_str).collect();
-    let baud = BAUD_RATES[r.choice("camera", "baud", &names)];
-    r.parsed("camera", "port", |text| CameraPort::parse(text, baud))
-        .unwrap_or(CameraPort::Sim)
 }
 
 fn camera(r: &mut Reader) -> CameraSettings {

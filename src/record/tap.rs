@@ -82,15 +82,24 @@ impl RecordTap {
     }
 
     /// The real-time supervisor thread's call, after it published `status`, with the
-    /// steer command and link status it ticked with.
-    pub fn after_tick(&mut self, status: &Status, steer: &SteerCommand, link: &LinkStatus) {
-        let Some(q) = &self.queue else { return };
-        if !status.tick.is_multiple_of(q.every_n_ticks) {
-            self.offer_events(status);
-            return;
-        }
-        let truth = q.truth.as_ref().map(TruthHandle::truth);
+    /// steer command and link status it ticked with: for this tap (the recorder's) and
+    /// `also` (the bus's). The simulated robot's truth, behind a lock the plant shares,
+    /// is read once for both, and only on a tick one of them keeps.
+    pub fn after_tick(
+        &mut self,
+        also: &mut RecordTap,
+        status: &Status,
+        steer: &SteerCommand,
+        link: &LinkStatus,
+    ) {
+        let truth = [&*self, &*also]
+            .into_iter()
+            .filter_map(|tap| tap.queue.as_ref())
+            .find(|q| status.tick.is_multiple_of(q.every_n_ticks))
+            .and_then(|q| q.truth.as_ref())
+            .map(TruthHandle::truth);
         self.offer(status, steer, link, truth.as_ref());
+        also.offer(status, steer, link, truth.as_ref());
     }
 
     /// Offer one tick (every tick: events are found here, ticks kept every Nth).

@@ -22,6 +22,7 @@ use crate::camlink::{LinkCore, LinkStatus, simwire};
 use crate::config::CameraPort;
 use crate::config::{Backend, Settings};
 use crate::health::{self, PanicFlag, ThreadName};
+use crate::modes::Gains;
 use crate::record::{self, RecordTap, Recorder};
 use crate::request_channel;
 use crate::rt::LoopSummary;
@@ -107,6 +108,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
     let (link_w, link_r) = shared(LinkStatus::default());
     let (gui_beat_w, gui_beat_r) = shared(f64::NAN);
     let (steer_settings_w, steer_settings_r) = shared(s.steer);
+    let (tuning_w, tuning_r) = shared((Gains::from_settings(s), s.steer));
     let (estimate_tx, estimate_rx) = bounded(1);
     let (ping_tx, ping_rx) = bounded(1);
     let (new_steer_settings_tx, new_steer_settings_rx) = state::mailbox();
@@ -130,6 +132,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         link: link_r.clone(),
         gui_beat: gui_beat_r,
         steer_settings: new_steer_settings_tx,
+        tuning: tuning_w,
         figures: supervisor_figures_w,
         record: record_tap,
         bus: bus_tap,
@@ -183,12 +186,15 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
                 loops: [supervisor_figures.clone(), steer_figures.clone()],
                 flow,
                 supervisor: handle.clone(),
+                tuning: tuning_r,
                 figures: bus_figures_w,
                 rows: row_counts,
                 stop: stop.clone(),
             };
             let settings = s.clone();
+            let panics = panics.clone();
             Some(spawn("bus", move || {
+                health::watch_this_thread(&panics, ThreadName::Bus);
                 crate::bus::thread::run(session, &settings, wires).unwrap_or_else(|e| {
                     tracing::error!("the bus stopped: {e}");
                     BusFigures::default()
@@ -304,6 +310,7 @@ impl Running {
             outside_camera,
             record,
             bus,
+            bus_endpoints: bus_endpoints(&self.settings),
         }
     }
 }

@@ -94,4 +94,6 @@ pub struct RunOutcome {
     pub record: RecordOutcome,
     /// What the bus did (state Off if there was none).
     pub bus: BusFigures,
+    /// Where the bus listened and connected, in words.
+    pub bus_endpoints: String,
 }

@@ -46,6 +46,8 @@ pub struct Supervisor {
     test_outputs: Outputs,
     /// Steering-law parameters accepted in Halt, not yet passed to the steer thread.
     steer_settings: Option<SteerSettings>,
+    /// The steering law's parameters as last accepted (the steer thread follows).
+    steer_in_force: SteerSettings,
     status: Status,
     fault_log: Vec<FaultRecord>,
     notice_log: Vec<Notice>,
@@ -72,6 +74,7 @@ impl Supervisor {
             row_end: RowEnd::new(s),
             test_outputs: Outputs::SAFE,
             steer_settings: None,
+            steer_in_force: s.steer,
             status: Status::default(),
             fault_log: Vec::with_capacity(LOG_CAPACITY),
             notice_log: Vec::with_capacity(LOG_CAPACITY),
@@ -103,6 +106,12 @@ impl Supervisor {
             right: self.right.gains,
             steer: self.steering.gains,
         }
+    }
+
+    /// The gains and steering-law parameters in force: what a change of one of them
+    /// (from the bus) starts from.
+    pub fn tuning(&self) -> (Gains, SteerSettings) {
+        (self.gains(), self.steer_in_force)
     }
 
     /// Steering-law parameters accepted since the last call, for the steer thread.

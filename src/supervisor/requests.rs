@@ -65,6 +65,7 @@ impl Supervisor {
                 }
                 self.set_gains(&gains);
                 self.steer_settings = Some(steer_law);
+                self.steer_in_force = steer_law;
                 Ok(())
             }
             Request::TestOutputs(outputs) => {

@@ -4,10 +4,10 @@
 use std::process::Stdio;
 use std::time::Duration;
 
-use mechweed::bus::tools::Tool;
+use mechweed::bus_tools::Tool;
 use zenoh::Wait;
 
-use super::{Robot, endpoint};
+use super::Robot;
 use crate::common::{mechweed, text};
 
 /// The tool's cross-track column of a record, m, over the rows where the robot drove.
@@ -65,7 +65,7 @@ fn drive_on_camsim(over_bus: bool) -> (String, Vec<f64>) {
     camsim.arg("camsim").stdout(Stdio::piped());
     let (robot, mut camsim) = if over_bus {
         let robot = Robot::start(&set);
-        camsim.args(["--bus", "--connect", &endpoint(robot.port)]);
+        camsim.args(["--bus", "--connect", &robot.endpoint]);
         (robot, camsim.spawn().unwrap())
     } else {
         let camsim = camsim.args(["--listen", &tcp_listen]).spawn().unwrap();
@@ -127,7 +127,7 @@ fn bad_input_on_the_bus_is_answered_with_what_is_wrong_and_changes_nothing() {
         "--set",
         "camera.port=bus",
     ]);
-    let tool = Tool::connect(&endpoint(robot.port), "mechweed", false).unwrap();
+    let tool = Tool::connect(&robot.endpoint, "mechweed", false).unwrap();
     let asked = |key: &str, payload: &str| {
         tool.ask(key, Some(payload.to_string()))
             .expect_err("bad input is answered with an error")
@@ -135,7 +135,9 @@ fn bad_input_on_the_bus_is_answered_with_what_is_wrong_and_changes_nothing() {
     assert!(asked("request", "halt please").contains("not JSON"));
     assert!(asked("request", r#"{"request": 7}"#).contains("must be a word"));
     assert!(asked("request", r#"{"request": "jump"}"#).contains("\"jump\" is not a request"));
-    assert!(asked("config/pid.left/kp", r#"{"value": 3}"#).contains("no \"set\""));
+    assert!(
+        asked("config/pid.left/kp", r#"{"value": 3}"#).contains("\"value\" is not a field here")
+    );
     let range = tool
         .ask("config/steer/speed_mps", Some(r#"{"set": "-4"}"#.into()))
         .unwrap_err();
@@ -146,7 +148,7 @@ fn bad_input_on_the_bus_is_answered_with_what_is_wrong_and_changes_nothing() {
     assert!(speed.contains("\"value\":\"0.5\""), "{speed}");
     // Row estimates no camera could see are counted and named, never steered by.
     let session = mechweed::bus::session::open(mechweed::bus::Role::Tool {
-        connect: vec![endpoint(robot.port)],
+        connect: vec![robot.endpoint.clone()],
         wait: false,
     })
     .unwrap();

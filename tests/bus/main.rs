@@ -22,35 +22,55 @@ pub fn endpoint(port: u16) -> String {
     format!("tcp/127.0.0.1:{port}")
 }
 
-/// A robot program with its bus on `port`, recording into `folder`.
+/// A robot program with its bus listening at `endpoint`, recording into `folder`.
 pub struct Robot {
-    pub child: Child,
-    pub port: u16,
-    folder: tempfile::TempDir,
+    /// None once `finish` has waited for it.
+    child: Option<Child>,
+    pub endpoint: String,
+    folder: Option<tempfile::TempDir>,
+}
+
+/// A test that fails half-way leaves no robot program running behind it.
+impl Drop for Robot {
+    fn drop(&mut self) {
+        if let Some(child) = &mut self.child {
+            let _ = child.kill();
+            let _ = child.wait();
+        }
+    }
 }
 
 impl Robot {
-    /// `mechweed run --headless ARGS` with the bus listening on a port of its own.
+    /// `mechweed run --headless ARGS` with the bus listening on a loopback port of its
+    /// own, once it answers.
     pub fn start(args: &[&str]) -> Robot {
-        let port = free_port();
+        let robot = Robot::spawn(Some(endpoint(free_port())), args);
+        robot.wait_until_answering();
+        robot
+    }
+
+    /// `mechweed run --headless ARGS` with the bus on, listening at `listen` (None: the
+    /// shipped [bus] listen), without waiting for it.
+    pub fn spawn(listen: Option<String>, args: &[&str]) -> Robot {
         let folder = tempfile::tempdir().unwrap();
-        let child = mechweed()
-            .args(["run", "--headless"])
+        let mut cmd = mechweed();
+        cmd.args(["run", "--headless"])
             .args(common::test_run_settings(folder.path()))
-            .args(["--set", "bus.enabled=yes", "--set"])
-            .arg(format!("bus.listen={}", endpoint(port)))
+            .args(["--set", "bus.enabled=yes"]);
+        if let Some(listen) = &listen {
+            cmd.arg("--set").arg(format!("bus.listen={listen}"));
+        }
+        let child = cmd
             .args(args)
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
             .unwrap();
-        let robot = Robot {
-            child,
-            port,
-            folder,
-        };
-        robot.wait_until_answering();
-        robot
+        Robot {
+            child: Some(child),
+            endpoint: listen.unwrap_or_else(|| endpoint(7447)),
+            folder: Some(folder),
+        }
     }
 
     /// The bus answers once the controller runs (at most 10 s on a busy machine).
@@ -75,15 +95,37 @@ impl Robot {
         cmd.arg("bus")
             .args(args)
             .arg("--connect")
-            .arg(endpoint(self.port));
+            .arg(&self.endpoint);
         cmd
+    }
+
+    /// Power up and ask for autonomous over the bus (accept_requests = operator); the
+    /// contactor takes a moment to close, so autonomous is asked until accepted.
+    pub fn power_up_and_drive(&self) {
+        assert!(self.bus(&["request", "power_up"]).status.success());
+        let end = Instant::now() + Duration::from_secs(3);
+        while !self
+            .bus(&["request", "mode", "autonomous"])
+            .status
+            .success()
+        {
+            assert!(Instant::now() < end, "autonomous never accepted");
+            std::thread::sleep(Duration::from_millis(100));
+        }
     }
 
     /// Wait for the run to end (it was given a --duration); its stdout and stderr, and
     /// the folder of its record (deleted when dropped).
-    pub fn finish(self) -> (String, String, tempfile::TempDir) {
-        let out = self.child.wait_with_output().unwrap();
-        (text(&out.stdout), text(&out.stderr), self.folder)
+    pub fn finish(mut self) -> (String, String, tempfile::TempDir) {
+        let child = self.child.take().expect("running");
+        let out = child.wait_with_output().unwrap();
+        let folder = self.folder.take().expect("made at start");
+        (text(&out.stdout), text(&out.stderr), folder)
+    }
+
+    /// The robot program's process id.
+    pub fn pid(&self) -> u32 {
+        self.child.as_ref().map_or(0, Child::id)
     }
 }
 
@@ -182,17 +224,7 @@ fn a_mode_request_is_refused_by_default_and_decided_by_the_supervisor_with_opera
         "{}",
         text(&unpowered.stderr)
     );
-    assert!(robot.bus(&["request", "power_up"]).status.success());
-    // The contactor takes a moment to close.
-    let end = Instant::now() + Duration::from_secs(3);
-    while !robot
-        .bus(&["request", "mode", "autonomous"])
-        .status
-        .success()
-    {
-        assert!(Instant::now() < end, "autonomous never accepted");
-        std::thread::sleep(Duration::from_millis(100));
-    }
+    robot.power_up_and_drive();
     let (stdout, _, _) = robot.finish();
     assert!(stdout.contains("mode: halt -> autonomous"), "{stdout}");
 }
@@ -227,16 +259,7 @@ fn a_setting_set_in_halt_is_taken_and_refused_while_driving() {
     let start_only = robot.bus(&["set", "faults.battery_min_v", "20"]);
     assert!(text(&start_only.stderr).contains("is read when the program starts"));
     // Driving: the supervisor refuses, as it does the GUI's Apply.
-    assert!(robot.bus(&["request", "power_up"]).status.success());
-    let end = Instant::now() + Duration::from_secs(3);
-    while !robot
-        .bus(&["request", "mode", "autonomous"])
-        .status
-        .success()
-    {
-        assert!(Instant::now() < end, "autonomous never accepted");
-        std::thread::sleep(Duration::from_millis(100));
-    }
+    robot.power_up_and_drive();
     let moving = robot.bus(&["set", "pid.left.kp", "25"]);
     assert!(!moving.status.success());
     assert!(
@@ -282,10 +305,14 @@ fn a_port_in_use_is_one_clear_error_or_a_run_without_the_bus() {
     );
 }
 
+/// A receiver that takes 0.4 s over each status, four times the publishing period, as a
+/// receiver must: zenoh's callback hands each message to a ring of one place and the
+/// slow work happens outside it (`bus echo --slow`). A receiver that sleeps inside
+/// zenoh's callback holds up its own session, and its backlog grows there whatever the
+/// robot does (docs/bus.md).
 #[test]
 fn a_slow_receiver_gets_the_newest_status_and_the_robot_does_not_wait() {
     let robot = Robot::start(&["--mode", "autonomous", "--duration", "10"]);
-    // Takes 0.4 s over each status, four times the publishing period.
     let slow = robot.bus(&["echo", "status", "--seconds", "6", "--slow", "0.4"]);
     let lines = json_lines(&slow);
     assert!(lines.len() >= 10, "{} messages", lines.len());

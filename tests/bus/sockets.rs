@@ -3,7 +3,7 @@
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use crate::common::{mechweed, test_run_settings, text};
+use super::Robot;
 
 /// The inodes of the sockets process `pid` holds.
 fn socket_inodes(pid: u32) -> Vec<String> {
@@ -18,19 +18,26 @@ fn socket_inodes(pid: u32) -> Vec<String> {
         .collect()
 }
 
-/// Local addresses (hex, as /proc/net/tcp* writes them) of the listening TCP sockets
-/// among `inodes`.
+/// Local addresses (hex, as /proc/net/* writes them) of the sockets among `inodes` that
+/// can be reached from outside: listening TCP sockets, and every UDP socket (multicast
+/// scouting would be one, bound to every network).
 fn listening(inodes: &[String]) -> Vec<String> {
     let mut found = Vec::new();
-    for table in ["/proc/net/tcp", "/proc/net/tcp6"] {
+    for (table, tcp) in [
+        ("/proc/net/tcp", true),
+        ("/proc/net/tcp6", true),
+        ("/proc/net/udp", false),
+        ("/proc/net/udp6", false),
+    ] {
         let Ok(text) = std::fs::read_to_string(table) else {
             continue;
         };
         for line in text.lines().skip(1) {
             let f: Vec<&str> = line.split_whitespace().collect();
             // local_address is field 1, st field 3 (0A = LISTEN), inode field 9.
-            if f.len() > 9 && f[3] == "0A" && inodes.iter().any(|i| i == f[9]) {
-                found.push(f[1].to_string());
+            let open = !tcp || f.get(3) == Some(&"0A");
+            if f.len() > 9 && open && inodes.iter().any(|i| i == f[9]) {
+                found.push(format!("{} {}", if tcp { "tcp" } else { "udp" }, f[1]));
             }
         }
     }
@@ -38,33 +45,25 @@ fn listening(inodes: &[String]) -> Vec<String> {
 }
 
 /// 127.0.0.1 or ::1, as /proc/net/tcp* writes them.
-fn is_loopback(hex: &str) -> bool {
+fn is_loopback(socket: &str) -> bool {
+    let hex = socket.split(' ').nth(1).unwrap_or("");
     let address = hex.split(':').next().unwrap_or("");
     address == "0100007F" || address == "00000000000000000000000001000000"
 }
 
 #[test]
 fn with_the_shipped_settings_nothing_listens_but_loopback() {
-    let dir = tempfile::tempdir().unwrap();
     // The shipped [bus] (the tests' settings turn it off; this one turns it back on).
-    let robot = mechweed()
-        .args(["run", "--headless", "--duration", "5"])
-        .args(test_run_settings(dir.path()))
-        .args(["--set", "bus.enabled=yes"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let robot = Robot::spawn(None, &["--duration", "5"]);
     let mut sockets = Vec::new();
     for _ in 0..40 {
         std::thread::sleep(Duration::from_millis(100));
-        sockets = listening(&socket_inodes(robot.id()));
+        sockets = listening(&socket_inodes(robot.pid()));
         if !sockets.is_empty() {
             break;
         }
     }
-    let out = robot.wait_with_output();
-    let stdout = text(&out.unwrap().stdout);
+    let (stdout, _, _) = robot.finish();
     assert!(
         stdout.contains("bus: listening on tcp/127.0.0.1:7447"),
         "the shipped bus did not start (port 7447 taken by another program?)\n{stdout}"
@@ -179,28 +178,24 @@ fn over_a_slow_link_the_receiver_s_newest_status_is_never_a_second_old() {
         }
     };
     let port = super::free_port();
-    let dir = tempfile::tempdir().unwrap();
-    let robot = mechweed()
-        .args([
-            "run",
-            "--headless",
-            "--mode",
-            "autonomous",
-            "--duration",
-            "20",
-        ])
-        .args(test_run_settings(dir.path()))
-        .args(["--set", "bus.enabled=yes", "--set"])
-        .arg(format!("bus.listen=tcp/10.231.0.1:{port}"))
-        .stdout(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let listen = format!("tcp/10.231.0.1:{port}");
+    let robot = Robot::spawn(
+        Some(listen.clone()),
+        &["--mode", "autonomous", "--duration", "20"],
+    );
     std::thread::sleep(Duration::from_secs(2));
     // The laptop at the field's edge, across the slow link; it drops what it cannot take.
     let receiver = Command::new("ip")
         .args(["netns", "exec", &link.netns, env!("CARGO_BIN_EXE_mechweed")])
-        .args(["bus", "echo", "status", "--seconds", "15", "--connect"])
-        .arg(format!("tcp/10.231.0.1:{port}"))
+        .args([
+            "bus",
+            "echo",
+            "status",
+            "--seconds",
+            "15",
+            "--connect",
+            &listen,
+        ])
         .output()
         .unwrap();
     let lines = super::json_lines(&receiver);
@@ -215,6 +210,6 @@ fn over_a_slow_link_the_receiver_s_newest_status_is_never_a_second_old() {
             line["received_s"].as_f64().unwrap() - line["payload"]["wall_s"].as_f64().unwrap();
         assert!(age_s < 1.0, "a status {age_s:.2} s old");
     }
-    let stdout = text(&robot.wait_with_output().unwrap().stdout);
+    let (stdout, _, _) = robot.finish();
     assert!(stdout.contains("faults: none"), "{stdout}");
 }

@@ -7,8 +7,8 @@ use std::time::{Duration, Instant};
 
 use zenoh::{Session, Wait};
 
-use super::payload::{row_json, wall_s};
-use super::session::{Role, open};
+use crate::bus::payload::{row_json, wall_s};
+use crate::bus::session::{Role, open};
 use crate::camsim::{CamSim, CamSimOptions};
 
 /// Where the robot program listens with the shipped settings.
@@ -86,7 +86,12 @@ impl Tool {
             .map_err(|_| format!("no answer from {key} within {} s", ANSWER_WAIT.as_secs()))?;
         match reply.result() {
             Ok(sample) => Ok(text(&sample.payload().to_bytes())),
-            Err(error) => Err(text(&error.payload().to_bytes())),
+            // {"error": WHY}: the reason, as the robot program says it.
+            Err(error) => {
+                let body = text(&error.payload().to_bytes());
+                let json: serde_json::Value = serde_json::from_str(&body).unwrap_or_default();
+                Err(json["error"].as_str().map_or(body, str::to_string))
+            }
         }
     }
 
@@ -198,7 +203,10 @@ impl Tool {
             out += "  none\n";
         }
         for (key, n) in counts {
-            out += &format!("  {key:<32} {:6.1} messages/s\n", n as f64 / seconds);
+            out += &format!(
+                "  {key:<32} {:6.1} messages/s\n",
+                n as f64 / seconds.max(1e-3)
+            );
         }
         Ok(out)
     }
