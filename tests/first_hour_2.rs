@@ -3,13 +3,9 @@
 
 mod common;
 
-use common::mechweed;
+use common::{mechweed, text};
 
 use std::process::{Command, Output};
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).to_string()
-}
 
 /// `mechweed ARGS` with its record in `folder`, as a busy test machine allows.
 fn mechweed_recording(args: &[&str], folder: &std::path::Path) -> Output {

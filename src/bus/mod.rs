@@ -63,13 +63,9 @@ pub fn open_for_run(s: &crate::config::Settings) -> Result<Option<zenoh::Session
     }
     match session::open(Role::Robot(&s.bus)) {
         Ok(session) => {
-            let listen = if s.bus.listen.is_empty() {
-                "nothing".to_string()
-            } else {
-                s.bus.listen.join(", ")
-            };
             println!(
-                "bus: listening on {listen}, keys {}/...; requests accepted: {}",
+                "bus: {}, keys {}/...; requests accepted: {}",
+                s.bus.endpoints(),
                 s.bus.robot,
                 match s.bus.accept_requests {
                     crate::config::AcceptRequests::Halt => "halt only",

@@ -93,7 +93,9 @@ impl Queries {
         let what = match request {
             Request::Mode(Mode::Halt) => "halt".to_string(),
             Request::Mode(mode) => format!("mode {mode}"),
-            _ => "power up".to_string(),
+            Request::PowerUp => "power up".to_string(),
+            // parse_request makes no other.
+            _ => "a request".to_string(),
         };
         // Said on the robot's console: the operator there sees who stopped or moved it.
         if request != Request::Mode(Mode::Halt)

@@ -34,6 +34,19 @@ impl BusSettings {
     pub fn key(&self, what: &str) -> String {
         format!("{}/{what}", self.robot)
     }
+
+    /// Where the bus listens and connects, in words (the start line, the GUI, the report).
+    pub fn endpoints(&self) -> String {
+        let list = |endpoints: &[String]| match endpoints {
+            [] => "nothing".to_string(),
+            _ => endpoints.join(", "),
+        };
+        format!(
+            "listening on {}, connecting to {}",
+            list(&self.listen),
+            list(&self.connect)
+        )
+    }
 }
 
 pub(super) fn load(r: &mut Reader) -> BusSettings {

@@ -142,14 +142,9 @@ impl Tuning {
                 return;
             }
         };
-        let gains = Gains {
-            left: s.pid_left,
-            right: s.pid_right,
-            steer: s.pid_steer,
-        };
         // One request: the supervisor takes both or neither.
         requests.ask(
-            Request::Tuning(gains, s.steer),
+            Request::Tuning(Gains::from_settings(&s), s.steer),
             "gains and steering law applied",
         );
     }

@@ -220,7 +220,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         clock,
         not_realtime: not_realtime(s.backend, &s.rt, priorities_refused.as_deref()),
         bus: bus_figures.clone(),
-        bus_endpoints: bus_endpoints(s),
+        bus_endpoints: s.bus.endpoints(),
     };
     let running = Running {
         supervisor,
@@ -238,19 +238,6 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         stop,
     };
     Ok((handles, running))
-}
-
-/// Where the bus listens and connects, in words.
-fn bus_endpoints(s: &Settings) -> String {
-    let list = |endpoints: &[String]| match endpoints {
-        [] => "nothing".to_string(),
-        _ => endpoints.join(", "),
-    };
-    format!(
-        "listening on {}, connecting to {}",
-        list(&s.bus.listen),
-        list(&s.bus.connect)
-    )
 }
 
 impl Running {
@@ -310,7 +297,7 @@ impl Running {
             outside_camera,
             record,
             bus,
-            bus_endpoints: bus_endpoints(&self.settings),
+            bus_endpoints: self.settings.bus.endpoints(),
         }
     }
 }

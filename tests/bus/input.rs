@@ -10,28 +10,20 @@ use zenoh::Wait;
 use super::Robot;
 use crate::common::{mechweed, text};
 
-/// The tool's cross-track column of a record, m, over the rows where the robot drove.
+/// The tool's cross-track, m, at each recorded tick where the robot drove autonomously
+/// past its first metre, read with the program's own record reader.
 fn cross_track_m(folder: &std::path::Path) -> Vec<f64> {
-    let csv = std::fs::read_dir(folder)
+    let newest = mechweed::record::keep::latest(folder).expect("a record");
+    let columns = ["sim_tool_cross_track_m", "mode", "sim_distance_m"];
+    let ticks = mechweed::record::read::read(&newest, &columns)
         .unwrap()
-        .map(|e| e.unwrap().path())
-        .find(|p| {
-            p.to_string_lossy().ends_with(".csv") && !p.to_string_lossy().ends_with(".events.csv")
-        })
-        .expect("a record");
-    let text = std::fs::read_to_string(csv).unwrap();
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
-    let (cross, mode, distance) = (
-        col("sim_tool_cross_track_m"),
-        col("mode"),
-        col("sim_distance_m"),
-    );
-    lines
-        .map(|l| l.split(',').collect::<Vec<_>>())
-        .filter(|c| c[mode] == "autonomous" && c[distance].parse::<f64>().unwrap_or(0.0) > 1.0)
-        .filter_map(|c| c[cross].parse().ok())
+        .ticks;
+    let col = |name| ticks.column(name).unwrap();
+    let (cross, mode, distance) = (col(columns[0]), col(columns[1]), col(columns[2]));
+    (0..ticks.rows.len())
+        .filter(|&row| ticks.text(row, mode) == "autonomous")
+        .filter(|&row| ticks.number(row, distance).ok().flatten().unwrap_or(0.0) > 1.0)
+        .filter_map(|row| ticks.number(row, cross).ok().flatten())
         .collect()
 }
 
