@@ -183,6 +183,11 @@ pub enum BenchCommand {
         /// The GUI's tab while it is open [default: status]
         #[arg(long, value_enum, requires = "gui")]
         tab: Option<Tab>,
+        /// Press the Space key (HALT) in the window about every S seconds through the X
+        /// server, and measure the time to the supervisor's HALT (needs the X server's
+        /// test extension, as Xvfb has).
+        #[arg(long, value_name = "S", requires = "gui")]
+        press_space: Option<f64>,
         /// Override one setting (SECTION.KEY=VALUE), e.g. --set bus.enabled=no; repeatable.
         #[arg(long, value_name = "SECTION.KEY=VALUE")]
         set: Vec<String>,

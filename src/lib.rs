@@ -7,6 +7,7 @@
 //! the rest stays inside.
 
 mod backend;
+mod bench_halt;
 pub mod bench_loop;
 pub mod bench_rows;
 pub mod bus;

@@ -182,7 +182,8 @@ fn run_command(args: RunArgs) -> ExitCode {
         run(&options, stop).map_err(|e| e.to_string())
     } else {
         let settings_file = settings_file(args.config.as_deref());
-        mechweed::gui::run_gui(&options, settings_file, args.tab, stop, RUN_ADVICE)
+        mechweed::gui::run_gui(&options, settings_file, args.tab, stop, RUN_ADVICE, None)
+            .map(|(outcome, _frames)| outcome)
     };
     let outcome = match outcome {
         Ok(outcome) => outcome,
@@ -262,11 +263,12 @@ fn bench(command: BenchCommand) -> ExitCode {
             seconds,
             gui,
             tab,
+            press_space,
             set,
             json,
         } => {
             let gui = gui.then(|| tab.unwrap_or_default());
-            return bench_loop(rate, seconds, gui, &set, json);
+            return bench_loop(rate, seconds, (gui, press_space), &set, json);
         }
     };
     let settings = match load_settings(config.as_deref(), &set) {
@@ -301,7 +303,7 @@ fn bench(command: BenchCommand) -> ExitCode {
 fn bench_loop(
     rate: f64,
     seconds: f64,
-    gui: Option<mechweed::gui::Tab>,
+    (gui, press_space_s): (Option<mechweed::gui::Tab>, Option<f64>),
     set: &[String],
     json: Option<PathBuf>,
 ) -> ExitCode {
@@ -316,7 +318,11 @@ fn bench_loop(
         eprintln!("--rate must be 1 to 10000 Hz and --seconds 0.001 to 86400");
         return ExitCode::FAILURE;
     }
-    match mechweed::bench_loop::bench_loop(&settings, rate, seconds, gui) {
+    if press_space_s.is_some_and(|s| !(0.2..=60.0).contains(&s)) {
+        eprintln!("--press-space must be 0.2 to 60 s");
+        return ExitCode::FAILURE;
+    }
+    match mechweed::bench_loop::bench_loop(&settings, rate, seconds, gui, press_space_s) {
         Ok(figures) => {
             print!("{}", figures.text());
             write_json(json, &figures)

@@ -40,6 +40,11 @@ impl OperatorScript {
         }
     }
 
+    /// Steps are left: an action still to come, or the start mode not yet reached.
+    pub fn has_more(&self) -> bool {
+        self.next < self.events.len() || self.goal.is_some()
+    }
+
     /// The request to send now, if any.
     pub fn due(&mut self, now_s: f64, status: &Status) -> Option<Request> {
         if status.tick == 0 {

@@ -14,15 +14,27 @@ use thread_priority::{
 
 use crate::config::RtSettings;
 
-/// Nanoseconds on CLOCK_MONOTONIC.
-pub fn monotonic_ns() -> u64 {
+/// Nanoseconds on `clock`.
+fn clock_ns(clock: libc::clockid_t) -> u64 {
     let mut ts = libc::timespec {
         tv_sec: 0,
         tv_nsec: 0,
     };
-    // SAFETY: clock_gettime writes into the timespec we own; CLOCK_MONOTONIC always exists.
-    unsafe { libc::clock_gettime(libc::CLOCK_MONOTONIC, &mut ts) };
+    // SAFETY: clock_gettime writes into the timespec we own; both clocks used here
+    // always exist on Linux.
+    unsafe { libc::clock_gettime(clock, &mut ts) };
     ts.tv_sec as u64 * 1_000_000_000 + ts.tv_nsec as u64
+}
+
+/// Nanoseconds on CLOCK_MONOTONIC.
+pub fn monotonic_ns() -> u64 {
+    clock_ns(libc::CLOCK_MONOTONIC)
+}
+
+/// CPU time used by this whole process so far (every thread, also those that have
+/// ended), s: what `bench loop` compares between headless and GUI-open runs.
+pub fn process_cpu_s() -> f64 {
+    clock_ns(libc::CLOCK_PROCESS_CPUTIME_ID) as f64 * 1e-9
 }
 
 /// Sleep until `deadline_ns` on CLOCK_MONOTONIC.

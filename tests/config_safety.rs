@@ -285,6 +285,20 @@ fn the_supervisor_runs_before_the_threads_it_watches() {
 }
 
 #[test]
+fn the_gui_is_not_pinned_to_the_supervisors_cpu() {
+    assert_refused(
+        &shipped_with(&[("rt", "supervisor_cpu", "1"), ("rt", "gui_cpu", "1")]),
+        &[(
+            line("rt", "gui_cpu"),
+            "[rt] gui_cpu = 1 is the supervisor's own CPU: the GUI is pinned to keep its \
+             drawing away from the supervisor, so give it another CPU (or -1, any)",
+        )],
+    );
+    assert_accepted(&[("rt", "supervisor_cpu", "1"), ("rt", "gui_cpu", "0")]);
+    assert_accepted(&[("rt", "supervisor_cpu", "-1"), ("rt", "gui_cpu", "-1")]);
+}
+
+#[test]
 fn the_joystick_agrees_with_the_robot() {
     assert_refused(
         &shipped_with(&[

@@ -2,128 +2,22 @@
 //! over the real controller: the real threads on the simulated robot, in this process.
 //! No timing is asserted: each step waits for its condition with a generous time-out.
 
-use std::path::PathBuf;
-use std::sync::atomic::AtomicBool;
-use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use egui_kittest::Harness;
-use egui_kittest::kittest::{NodeT, Queryable};
+use eframe::egui::ViewportId;
+use egui_kittest::kittest::Queryable;
 use mechweed::config::Settings;
-use mechweed::fault_cause::FaultCause;
 use mechweed::gui::app::Tab;
-use mechweed::gui::{Controller, GuiApp};
+use mechweed::gui::pace::{LOOK_S, Pace};
+use mechweed::gui::pacer::look_once;
+use mechweed::gui::view::ViewSource;
 use mechweed::modes::Mode;
-use mechweed::run::{Handles, RunOptions, RunOutcome, Running, start};
 use mechweed::status::PowerState;
 use mechweed_hw::Outputs;
+use mechweed_hw::sim::EventAction;
 
-struct Gui {
-    harness: Harness<'static, GuiApp>,
-    controller: Controller,
-}
-
-fn gui_with(settings_file: Option<PathBuf>) -> Gui {
-    gui_customised(settings_file, |_| {})
-}
-
-/// The GUI over a controller whose handles `adjust` may change first.
-fn gui_customised(settings_file: Option<PathBuf>, adjust: impl FnOnce(&mut Handles)) -> Gui {
-    let mut settings = Settings::shipped();
-    // Tests run side by side; the bus has tests of its own, on ports of their own.
-    settings.bus.enabled = false;
-    // Software rendering is slow: a late tick now and then is not these tests' subject.
-    settings.rt.max_late_periods = 100.0;
-    let opts = RunOptions {
-        settings,
-        start_mode: Mode::Halt,
-        duration_s: None,
-        status_every_s: 0.0,
-        inject: None,
-    };
-    let stop = Arc::new(AtomicBool::new(false));
-    let (mut handles, running) = start(&opts, stop.clone()).expect("the controller starts");
-    adjust(&mut handles);
-    let controller: Controller = Arc::new(Mutex::new(Some(running)));
-    let app = GuiApp::new(handles, &opts, settings_file, stop, controller.clone());
-    let harness = Harness::builder()
-        .with_size(eframe::egui::vec2(1280.0, 1000.0))
-        .build_ui_state(
-            |ui, app: &mut GuiApp| {
-                app.pass(ui.ctx());
-                app.show(ui);
-            },
-            app,
-        );
-    Gui {
-        harness,
-        controller,
-    }
-}
-
-impl Gui {
-    /// Run GUI passes until `condition` holds (panics after 30 s, naming `what`).
-    fn wait_until(&mut self, what: &str, condition: impl Fn(&GuiApp) -> bool) {
-        let end = Instant::now() + Duration::from_secs(30);
-        loop {
-            self.harness.step();
-            if condition(self.harness.state()) {
-                return;
-            }
-            let v = &self.harness.state().view;
-            assert!(
-                Instant::now() < end,
-                "timed out waiting for {what}; mode {}, fault {:?}, feedback {:?}",
-                v.status.mode,
-                v.status.fault,
-                self.harness.state().feedback()
-            );
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    }
-
-    fn click(&mut self, label: &str) {
-        self.harness.get_by_label(label).click();
-        self.harness.step();
-        self.harness.step();
-    }
-
-    fn enabled(&self, label: &str) -> bool {
-        !self
-            .harness
-            .get_by_label(label)
-            .accesskit_node()
-            .is_disabled()
-    }
-
-    fn shows(&self, text: &str) -> bool {
-        self.harness
-            .query_all_by_label_contains(text)
-            .next()
-            .is_some()
-    }
-
-    fn power_up(&mut self) {
-        self.wait_until("Power up enabled", |app| {
-            app.view.status.measured.calibrated && app.view.status.tick > 0
-        });
-        self.click("Power up");
-        self.wait_until("power on", |app| app.view.status.power == PowerState::On);
-    }
-
-    fn finish(self) -> RunOutcome {
-        let running: Running = self.controller.lock().unwrap().take().expect("running");
-        let outcome = running.finish();
-        for f in &outcome.faults {
-            assert!(
-                !matches!(f.cause, FaultCause::ThreadStopped { .. }),
-                "a heartbeat fault: {}",
-                f.cause
-            );
-        }
-        outcome
-    }
-}
+mod gui_harness;
+use gui_harness::{gui_customised, gui_with};
 
 #[test]
 fn halt_then_autonomous_and_the_robot_moves_then_space_halts() {
@@ -370,5 +264,57 @@ fn the_header_says_when_the_robot_runs_without_real_time_priorities() {
     let mut gui = gui_customised(None, |handles| handles.not_realtime = warning);
     gui.wait_until("the first status", |app| app.view.status.tick > 0);
     assert!(gui.shows("NOT REAL-TIME: the robot drives without real-time priorities"));
+    gui.finish();
+}
+
+/// Repaint by need, through the whole GUI: once settled, the GUI thread asks for no
+/// frame of its own; a change made elsewhere (an e-stop pressed on the simulated robot,
+/// not in the window) makes the pacer's next look ask for a frame, and that frame shows
+/// it. (How soon in time is measured by `bench loop --gui`, not asserted here.)
+#[test]
+fn a_settled_gui_asks_for_no_frame_and_a_change_elsewhere_is_drawn_at_the_next_look() {
+    let mut gui = gui_with(None);
+    gui.wait_until("the first status", |app| app.view.status.tick > 0);
+    let shared = gui.harness.state().shared.clone();
+    let mut pace = Pace::default();
+    look_once(&gui.harness.ctx, &shared, &mut pace, 0.0);
+    for _ in 0..5 {
+        gui.harness.step();
+    }
+    let root = &gui.harness.output().viewport_output[&ViewportId::ROOT];
+    assert_eq!(
+        root.repaint_delay,
+        Duration::MAX,
+        "the settled GUI asked for a frame"
+    );
+    assert!(!gui.shows("PRESSED"));
+
+    let sim = shared
+        .lock()
+        .handles
+        .sim
+        .clone()
+        .expect("the simulated robot");
+    assert!(sim.apply(EventAction::EstopFront));
+    let end = Instant::now() + Duration::from_secs(30);
+    while shared
+        .lock()
+        .handles
+        .view()
+        .status
+        .inputs
+        .estop_front_released
+    {
+        assert!(Instant::now() < end, "the e-stop never reached the status");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    assert!(!gui.harness.ctx.has_requested_repaint());
+    look_once(&gui.harness.ctx, &shared, &mut pace, LOOK_S);
+    assert!(
+        gui.harness.ctx.has_requested_repaint(),
+        "the next look asks for a frame"
+    );
+    gui.harness.step();
+    assert!(gui.shows("PRESSED"), "the frame asked for shows the e-stop");
     gui.finish();
 }

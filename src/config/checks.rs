@@ -293,6 +293,15 @@ fn threads(s: &Settings, r: &mut Reader) {
             )
         });
     }
+    let apart = rt.gui_cpu < 0 || rt.gui_cpu != rt.supervisor_cpu;
+    let keys = [("rt", "gui_cpu"), ("rt", "supervisor_cpu")];
+    require(r, apart, &keys, || {
+        format!(
+            "{} is the supervisor's own CPU: the GUI is pinned to keep its drawing away \
+             from the supervisor, so give it another CPU (or -1, any)",
+            named("rt", "gui_cpu", rt.gui_cpu)
+        )
+    });
     let periods_s = 2.0 / s.steer.rate_hz;
     let keys = [("rt", "heartbeat_timeout_s"), ("steer", "rate_hz")];
     require(r, rt.heartbeat_timeout_s >= periods_s, &keys, || {

@@ -149,6 +149,8 @@ pub struct RtSettings {
     pub camlink_priority: u8,
     pub lock_memory: bool,
     pub supervisor_cpu: i32,
+    /// CPU the operator GUI (and its software renderer) is pinned to, -1 = any.
+    pub gui_cpu: i32,
     pub heartbeat_timeout_s: f64,
     pub gui_heartbeat_timeout_s: f64,
     pub max_overruns: u32,
@@ -367,11 +369,12 @@ fn rt(r: &mut Reader) -> RtSettings {
         lock_memory: r.choice(s, "lock_memory", &["no", "yes"]) == 1,
         // A CPU number is whole: 1.7 is an error, not CPU 1. The range fits i32.
         supervisor_cpu: r.i64(s, "supervisor_cpu", -1, 1023) as i32,
+        gui_cpu: r.i64(s, "gui_cpu", -1, 1023) as i32,
         // A stopped steer or camera-link thread leaves its last command standing: the
         // robot must not drive on it for more than about a second.
         heartbeat_timeout_s: r.f64(s, "heartbeat_timeout_s", 0.05, 1.0),
         // The GUI runs at normal priority and may stall a few frames on a loaded computer
-        // (and beats only 10 times a second when minimised); it holds the HALT button but
+        // (and a frame owed stops its beat until drawn); it holds the HALT button but
         // not the driving (the e-stops are wired), so it may take up to 5 s.
         gui_heartbeat_timeout_s: r.f64(s, "gui_heartbeat_timeout_s", 0.1, 5.0),
         max_overruns: r.u64(s, "max_overruns", 0, 1_000_000) as u32,

@@ -11,6 +11,8 @@ use std::time::Duration;
 use eframe::egui;
 
 use super::Controller;
+use super::pacer::{SharedGui, shared};
+use super::plot_data::PlotSamples;
 use super::plots::Plots;
 use super::requests::{Feedback, Requests};
 use super::script::GuiScript;
@@ -24,9 +26,10 @@ use crate::modes::Mode;
 use crate::operator::needs_confirmation;
 use crate::run::{Handles, RunOptions, start};
 
-/// Repaint period while the robot may move (about 30 Hz) and while it stands, s.
-const FRAME_MOVING: Duration = Duration::from_millis(33);
-const FRAME_STANDING: Duration = Duration::from_millis(100);
+/// While an answer of the supervisor is awaited, and while the operator script has
+/// steps to take, the GUI thread passes this often of its own accord, s.
+const ANSWER_LOOK_S: f64 = 0.05;
+const SCRIPT_LOOK_S: f64 = 0.1;
 
 /// The tab in the middle (`mechweed run --tab` chooses the first).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
@@ -39,7 +42,9 @@ pub enum Tab {
 }
 
 pub struct GuiApp {
-    pub handles: Handles,
+    /// The controller's objects and the plots' samples, shared with the pacer thread
+    /// (pacer.rs), which decides when to draw.
+    pub shared: SharedGui,
     pub view: View,
     pub tab: Tab,
     /// What the panels asked of the supervisor, its answers, and the feedback line.
@@ -67,7 +72,7 @@ impl GuiApp {
     ) -> GuiApp {
         let settings = &opts.settings;
         let mut app = GuiApp {
-            handles,
+            shared: shared(handles, Tab::default()),
             view: View::default(),
             tab: Tab::default(),
             requests: Requests::default(),
@@ -146,9 +151,12 @@ impl GuiApp {
             Ok((handles, running)) => {
                 running.watch_this_thread_as(crate::health::ThreadName::Gui);
                 *slot = Some(running);
-                self.handles = handles;
+                {
+                    let mut shared = self.shared.lock();
+                    shared.handles = handles;
+                    shared.samples = PlotSamples::default();
+                }
                 self.script = GuiScript::new(&[], Mode::Halt);
-                self.plots = Plots::default();
                 self.test = TestPanel::default();
                 self.duration_s = None;
                 self.requests.say(
@@ -171,22 +179,26 @@ impl GuiApp {
     }
 
     /// Once per pass, also while the window is minimised: take the answers, then the
-    /// view, beat, record a plot sample, keep the script and the test outputs going,
-    /// send what they asked for, and ask for the next pass.
+    /// view, keep the script and the test outputs going, send what they asked for, and
+    /// ask for a pass of its own when one is due (the pacer asks for the rest).
     pub fn pass(&mut self, ctx: &egui::Context) {
         // Answers before the view: a status read after an answer is from the tick that
         // answered or a later one (the script relies on it).
         self.requests.take_answers();
-        self.view = self.handles.view();
+        let sim = {
+            let mut shared = self.shared.lock();
+            shared.passes += 1;
+            shared.tab = self.tab;
+            self.view = shared.handles.view();
+            shared.handles.sim.clone()
+        };
         let now_s = self.view.now_s;
-        self.handles.gui_beat.publish(&now_s);
         self.script.pass(&self.view, &mut self.requests);
-        self.plots.record(&self.view);
         self.test.keep_sending(&self.view, &mut self.requests);
-        if let Some(sim) = &self.handles.sim {
+        if let Some(sim) = &sim {
             self.sim.keep_joystick(sim);
         }
-        self.requests.post(&self.handles, now_s);
+        self.requests.post(&self.shared.lock().handles, now_s);
         if let Some(settings) = self.sim.restart.take() {
             self.restart(settings);
         }
@@ -195,10 +207,14 @@ impl GuiApp {
         if ending {
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
         }
-        let moving = self.view.status.mode.drives()
-            || self.view.status.measured.speed_mps.abs() > 0.01
-            || self.view.status.mode == Mode::Test;
-        ctx.request_repaint_after(if moving { FRAME_MOVING } else { FRAME_STANDING });
+        let own_s = [
+            self.requests.awaiting().then_some(ANSWER_LOOK_S),
+            self.script.busy().then_some(SCRIPT_LOOK_S),
+            self.duration_s.map(|d| d - now_s),
+        ];
+        if let Some(after_s) = own_s.into_iter().flatten().reduce(f64::min) {
+            ctx.request_repaint_after(Duration::from_secs_f64(after_s.max(0.0)));
+        }
     }
 
     /// The whole window's contents. What the panels asked for leaves at the end of the
@@ -208,13 +224,14 @@ impl GuiApp {
             header::halt(&self.view, &mut self.requests);
         }
         self.show_confirmation(&ui.ctx().clone());
+        let sim = self.shared.lock().handles.sim.clone();
         let (view, requests) = (&self.view, &mut self.requests);
         egui::Panel::top("header").show(ui, |ui| header::show(ui, view, requests));
         egui::Panel::left("modes")
             .resizable(false)
             .exact_size(250.0)
             .show(ui, |ui| modes::show(ui, view, requests));
-        if let Some(sim) = &self.handles.sim {
+        if let Some(sim) = &sim {
             egui::Panel::right("sim")
                 .resizable(false)
                 .exact_size(270.0)
@@ -237,12 +254,15 @@ impl GuiApp {
             ui.separator();
             egui::ScrollArea::vertical().show(ui, |ui| match self.tab {
                 Tab::Status => status::show(ui, view, requests),
-                Tab::Plots => self.plots.show(ui, view.simulated),
+                Tab::Plots => self.plots.show(ui, view.simulated, &self.shared),
                 Tab::Tuning => self.tuning.show(ui, view, requests),
                 Tab::Test => self.test.show(ui, view, requests),
             });
         });
-        self.requests.post(&self.handles, self.view.now_s);
+        let mut shared = self.shared.lock();
+        shared.frames += 1;
+        shared.tab = self.tab;
+        self.requests.post(&shared.handles, self.view.now_s);
     }
 }
 

@@ -9,7 +9,7 @@ use super::view::View;
 use crate::modes::{Mode, Request};
 
 /// If the supervisor has not published for this long, it has stopped, s.
-const SUPERVISOR_SILENT_S: f64 = 1.0;
+pub const SUPERVISOR_SILENT_S: f64 = 1.0;
 
 pub fn mode_colour(mode: Mode) -> Color32 {
     match mode {

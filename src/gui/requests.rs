@@ -125,6 +125,11 @@ impl Requests {
         self.feedback.as_ref()
     }
 
+    /// Some answer has not come yet (the GUI passes until it has).
+    pub fn awaiting(&self) -> bool {
+        !self.queued.is_empty() || !self.pending.is_empty()
+    }
+
     /// The request is queued or sent and its answer has not come yet.
     pub fn is_open(&self, id: AskId) -> bool {
         self.queued.iter().chain(&self.pending).any(|a| a.id == id)

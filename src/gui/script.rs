@@ -33,6 +33,11 @@ impl GuiScript {
         }
     }
 
+    /// The script has steps left to take or an answer to wait for.
+    pub fn busy(&self) -> bool {
+        !matches!(self.waiting, Waiting::Nothing) || self.script.has_more()
+    }
+
     /// Every pass, after the answers were taken and then the view: ask for what is due.
     pub fn pass(&mut self, view: &View, requests: &mut Requests) {
         match self.waiting {
