@@ -26,10 +26,12 @@ use crate::modes::Mode;
 use crate::operator::needs_confirmation;
 use crate::run::{Handles, RunOptions, start};
 
-/// While an answer of the supervisor is awaited, and while the operator script has
-/// steps to take, the GUI thread passes this often of its own accord, s.
+/// While an answer of the supervisor is awaited, while the operator script has steps to
+/// take, and while a test ramp or step is under way (it is sent from the pass), the GUI
+/// thread passes this often of its own accord, s.
 const ANSWER_LOOK_S: f64 = 0.05;
 const SCRIPT_LOOK_S: f64 = 0.1;
+const TEST_WAVE_S: f64 = 1.0 / 30.0;
 
 /// The tab in the middle (`mechweed run --tab` chooses the first).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
@@ -210,6 +212,7 @@ impl GuiApp {
         let own_s = [
             self.requests.awaiting().then_some(ANSWER_LOOK_S),
             self.script.busy().then_some(SCRIPT_LOOK_S),
+            self.test.changing(now_s).then_some(TEST_WAVE_S),
             self.duration_s.map(|d| d - now_s),
         ];
         if let Some(after_s) = own_s.into_iter().flatten().reduce(f64::min) {

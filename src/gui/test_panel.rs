@@ -92,6 +92,15 @@ impl Default for TestPanel {
 }
 
 impl TestPanel {
+    /// A ramp or a step is under way: the voltage asked for changes with time.
+    pub fn changing(&self, now_s: f64) -> bool {
+        self.last_sent.is_some()
+            && self
+                .amps
+                .iter()
+                .any(|a| a.volts(now_s, self.max_v) != a.volts(f64::INFINITY, self.max_v))
+    }
+
     /// The outputs the panel asks for now.
     pub fn wanted(&self, now_s: f64) -> Outputs {
         let [l, r, s] = self.amps.map(|a| a.volts(now_s, self.max_v));
@@ -246,5 +255,25 @@ mod tests {
         assert_eq!(a.volts(11.5, 5.0), -2.0);
         a.wave = Wave::Stop;
         assert_eq!(a.volts(11.5, 5.0), 0.0);
+    }
+
+    #[test]
+    fn a_ramp_or_step_under_way_keeps_the_gui_passing_and_a_fixed_level_does_not() {
+        let mut panel = TestPanel::default();
+        panel.amps[0] = AmpTest {
+            wave: Wave::Ramp,
+            level_v: 2.0,
+            ramp_v_per_s: 1.0,
+            started_s: 10.0,
+        };
+        assert!(!panel.changing(11.0), "not in Test: nothing is sent");
+        panel.last_sent = Some(Outputs::SAFE);
+        assert!(panel.changing(11.0));
+        assert!(!panel.changing(12.5), "the ramp has reached its level");
+        panel.amps[0].wave = Wave::Step;
+        assert!(panel.changing(10.5));
+        assert!(!panel.changing(11.5));
+        panel.amps[0].wave = Wave::Fixed;
+        assert!(!panel.changing(10.0));
     }
 }
