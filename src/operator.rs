@@ -40,9 +40,11 @@ impl OperatorScript {
         }
     }
 
-    /// Steps are left: an action still to come, or the start mode not yet reached.
-    pub fn has_more(&self) -> bool {
-        self.next < self.events.len() || self.goal.is_some()
+    /// When the next operator action of `[sim] events` is due, s (None: none left). The
+    /// start mode needs no time of its own: the script asks for it when the status
+    /// changes (power on, calibrated).
+    pub fn next_action_s(&self) -> Option<f64> {
+        self.events.get(self.next).map(|e| e.t_s)
     }
 
     /// The request to send now, if any.

@@ -322,6 +322,20 @@ pub fn set_this_thread(priority: u8, cpu: i32) -> Option<String> {
     (!problems.is_empty()).then(|| problems.join("; "))
 }
 
+/// Let the calling thread run on every CPU again: a thread inherits its creator's CPU,
+/// so a thread started from the pinned GUI thread starts here first.
+pub fn unpin_this_thread() {
+    // SAFETY: cpu_set_t is plain data; every bit set means every CPU the system has
+    // (the kernel ignores CPUs that do not exist).
+    unsafe {
+        let mut set: libc::cpu_set_t = std::mem::zeroed();
+        for cpu in 0..libc::CPU_SETSIZE as usize {
+            libc::CPU_SET(cpu, &mut set);
+        }
+        libc::sched_setaffinity(0, std::mem::size_of::<libc::cpu_set_t>(), &set);
+    }
+}
+
 /// Ask once, on a throw-away thread, whether the system grants `priority`.
 pub fn priorities_allowed(rt: &RtSettings) -> Option<String> {
     let highest = rt

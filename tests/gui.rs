@@ -8,8 +8,6 @@ use eframe::egui::ViewportId;
 use egui_kittest::kittest::Queryable;
 use mechweed::config::Settings;
 use mechweed::gui::app::Tab;
-use mechweed::gui::pace::{LOOK_S, Pace};
-use mechweed::gui::pacer::look_once;
 use mechweed::gui::view::ViewSource;
 use mechweed::modes::Mode;
 use mechweed::status::PowerState;
@@ -276,8 +274,7 @@ fn a_settled_gui_asks_for_no_frame_and_a_change_elsewhere_is_drawn_at_the_next_l
     let mut gui = gui_with(None);
     gui.wait_until("the first status", |app| app.view.status.tick > 0);
     let shared = gui.harness.state().shared.clone();
-    let mut pace = Pace::default();
-    look_once(&gui.harness.ctx, &shared, &mut pace, 0.0);
+    gui.look();
     for _ in 0..5 {
         gui.harness.step();
     }
@@ -309,7 +306,8 @@ fn a_settled_gui_asks_for_no_frame_and_a_change_elsewhere_is_drawn_at_the_next_l
         std::thread::sleep(Duration::from_millis(10));
     }
     assert!(!gui.harness.ctx.has_requested_repaint());
-    look_once(&gui.harness.ctx, &shared, &mut pace, LOOK_S);
+    assert!(!gui.shows("PRESSED"), "not on screen before a frame");
+    gui.look();
     assert!(
         gui.harness.ctx.has_requested_repaint(),
         "the next look asks for a frame"
@@ -317,4 +315,46 @@ fn a_settled_gui_asks_for_no_frame_and_a_change_elsewhere_is_drawn_at_the_next_l
     gui.harness.step();
     assert!(gui.shows("PRESSED"), "the frame asked for shows the e-stop");
     gui.finish();
+}
+
+/// With `[rt] gui_cpu` the GUI thread is pinned; a reset of the simulated robot starts
+/// the new controller from the GUI thread, and its threads must not inherit that CPU.
+#[test]
+fn a_reset_from_a_pinned_gui_starts_the_controllers_threads_on_every_cpu() {
+    let every_cpu = allowed_cpus("self").expect("this process's CPUs");
+    if !every_cpu.contains(['-', ',']) {
+        eprintln!("skipped: this machine has one CPU ({every_cpu}), nothing to pin away from");
+        return;
+    }
+    let mut gui = gui_with(None);
+    gui.wait_until("the first status", |app| app.view.status.tick > 0);
+    // This test's thread plays the GUI thread, pinned as run_gui pins it.
+    assert_eq!(mechweed::rt::set_this_thread(0, 0), None);
+    gui.click("Reset robot to row start");
+    gui.wait_until("a new run", |app| {
+        app.view.status.tick > 0 && app.feedback().is_some_and(|f| f.text.contains("reset"))
+    });
+    mechweed::rt::unpin_this_thread();
+    let task_dir = std::fs::read_dir("/proc/self/task").expect("the process's threads");
+    let mut checked = 0;
+    for task in task_dir.flatten() {
+        let tid = task.file_name().to_string_lossy().to_string();
+        let name = std::fs::read_to_string(task.path().join("comm")).unwrap_or_default();
+        if ["supervisor", "steer", "camlink"].contains(&name.trim()) {
+            let cpus = allowed_cpus(&format!("self/task/{tid}")).unwrap();
+            assert_eq!(cpus, every_cpu, "the {} thread is pinned", name.trim());
+            checked += 1;
+        }
+    }
+    assert!(checked >= 3, "found {checked} controller threads");
+    gui.finish();
+}
+
+/// The CPUs a process or thread may run on, as /proc says them ("0-1").
+fn allowed_cpus(proc_path: &str) -> Option<String> {
+    let status = std::fs::read_to_string(format!("/proc/{proc_path}/status")).ok()?;
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("Cpus_allowed_list:"))
+        .map(|v| v.trim().to_string())
 }

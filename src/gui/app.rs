@@ -26,11 +26,10 @@ use crate::modes::Mode;
 use crate::operator::needs_confirmation;
 use crate::run::{Handles, RunOptions, start};
 
-/// While an answer of the supervisor is awaited, while the operator script has steps to
-/// take, and while a test ramp or step is under way (it is sent from the pass), the GUI
-/// thread passes this often of its own accord, s.
+/// While an answer of the supervisor is awaited, and while a test ramp or step is under
+/// way (it is sent from the pass), the GUI thread passes this often of its own accord,
+/// s; the operator script says when it needs a pass.
 const ANSWER_LOOK_S: f64 = 0.05;
-const SCRIPT_LOOK_S: f64 = 0.1;
 const TEST_WAVE_S: f64 = 1.0 / 30.0;
 
 /// The tab in the middle (`mechweed run --tab` chooses the first).
@@ -149,7 +148,17 @@ impl GuiApp {
         let at_s = self.view.now_s;
         // What the old controller was asked will not be answered.
         self.requests.forget_open();
-        match start(&opts, Arc::new(AtomicBool::new(false))) {
+        // Started from a thread of its own, not pinned: the controller's threads would
+        // otherwise inherit the GUI's CPU ([rt] gui_cpu).
+        let started = std::thread::scope(|s| {
+            s.spawn(|| {
+                crate::rt::unpin_this_thread();
+                start(&opts, Arc::new(AtomicBool::new(false)))
+            })
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+        });
+        match started {
             Ok((handles, running)) => {
                 running.watch_this_thread_as(crate::health::ThreadName::Gui);
                 *slot = Some(running);
@@ -211,7 +220,7 @@ impl GuiApp {
         }
         let own_s = [
             self.requests.awaiting().then_some(ANSWER_LOOK_S),
-            self.script.busy().then_some(SCRIPT_LOOK_S),
+            self.script.next_pass_in_s(now_s),
             self.test.changing(now_s).then_some(TEST_WAVE_S),
             self.duration_s.map(|d| d - now_s),
         ];

@@ -16,8 +16,10 @@
 //! and times made by hand.
 //!
 //! The GUI's heartbeat comes from the same look: the GUI is alive while every frame
-//! asked for is drawn. While one is owed the pacer does not beat, so a GUI thread that
-//! hangs stops the beat and the supervisor faults after `[rt] gui_heartbeat_timeout_s`.
+//! asked for has begun (its pass has run). While one is owed the pacer does not beat, so
+//! a GUI thread that hangs stops the beat at the next frame asked of it (within 0.2 s
+//! while the robot may move, 1 s standing) and the supervisor faults
+//! `[rt] gui_heartbeat_timeout_s` later.
 
 use std::hash::{DefaultHasher, Hasher};
 
@@ -54,6 +56,8 @@ struct AtOnce {
     calibrated: bool,
     link: (Option<LinkProblem>, Option<OpenStep>, bool, bool),
     bus: BusState,
+    /// The supervisor's first tick: the operator script starts from it.
+    started: bool,
     controller_silent: bool,
 }
 
@@ -90,6 +94,7 @@ impl AtOnce {
                 view.link.connected,
             ),
             bus: view.bus.state,
+            started: st.tick > 0,
             controller_silent: st.tick > 0 && view.now_s - st.t_s > SUPERVISOR_SILENT_S,
         }
     }

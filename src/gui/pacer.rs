@@ -5,7 +5,8 @@
 //! milliseconds, so the GUI thread sleeps until it has something to show.
 //!
 //! It runs at the GUI's normal priority, below every real-time thread. If it panics or
-//! hangs, the GUI's beat stops and the supervisor faults: safe outputs.
+//! hangs, the GUI's beat stops and the supervisor faults: safe outputs (and Ctrl-C
+//! closes the window at the next operator input instead of at once).
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -14,8 +14,9 @@ use crate::modes::Request;
 use crate::request_channel::Answer;
 
 /// Answers the GUI can hold between two passes. The supervisor never waits to answer
-/// (a full channel loses the answer), and the GUI reads them every pass, at 10 Hz at
-/// least, while the supervisor takes at most a queue's worth (16) each tick.
+/// (a full channel loses the answer), and the GUI reads them every pass, every 50 ms at
+/// least while one is awaited, while the supervisor takes at most a queue's worth (16)
+/// each tick.
 const ANSWER_PLACES: usize = 64;
 /// The supervisor answers within a tick; this long without an answer, it has stopped
 /// (the console's blocking request waits as long), s.

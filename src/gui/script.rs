@@ -13,6 +13,9 @@ use super::view::View;
 use crate::modes::{Mode, Request};
 use crate::operator::OperatorScript;
 
+/// A status from a later tick comes within a supervisor period; look again after, s.
+const STATUS_LOOK_S: f64 = 0.05;
+
 enum Waiting {
     Nothing,
     Answer(AskId),
@@ -33,9 +36,16 @@ impl GuiScript {
         }
     }
 
-    /// The script has steps left to take or an answer to wait for.
-    pub fn busy(&self) -> bool {
-        !matches!(self.waiting, Waiting::Nothing) || self.script.has_more()
+    /// When the script needs a pass of its own, s from `now_s`: soon while it waits for
+    /// a status from after an answer, at the time of its next action, or never (the
+    /// start mode is pursued on the passes that a change of status brings anyway).
+    pub fn next_pass_in_s(&self, now_s: f64) -> Option<f64> {
+        match self.waiting {
+            Waiting::StatusAfter(_) => Some(STATUS_LOOK_S),
+            // The GUI passes while an answer is awaited (`Requests::awaiting`).
+            Waiting::Answer(_) => None,
+            Waiting::Nothing => self.script.next_action_s().map(|t_s| t_s - now_s),
+        }
     }
 
     /// Every pass, after the answers were taken and then the view: ask for what is due.

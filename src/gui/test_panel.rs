@@ -2,8 +2,8 @@
 //! every input live, a switch for each digital output, and for each amplifier a fixed
 //! voltage, a slow ramp or a step, limited to a settable maximum, with a stop.
 //!
-//! The panel computes the amplifier voltages at its own pass rate (10 to 30 a second)
-//! and sends them as `Request::TestOutputs`. Safety does not rest on it: the supervisor
+//! The panel computes the amplifier voltages at its own pass rate (30 a second while a
+//! ramp or a step is under way, see `changing`) and sends them as `Request::TestOutputs`. Safety does not rest on it: the supervisor
 //! takes test outputs only in Test, limits every amplifier to +-10 V, keeps the end-switch
 //! guard, starts Test with the safe outputs (the motor contactor as it was: the relay
 //! switch is then the power switch, watched by the power checks), and on leaving Test

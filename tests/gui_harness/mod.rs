@@ -11,6 +11,8 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
 use mechweed::config::Settings;
 use mechweed::fault_cause::FaultCause;
+use mechweed::gui::pace::Pace;
+use mechweed::gui::pacer::look_once;
 use mechweed::gui::{Controller, GuiApp};
 use mechweed::modes::Mode;
 use mechweed::run::{Handles, RunOptions, RunOutcome, Running, start};
@@ -19,6 +21,10 @@ use mechweed::status::PowerState;
 pub struct Gui {
     pub harness: Harness<'static, GuiApp>,
     controller: Controller,
+    /// The pacer's decision, looked at before each step as the pacer thread would: it
+    /// beats for the GUI, so the supervisor watches the GUI's heartbeat in these tests.
+    pub pace: Pace,
+    clock: Instant,
 }
 
 pub fn gui_with(settings_file: Option<PathBuf>) -> Gui {
@@ -56,14 +62,24 @@ pub fn gui_customised(settings_file: Option<PathBuf>, adjust: impl FnOnce(&mut H
     Gui {
         harness,
         controller,
+        pace: Pace::default(),
+        clock: Instant::now(),
     }
 }
 
 impl Gui {
+    /// One look of the pacer (it may ask for a frame, and beats if none is owed).
+    pub fn look(&mut self) {
+        let shared = self.harness.state().shared.clone();
+        let t_s = self.clock.elapsed().as_secs_f64();
+        look_once(&self.harness.ctx, &shared, &mut self.pace, t_s);
+    }
+
     /// Run GUI passes until `condition` holds (panics after 30 s, naming `what`).
     pub fn wait_until(&mut self, what: &str, condition: impl Fn(&GuiApp) -> bool) {
         let end = Instant::now() + Duration::from_secs(30);
         loop {
+            self.look();
             self.harness.step();
             if condition(self.harness.state()) {
                 return;
@@ -83,6 +99,7 @@ impl Gui {
     pub fn click(&mut self, label: &str) {
         self.harness.get_by_label(label).click();
         self.harness.step();
+        self.look();
         self.harness.step();
     }
 
