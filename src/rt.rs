@@ -285,7 +285,8 @@ pub fn lock_memory() -> Option<String> {
 }
 
 /// Give the calling thread SCHED_FIFO `priority` (0 = leave it normal) and pin it to
-/// `cpu` (-1 = any). Returns a warning saying what to change when refused.
+/// `cpu` (-1 = any: every CPU, also when the thread that started it was pinned, as the
+/// GUI is by `[rt] gui_cpu`). Returns a warning saying what to change when refused.
 pub fn set_this_thread(priority: u8, cpu: i32) -> Option<String> {
     let mut problems = Vec::new();
     if priority > 0 {
@@ -318,12 +319,13 @@ pub fn set_this_thread(priority: u8, cpu: i32) -> Option<String> {
                 std::io::Error::last_os_error()
             ));
         }
+    } else {
+        unpin_this_thread();
     }
     (!problems.is_empty()).then(|| problems.join("; "))
 }
 
-/// Let the calling thread run on every CPU again: a thread inherits its creator's CPU,
-/// so a thread started from the pinned GUI thread starts here first.
+/// Let the calling thread run on every CPU: a thread inherits its creator's CPUs.
 pub fn unpin_this_thread() {
     // SAFETY: cpu_set_t is plain data; every bit set means every CPU the system has
     // (the kernel ignores CPUs that do not exist).

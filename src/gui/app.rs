@@ -148,17 +148,9 @@ impl GuiApp {
         let at_s = self.view.now_s;
         // What the old controller was asked will not be answered.
         self.requests.forget_open();
-        // Started from a thread of its own, not pinned: the controller's threads would
-        // otherwise inherit the GUI's CPU ([rt] gui_cpu).
-        let started = std::thread::scope(|s| {
-            s.spawn(|| {
-                crate::rt::unpin_this_thread();
-                start(&opts, Arc::new(AtomicBool::new(false)))
-            })
-            .join()
-            .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
-        });
-        match started {
+        // Started from this (maybe pinned) thread: the real-time threads leave its CPU
+        // themselves (`rt::set_this_thread`).
+        match start(&opts, Arc::new(AtomicBool::new(false))) {
             Ok((handles, running)) => {
                 running.watch_this_thread_as(crate::health::ThreadName::Gui);
                 *slot = Some(running);
@@ -199,7 +191,6 @@ impl GuiApp {
         let sim = {
             let mut shared = self.shared.lock();
             shared.passes += 1;
-            shared.tab = self.tab;
             self.view = shared.handles.view();
             shared.handles.sim.clone()
         };

@@ -43,7 +43,8 @@ fn driving(t_s: f64) -> View {
 
 #[test]
 fn an_idle_gui_draws_its_first_frame_and_then_none() {
-    // Nothing in the view changes but the clock: ten seconds without a frame.
+    // Nothing in the view changes but the clock: ten seconds without a frame. (Tick 0:
+    // a status of a later tick that stops changing is a silent controller, drawn.)
     let mut still = standing(0.0);
     still.status.tick = 0;
     let asked = frames(

@@ -86,11 +86,6 @@ pub struct Plots {
 }
 
 impl Plots {
-    /// Points drawn per line so far in the last frame (for tests).
-    pub fn points_drawn(&self) -> usize {
-        self.buffers.iter().map(Vec::len).max().unwrap_or(0)
-    }
-
     pub fn show(&mut self, ui: &mut egui::Ui, simulated: bool, shared: &SharedGui) {
         let lines = CHARTS.iter().map(|c| c.lines.len()).sum();
         self.buffers.resize_with(lines, Vec::new);
