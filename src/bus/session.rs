@@ -9,9 +9,14 @@ use crate::config::BusSettings;
 #[derive(Debug, thiserror::Error)]
 pub enum BusError {
     #[error(
-        "cannot listen on {endpoint} ([bus] listen): port {port} is already in use (another mechweed running? choose another port with --set bus.listen=tcp/127.0.0.1:PORT)"
+        "cannot listen on {endpoint} ({setting}): port {port} is already in use (another mechweed running? choose another port{advice})"
     )]
-    PortInUse { endpoint: String, port: u16 },
+    PortInUse {
+        endpoint: String,
+        port: u16,
+        setting: &'static str,
+        advice: &'static str,
+    },
     #[error("cannot reach {endpoints} ({setting}): {why} (is the robot program running there?)")]
     Unreachable {
         endpoints: String,
@@ -30,6 +35,8 @@ pub enum Role<'a> {
     /// A tool (`bus echo`, `camsim --bus`, ...) that connects to the robot program and
     /// listens on nothing. `wait`: keep trying to connect instead of failing.
     Tool { connect: Vec<String>, wait: bool },
+    /// The cluster's master: listens where the graph says, for the launchers.
+    Master { listen: String },
 }
 
 /// Open the session for `role`.
@@ -43,6 +50,13 @@ pub fn open(role: Role) -> Result<Session, BusError> {
             true,
         ),
         Role::Tool { connect, wait } => (Vec::new(), connect.clone(), false, "--connect", *wait),
+        Role::Master { listen } => (
+            vec![listen.clone()],
+            Vec::new(),
+            false,
+            "[cluster] master",
+            true,
+        ),
     };
     let mut config = zenoh::Config::default();
     let json = |items: &[String]| serde_json::to_string(items).expect("strings are JSON");
@@ -58,6 +72,13 @@ pub fn open(role: Role) -> Result<Session, BusError> {
             "connect/timeout_ms",
             if wait { "-1" } else { "3000" }.to_string(),
         ),
+        // A program waiting for another (camsim for the controller, a launcher for
+        // the master) finds it within a second of its start, not four.
+        (
+            "connect/retry",
+            r#"{"period_init_ms": 250, "period_max_ms": 1000, "period_increase_factor": 2}"#
+                .to_string(),
+        ),
     ];
     for (key, value) in settings {
         config
@@ -70,7 +91,20 @@ pub fn open(role: Role) -> Result<Session, BusError> {
     zenoh::open(config).wait().map_err(|e| {
         let why = e.to_string();
         if let Some((endpoint, port)) = listen.iter().find_map(|ep| in_use(ep)) {
-            return BusError::PortInUse { endpoint, port };
+            let advice = match role {
+                Role::Master { .. } => "",
+                _ => " with --set bus.listen=tcp/127.0.0.1:PORT",
+            };
+            let setting = match role {
+                Role::Master { .. } => "[cluster] master",
+                _ => "[bus] listen",
+            };
+            return BusError::PortInUse {
+                endpoint,
+                port,
+                setting,
+                advice,
+            };
         }
         if !connect.is_empty() && listen.is_empty() {
             return BusError::Unreachable {

@@ -66,7 +66,7 @@ pub(super) fn load(r: &mut Reader) -> BusSettings {
 }
 
 /// A key prefix: letters, digits, `_` and `-`, in parts joined by `/`.
-fn parse_prefix(text: &str) -> Result<String, String> {
+pub fn parse_prefix(text: &str) -> Result<String, String> {
     let part_ok = |part: &str| {
         !part.is_empty()
             && part

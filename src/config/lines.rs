@@ -72,7 +72,9 @@ enum Under {
 }
 
 /// Sort every line of `text` (a byte-order mark and CR-LF line ends allowed).
-pub(super) fn scan(text: &str) -> Layout {
+/// `kind_and_name`: a heading may also be two names, `[machine robot-pc]` (the cluster's
+/// graph file); robot.ini's headings are one name.
+pub(super) fn scan(text: &str, kind_and_name: bool) -> Layout {
     let text = text.strip_prefix(BOM).unwrap_or(text);
     let mut layout = Layout {
         clean: String::with_capacity(text.len()),
@@ -87,7 +89,7 @@ pub(super) fn scan(text: &str) -> Layout {
         let clean = if line.is_empty() || line.starts_with(';') || line.starts_with('#') {
             None
         } else if let Some(heading) = line.strip_prefix('[') {
-            under = layout.heading(n, line, heading);
+            under = layout.heading(n, line, heading, kind_and_name);
             match &under {
                 Under::Section(name) => Some(format!("[{name}]")),
                 _ => None,
@@ -111,8 +113,15 @@ pub(super) fn scan(text: &str) -> Layout {
 impl Layout {
     /// A `[name]` line (`heading` is what follows the `[`): a plain name, seen for the
     /// first time.
-    fn heading(&mut self, n: usize, line: &str, heading: &str) -> Under {
-        let name = heading.strip_suffix(']').unwrap_or_default().trim();
+    fn heading(&mut self, n: usize, line: &str, heading: &str, kind_and_name: bool) -> Under {
+        let written = heading.strip_suffix(']').unwrap_or_default().trim();
+        // `[machine   robot-pc]` is `[machine robot-pc]`.
+        let two = written
+            .split_once(char::is_whitespace)
+            .map(|(kind, name)| (kind, name.trim()))
+            .filter(|&(kind, name)| kind_and_name && is_name(kind) && is_name(name));
+        let joined = two.map(|(kind, name)| format!("{kind} {name}"));
+        let name = joined.as_deref().unwrap_or(written);
         let (under, why) = if !heading.ends_with(']') {
             let why = format!(
                 "{} starts a [section] heading but does not end with ]",
@@ -124,7 +133,7 @@ impl Layout {
                 Under::Broken,
                 format!("{} has no section name", quoted(line)),
             )
-        } else if !is_name(name) {
+        } else if two.is_none() && !is_name(name) {
             let why = format!(
                 "{}: '{name}' is not a section name (letters, digits, _ . -)",
                 quoted(line)
@@ -183,12 +192,15 @@ mod tests {
     use super::*;
 
     fn errors(text: &str) -> Vec<(usize, String)> {
-        scan(text).errors
+        scan(text, false).errors
     }
 
     #[test]
     fn the_clean_copy_keeps_every_line_in_its_place() {
-        let layout = scan("\u{feff}; head\r\n[a]\r\n  k =  v w \r\n\r\n[ b ]\nx=\n");
+        let layout = scan(
+            "\u{feff}; head\r\n[a]\r\n  k =  v w \r\n\r\n[ b ]\nx=\n",
+            false,
+        );
         assert_eq!(layout.clean, "\n[a]\nk=v w\n\n[b]\nx=\n");
         assert!(layout.errors.is_empty(), "{:?}", layout.errors);
         assert_eq!(layout.sections["b"], 5);
@@ -203,7 +215,10 @@ mod tests {
         // Line 6 (a new key under the repeated [a]), line 11 and line 13 (under broken
         // headings) are covered by their heading's error.
         assert_eq!(found, vec![3, 4, 5, 7, 8, 9, 10, 12]);
-        assert_eq!(scan(text).clean, format!("[a]\nk=1{}", "\n".repeat(12)));
+        assert_eq!(
+            scan(text, false).clean,
+            format!("[a]\nk=1{}", "\n".repeat(12))
+        );
         assert_eq!(
             errors("[a]\nk = 1\n[a]\n")[0].1,
             "[a] appears again (first at line 1): put its keys in one section"
@@ -212,6 +227,20 @@ mod tests {
             errors("k = 1\n")[0].1,
             "`k = 1` stands before any [section]: move it into its section"
         );
+    }
+
+    #[test]
+    fn a_graph_heading_is_a_kind_and_a_name() {
+        let layout = scan("[machine  robot-pc]\nendpoint = x\n[process a b c]\n", true);
+        assert_eq!(layout.sections["machine robot-pc"], 1);
+        assert_eq!(layout.errors.len(), 1, "{:?}", layout.errors);
+        assert!(
+            layout.errors[0]
+                .1
+                .contains("'process a b c' is not a section name")
+        );
+        // robot.ini's headings stay one name.
+        assert_eq!(scan("[machine robot-pc]\n", false).errors.len(), 1);
     }
 
     #[test]

@@ -14,13 +14,11 @@ mod source;
 
 use std::path::Path;
 
-pub use bus::{AcceptRequests, BusSettings};
+pub use bus::{AcceptRequests, BusSettings, parse_endpoints, parse_prefix};
 pub use camera_port::{BAUD_RATES, CameraPort};
-pub use reader::{ConfigError, Place};
+pub use reader::{ConfigError, Place, Reader, read_text};
 pub use record::{RecordFormats, RecordSettings};
 pub use source::SettingsSource;
-
-use reader::Reader;
 
 /// The settings file shipped with the program, used when no file is given and
 /// config/robot.ini is not in the working directory.
@@ -198,21 +196,7 @@ impl Settings {
     /// Read and check a settings file, with `--set SECTION.KEY=VALUE` overrides.
     pub fn load(path: &Path, overrides: &[String]) -> Result<Settings, Vec<ConfigError>> {
         let label = path.display().to_string();
-        let bytes = std::fs::read(path).map_err(|e| {
-            vec![ConfigError {
-                place: Place::File(label.clone()),
-                what: format!("cannot read the settings file: {e}"),
-            }]
-        })?;
-        let text = lines::decode(&bytes).map_err(|(line, what)| {
-            vec![ConfigError {
-                place: Place::Line {
-                    file: label.clone(),
-                    line,
-                },
-                what,
-            }]
-        })?;
+        let text = reader::read_text(path, "the settings file")?;
         Settings::parse(&label, &text, overrides)
     }
 

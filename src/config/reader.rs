@@ -44,6 +44,24 @@ impl fmt::Display for ConfigError {
     }
 }
 
+/// The text of an ini file (`what` names it in the message), or why it cannot be read:
+/// a file that is not UTF-8 is named by the line where it stops being so.
+pub fn read_text(path: &std::path::Path, what: &str) -> Result<String, Vec<ConfigError>> {
+    let label = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| {
+        vec![ConfigError {
+            place: Place::File(label.clone()),
+            what: format!("cannot read {what}: {e}"),
+        }]
+    })?;
+    lines::decode(&bytes).map_err(|(line, what)| {
+        vec![ConfigError {
+            place: Place::Line { file: label, line },
+            what,
+        }]
+    })
+}
+
 /// Where a value came from, to name it in an error.
 enum Origin {
     Line(usize),
@@ -69,7 +87,17 @@ pub struct Reader {
 impl Reader {
     /// Parse `text` (named `file` in messages) and apply `--set SECTION.KEY=VALUE` items.
     pub fn new(file: &str, text: &str, overrides: &[String]) -> Reader {
-        let layout = lines::scan(text);
+        Reader::scanned(file, text, overrides, false)
+    }
+
+    /// Parse a file whose headings may be a kind and a name, `[machine robot-pc]` (the
+    /// cluster's graph file), with the same rules and messages as robot.ini.
+    pub fn with_named_sections(file: &str, text: &str) -> Reader {
+        Reader::scanned(file, text, &[], true)
+    }
+
+    fn scanned(file: &str, text: &str, overrides: &[String], kind_and_name: bool) -> Reader {
+        let layout = lines::scan(text, kind_and_name);
         let errors = layout
             .errors
             .iter()
@@ -190,6 +218,42 @@ impl Reader {
             .get(&(section.to_string(), key.to_string()))
             .copied();
         Some((value, line))
+    }
+
+    /// The sections, in file order.
+    pub fn sections(&self) -> Vec<String> {
+        self.ini.sections().flatten().map(str::to_string).collect()
+    }
+
+    /// The keys of `section`, in file order.
+    pub fn keys(&self, section: &str) -> Vec<String> {
+        self.ini
+            .section(Some(section))
+            .map(|props| props.iter().map(|(k, _)| k.to_string()).collect())
+            .unwrap_or_default()
+    }
+
+    /// The line of a section's heading, for an error about the section as a whole.
+    pub fn section_error(&mut self, section: &str, what: String) {
+        let origin = match self.section_lines.get(section) {
+            Some(&line) => Origin::Line(line),
+            None => Origin::Nowhere,
+        };
+        self.push(origin, what);
+    }
+
+    /// Free text, as written, or None (with an error) if it is missing.
+    pub fn text(&mut self, section: &str, key: &str) -> Option<String> {
+        self.raw(section, key)
+    }
+
+    /// Free text if the key is there; None, and no error, if it is not.
+    pub fn optional(&mut self, section: &str, key: &str) -> Option<String> {
+        let there = self
+            .ini
+            .section(Some(section))
+            .is_some_and(|props| props.contains_key(key));
+        if there { self.raw(section, key) } else { None }
     }
 
     /// The raw text of a setting, or None (with an error recorded) if it is missing.
