@@ -39,6 +39,11 @@ impl Tool {
         })
     }
 
+    /// The session, for a program that subscribes itself (the off-board recorder).
+    pub fn session(&self) -> &Session {
+        &self.session
+    }
+
     /// `ROBOT/KEY`; a key that starts with `/` is taken whole, without it (another
     /// robot's flows: /farm/robot2/status).
     pub fn key(&self, key: &str) -> String {

@@ -47,11 +47,86 @@ pub enum Command {
         #[arg(long)]
         config: Option<PathBuf>,
     },
-    /// Run records (CSV or MCAP) left by `mechweed run`.
-    #[command(subcommand)]
-    Record(RecordCommand),
+    /// Run records (CSV or MCAP) left by `mechweed run`, and the off-board recorder
+    /// (`record --bus`).
+    Record(RecordArgs),
     /// The robot's data flows on the bus, from this or another computer.
     Bus(BusArgs),
+    /// The virtual cluster: one graph file starts the programs of several machines.
+    #[command(subcommand)]
+    Cluster(ClusterCommand),
+}
+
+#[derive(clap::Args)]
+#[command(args_conflicts_with_subcommands = true)]
+pub struct RecordArgs {
+    #[command(subcommand)]
+    pub command: Option<RecordCommand>,
+    /// Record the robot's flows on the bus, on this computer: the same CSV and MCAP
+    /// files as a run record, into [record] folder, until Ctrl-C.
+    #[arg(long)]
+    pub bus: bool,
+    /// Where the robot program listens ([bus] listen on the robot).
+    #[arg(long, value_name = "ENDPOINT", default_value = mechweed::bus_tools::DEFAULT_ENDPOINT, requires = "bus")]
+    pub connect: String,
+    /// The robot's name on the bus ([bus] robot on the robot).
+    #[arg(
+        long,
+        value_name = "NAME",
+        default_value = "mechweed",
+        requires = "bus"
+    )]
+    pub robot: String,
+    /// Stop after this many seconds.
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds, requires = "bus")]
+    pub seconds: Option<f64>,
+    /// Settings file (its [record] folder and formats) [default: config/robot.ini, or the built-in copy]
+    #[arg(long, value_name = "FILE", requires = "bus")]
+    pub config: Option<PathBuf>,
+    /// Override one setting, e.g. --set record.folder=field-records (repeatable).
+    #[arg(long = "set", value_name = "SECTION.KEY=VALUE", requires = "bus")]
+    pub set: Vec<String>,
+}
+
+#[derive(Subcommand)]
+pub enum ClusterCommand {
+    /// Serve a graph file to the launchers and wait; Ctrl-C stops the cluster, the
+    /// controller first.
+    Master {
+        /// The graph file, e.g. config/cluster.ini.
+        graph: PathBuf,
+    },
+    /// Start, watch and stop the processes the master's graph gives this machine.
+    Launcher {
+        /// This machine's name in the graph ([machine NAME]).
+        #[arg(long, value_name = "NAME")]
+        machine: String,
+        /// Where the master listens ([cluster] master in the graph).
+        #[arg(long, value_name = "ENDPOINT", default_value = mechweed::cluster::DEFAULT_MASTER)]
+        connect: String,
+        /// The robot's name ([cluster] robot in the graph).
+        #[arg(long, value_name = "NAME", default_value = "mechweed")]
+        robot: String,
+    },
+    /// Print the cluster: machines, processes and their states, flows and their rates.
+    Status {
+        /// Where the master listens ([cluster] master in the graph).
+        #[arg(long, value_name = "ENDPOINT", default_value = mechweed::cluster::DEFAULT_MASTER)]
+        connect: String,
+        /// The robot's name ([cluster] robot in the graph).
+        #[arg(long, value_name = "NAME", default_value = "mechweed")]
+        robot: String,
+        /// How long to count each flow's messages.
+        #[arg(long, value_name = "SECONDS", default_value_t = 2.0, value_parser = parse_seconds)]
+        seconds: f64,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Print the graph as a Graphviz picture (DOT): `... | dot -Tsvg > cluster.svg`.
+    Dot { graph: PathBuf },
+    /// Check a graph file: prints "ok", or every error found (exit 1).
+    Check { graph: PathBuf },
 }
 
 #[derive(clap::Args)]

@@ -2,7 +2,9 @@
 
 mod bus_command;
 mod cli;
+mod cluster_command;
 mod log_style;
+mod record_command;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -18,56 +20,19 @@ use mechweed::modes::Mode;
 use mechweed::report::Report;
 use mechweed::run::RunOptions;
 
-use cli::{BenchCommand, Cli, Command, RecordCommand, RunArgs, StartMode};
+use cli::{BenchCommand, Cli, Command, RunArgs, StartMode};
 
-fn record(command: RecordCommand) -> ExitCode {
-    let RecordCommand::Summary {
-        file,
-        from_m,
-        config,
-        set,
-    } = command;
-    let file = if file.as_os_str() == "latest" {
-        let settings = match load_settings(config.as_deref(), &set) {
-            Ok(settings) => settings,
-            Err(errors) => {
-                print_errors(&errors);
-                return ExitCode::FAILURE;
-            }
-        };
-        match mechweed::record::keep::latest(&settings.record.folder) {
-            Ok(newest) => {
-                println!("the newest record: {}", newest.display());
-                newest
-            }
-            Err(why) => {
-                eprintln!("{why}");
-                return ExitCode::FAILURE;
-            }
-        }
-    } else {
-        file
-    };
-    match mechweed::record::summary::summarise(&file, from_m) {
-        Ok(summary) => {
-            print!("{}", summary.text());
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("{e}");
-            ExitCode::FAILURE
-        }
-    }
-}
-
-fn print_errors(errors: &[ConfigError]) {
+pub(crate) fn print_errors(errors: &[ConfigError]) {
     for e in errors {
         eprintln!("{e}");
     }
 }
 
 /// The settings file: the one named, else config/robot.ini here, else the built-in copy.
-fn load_settings(file: Option<&Path>, overrides: &[String]) -> Result<Settings, Vec<ConfigError>> {
+pub(crate) fn load_settings(
+    file: Option<&Path>,
+    overrides: &[String],
+) -> Result<Settings, Vec<ConfigError>> {
     match settings_file(file) {
         Some(path) => Settings::load(&path, overrides),
         None => {
@@ -370,7 +335,8 @@ fn main() -> ExitCode {
             }
         },
         Some(Command::Probe { raw, config }) => probe(raw, config),
-        Some(Command::Record(command)) => record(command),
+        Some(Command::Record(args)) => record_command::record(args),
         Some(Command::Bus(args)) => bus_command::bus(args),
+        Some(Command::Cluster(command)) => cluster_command::cluster(command),
     }
 }

@@ -9,6 +9,7 @@ use std::io::{self, BufWriter, Write};
 use std::path::PathBuf;
 
 use super::event::{EVENT_COLUMNS, RecordEvent};
+use super::received::{Cell, ReceivedEvent, ReceivedTick};
 use super::row::{COLUMNS, TickSample, Value, number_text};
 use super::thread::Sink;
 
@@ -90,5 +91,39 @@ impl Sink for CsvSink {
 
     fn files(&self) -> Vec<String> {
         self.paths.iter().map(|p| p.display().to_string()).collect()
+    }
+
+    fn received_tick(&mut self, tick: &ReceivedTick) -> io::Result<()> {
+        use std::fmt::Write as _;
+        self.line.clear();
+        for (i, cell) in tick.cells.iter().enumerate() {
+            if i > 0 {
+                self.line.push(',');
+            }
+            match cell {
+                Cell::Num(x) => {
+                    number_text(*x, &mut self.line);
+                }
+                Cell::Int(n) => {
+                    let _ = write!(self.line, "{n}");
+                }
+                // Checked on arrival to be one of the record's fixed words.
+                Cell::Word(word) => self.line.push_str(word),
+            }
+        }
+        self.line.push('\n');
+        self.ticks.write_all(self.line.as_bytes())
+    }
+
+    fn received_event(&mut self, event: &ReceivedEvent) -> io::Result<()> {
+        let mut t = String::new();
+        number_text(event.t_s, &mut t);
+        writeln!(
+            self.events,
+            "{t},{},{},{}",
+            event.tick,
+            event.kind,
+            quoted(&event.text)
+        )
     }
 }

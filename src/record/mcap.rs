@@ -18,6 +18,7 @@ use ::mcap::{Compression, McapError, WriteOptions, Writer};
 use serde_json::json;
 
 use super::event::RecordEvent;
+use super::received::{ReceivedEvent, ReceivedTick};
 use super::row::{COLUMNS, TickSample, Value, tick_json};
 use super::thread::Sink;
 
@@ -205,5 +206,23 @@ impl Sink for McapSink {
 
     fn files(&self) -> Vec<String> {
         vec![self.path.display().to_string()]
+    }
+
+    fn received_tick(&mut self, tick: &ReceivedTick) -> io::Result<()> {
+        self.write(self.tick_channel, tick.t_s, tick.json.as_bytes())
+    }
+
+    fn received_event(&mut self, event: &ReceivedEvent) -> io::Result<()> {
+        let message = json!({
+            "t_s": event.t_s,
+            "tick": event.tick,
+            "kind": event.kind,
+            "text": event.text,
+        });
+        self.write(
+            self.event_channel,
+            event.t_s,
+            message.to_string().as_bytes(),
+        )
     }
 }

@@ -19,6 +19,7 @@ mod files;
 pub mod keep;
 mod mcap;
 pub mod read;
+pub mod received;
 mod row;
 pub mod summary;
 mod tap;

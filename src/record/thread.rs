@@ -15,6 +15,7 @@ use crossbeam_channel::{Receiver, TryRecvError};
 use serde::Serialize;
 
 use super::event::{EventKind, RecordEvent};
+use super::received::{ReceivedEvent, ReceivedTick};
 use super::row::TickSample;
 use super::tap::Counters;
 
@@ -28,6 +29,18 @@ pub trait Sink: Send {
     fn finish(&mut self) -> io::Result<()>;
     /// The files written, for messages and the report.
     fn files(&self) -> Vec<String>;
+    /// A tick as another computer received it from the bus (`mechweed record --bus`).
+    fn received_tick(&mut self, _tick: &ReceivedTick) -> io::Result<()> {
+        Err(io::Error::other(
+            "this record does not take ticks from the bus",
+        ))
+    }
+    /// An event as another computer received it from the bus.
+    fn received_event(&mut self, _event: &ReceivedEvent) -> io::Result<()> {
+        Err(io::Error::other(
+            "this record does not take events from the bus",
+        ))
+    }
 }
 
 /// Flush at least this often, so that a crash loses less than a second.

@@ -1,0 +1,231 @@
+//! `mechweed cluster master GRAPH`: serves the graph on the bus and waits. Each
+//! launcher asks it for its machine's plan and reports its processes' states to it;
+//! `cluster status` asks it for the whole. At Ctrl-C it stops the cluster in order:
+//! the controller first (its safe outputs written as it ends), then every other
+//! process, and each launcher ends.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use crossbeam_channel::bounded;
+use serde_json::{Value, json};
+use zenoh::sample::SampleKind;
+use zenoh::{Session, Wait};
+
+use super::graph::Graph;
+use super::plan::for_machine;
+use super::{Keys, ProcessReport, answer, ask};
+use crate::bus::session::{Role, open};
+
+/// How long the controller has to end (its own shutdown, plus the launcher's patience).
+const STOP_WAIT: Duration = Duration::from_secs(20);
+
+/// What the master knows of the cluster.
+struct Table {
+    reports: BTreeMap<(String, String), ProcessReport>,
+    /// Machines whose launcher is there.
+    launchers: BTreeSet<String>,
+}
+
+/// Serve `graph` until `stop` (Ctrl-C), then stop the cluster.
+pub fn serve(graph: &Graph, stop: &Arc<AtomicBool>) -> Result<(), String> {
+    let keys = Keys::new(&graph.robot);
+    let session = open(Role::Master {
+        listen: graph.master.clone(),
+    })
+    .map_err(|e| e.to_string())?;
+    let (query_tx, queries) = bounded(64);
+    let mut queryables = Vec::new();
+    for key in [keys.plan("*"), keys.status()] {
+        let tx = query_tx.clone();
+        let queryable = session
+            .declare_queryable(key)
+            .callback(move |q| {
+                let _ = tx.try_send(q);
+            })
+            .wait()
+            .map_err(|e| e.to_string())?;
+        queryables.push(queryable);
+    }
+    let (state_tx, states) = bounded(256);
+    let _states = session
+        .declare_subscriber(keys.state("*", "*"))
+        .callback(move |sample| {
+            let _ = state_tx.try_send(sample.payload().to_bytes().into_owned());
+        })
+        .wait()
+        .map_err(|e| e.to_string())?;
+    let (launcher_tx, launchers) = bounded(64);
+    let _launchers = session
+        .liveliness()
+        .declare_subscriber(keys.launcher("*"))
+        .history(true)
+        .callback(move |sample| {
+            let machine = sample.key_expr().as_str().rsplit('/').next().unwrap_or("");
+            let _ = launcher_tx.try_send((sample.kind() == SampleKind::Put, machine.to_string()));
+        })
+        .wait()
+        .map_err(|e| e.to_string())?;
+    // Declared last: a launcher that sees the master finds its plan served.
+    let _token = session
+        .liveliness()
+        .declare_token(keys.master())
+        .wait()
+        .map_err(|e| e.to_string())?;
+    println!(
+        "master: serving {} (robot {}) at {}; on each machine start `mechweed cluster launcher --machine NAME --connect {}`",
+        graph.file, graph.robot, graph.master, graph.master
+    );
+    let mut table = Table {
+        reports: BTreeMap::new(),
+        launchers: BTreeSet::new(),
+    };
+    while !stop.load(Ordering::Relaxed) {
+        while let Ok((present, machine)) = launchers.try_recv() {
+            let word = if present { "is there" } else { "went away" };
+            println!("master: the launcher of {machine} {word}");
+            if present {
+                table.launchers.insert(machine);
+            } else {
+                table.launchers.remove(&machine);
+            }
+        }
+        while let Ok(bytes) = states.try_recv() {
+            match serde_json::from_slice::<ProcessReport>(&bytes) {
+                Ok(report) => table.note(report),
+                Err(e) => eprintln!("master: a state report that cannot be read ({e})"),
+            }
+        }
+        while let Ok(query) = queries.try_recv() {
+            let key = query.key_expr().as_str().to_string();
+            let result = match key.rsplit_once("/plan/") {
+                Some((_, machine)) => plan(graph, machine),
+                None => Ok(table.status(graph)),
+            };
+            answer(&query, result);
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    drop(queryables);
+    stop_cluster(&session, graph, &keys, &table.launchers);
+    Ok(())
+}
+
+fn plan(graph: &Graph, machine: &str) -> Result<Value, String> {
+    let names: Vec<&str> = graph.machines.iter().map(|m| m.name.as_str()).collect();
+    let plan = for_machine(graph, machine).ok_or_else(|| {
+        format!(
+            "{} has no machine '{machine}' (its machines: {})",
+            graph.file,
+            names.join(", ")
+        )
+    })?;
+    serde_json::to_value(plan).map_err(|e| e.to_string())
+}
+
+impl Table {
+    /// A launcher's report; a change of state is said on the console.
+    fn note(&mut self, report: ProcessReport) {
+        let id = (report.machine.clone(), report.process.clone());
+        let changed = self
+            .reports
+            .get(&id)
+            .is_none_or(|old| (&old.state, old.restarts) != (&report.state, report.restarts));
+        if changed {
+            let exit = report
+                .exit
+                .as_ref()
+                .filter(|_| report.state == "exited" || report.state == "stopped")
+                .map(|e| format!(" ({e})"))
+                .unwrap_or_default();
+            println!(
+                "master: {} on {}: {}{exit}",
+                report.process, report.machine, report.state
+            );
+        }
+        self.reports.insert(id, report);
+    }
+
+    /// The whole cluster, for `cluster status`.
+    fn status(&self, graph: &Graph) -> Value {
+        let machines: Vec<Value> = graph
+            .machines
+            .iter()
+            .map(|m| json!({"name": m.name, "endpoint": m.endpoint, "launcher": self.launchers.contains(&m.name)}))
+            .collect();
+        let processes: Vec<Value> = graph
+            .processes
+            .iter()
+            .map(|p| {
+                let id = (p.machine.clone(), p.name.clone());
+                match self.reports.get(&id) {
+                    Some(report) => json!(report),
+                    None => json!({"machine": p.machine, "process": p.name, "state": "not reported",
+                                   "exit": null, "restarts": 0, "pid": null, "command": p.program.name()}),
+                }
+            })
+            .collect();
+        let flows: Vec<Value> = graph
+            .flows
+            .iter()
+            .map(|f| {
+                let to: Vec<String> = f.to.iter().map(ToString::to_string).collect();
+                json!({"name": f.name, "from": f.from.to_string(), "to": to, "key": f.key})
+            })
+            .collect();
+        json!({
+            "graph": graph.file,
+            "robot": graph.robot,
+            "master": graph.master,
+            "controller": graph.controller().map(|c| c.name.clone()),
+            "controller_endpoint": graph.controller_endpoint(),
+            "machines": machines,
+            "processes": processes,
+            "flows": flows,
+        })
+    }
+}
+
+/// Stop the controller first, then every other process, and end the launchers.
+fn stop_cluster(session: &Session, graph: &Graph, keys: &Keys, present: &BTreeSet<String>) {
+    println!("master: stopping the cluster, the controller first");
+    let say = |machine: &str, result: Result<Value, String>| match result {
+        Ok(answer) => {
+            for stopped in answer["stopped"].as_array().into_iter().flatten() {
+                println!(
+                    "master: {} on {machine} stopped ({})",
+                    stopped["process"].as_str().unwrap_or("?"),
+                    stopped["exit"].as_str().unwrap_or("?")
+                );
+            }
+        }
+        Err(why) => println!("master: the launcher of {machine} did not stop: {why}"),
+    };
+    let controller = graph.controller();
+    if let Some(c) = controller
+        && present.contains(&c.machine)
+    {
+        let asked = json!({"stop": c.name});
+        say(
+            &c.machine,
+            ask(session, &keys.stop(&c.machine), Some(asked), STOP_WAIT),
+        );
+    }
+    // The controller's machine last: the others' programs were its clients.
+    let mut machines: Vec<&str> = graph.machines.iter().map(|m| m.name.as_str()).collect();
+    machines.sort_by_key(|m| controller.is_some_and(|c| c.machine == *m));
+    for machine in machines {
+        if !present.contains(machine) {
+            println!("master: no launcher on {machine}: nothing to stop there");
+            continue;
+        }
+        let asked = json!({"stop": "*", "exit": true});
+        say(
+            machine,
+            ask(session, &keys.stop(machine), Some(asked), STOP_WAIT),
+        );
+    }
+    println!("master: the cluster is stopped");
+}
