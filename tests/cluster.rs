@@ -184,7 +184,7 @@ fn the_one_machine_graph_drives_restarts_the_camera_and_stops_with_safe_outputs(
         (camera["restarts"] == 1 && camera["state"] == "restarted").then_some(cluster)
     });
     let camera = process(&cluster, "camera");
-    assert_eq!(camera["exit"], "killed by signal 9 (SIGKILL)", "{cluster}");
+    assert_eq!(camera["exit"], "killed by SIGKILL", "{cluster}");
     let pids: Vec<u64> = ["controller", "camera", "recorder"]
         .iter()
         .map(|name| process(&cluster, name)["pid"].as_u64().unwrap())
@@ -277,4 +277,92 @@ fn a_broken_graph_is_refused_with_line_and_key_before_anything_starts() {
     }
     // Nothing listens where the master would have.
     assert!(std::net::TcpStream::connect(("127.0.0.1", port)).is_err());
+}
+
+/// A graph of one machine running the controller alone, and what happens to it when
+/// the master is killed (a dropped link looks the same to a launcher).
+fn master_killed(master_lost: &str) -> (tempfile::TempDir, Child, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path();
+    let (master, robot) = (free_port(), free_port());
+    let graph = folder.join("one.ini");
+    std::fs::write(
+        &graph,
+        format!(
+            "[cluster]\nrobot = mechweed\nmaster = tcp/127.0.0.1:{master}\nmaster_lost = {master_lost}\n\
+             [machine robot-pc]\nendpoint = tcp/127.0.0.1:{robot}\n\
+             [process controller]\nmachine = robot-pc\nprogram = run\nargs = --headless\n\
+             set.rt.max_overruns = 1000000\nset.rt.max_late_periods = 20\n"
+        ),
+    )
+    .unwrap();
+    let mut master_process = mechweed_in(folder)
+        .args(["cluster", "master"])
+        .arg(&graph)
+        .stdout(Stdio::null())
+        .spawn()
+        .unwrap();
+    let launcher = mechweed_in(folder)
+        .args(["cluster", "launcher", "--machine", "robot-pc"])
+        .args(["--connect", &format!("tcp/127.0.0.1:{master}")])
+        .stdout(File::create(folder.join("robot-pc.log")).unwrap())
+        .spawn()
+        .unwrap();
+    let robot = format!("tcp/127.0.0.1:{robot}");
+    wait_for("the controller's status", 40.0, || {
+        robot_status(folder, &robot)
+    });
+    master_process.kill().unwrap();
+    master_process.wait().unwrap();
+    (dir, launcher, robot)
+}
+
+#[test]
+fn when_the_master_goes_away_the_processes_run_on_or_stop_as_the_graph_says() {
+    // run_on (the default of the shipped graphs): the robot's program goes on.
+    let (dir, launcher, robot) = master_killed("run_on");
+    let mut started = Started(vec![launcher]);
+    std::thread::sleep(Duration::from_secs(3));
+    let before = robot_status(dir.path(), &robot).expect("the controller runs on");
+    let after = wait_for("newer statuses", 10.0, || {
+        let status = robot_status(dir.path(), &robot)?;
+        (status["t_s"].as_f64()? > before["t_s"].as_f64()? + 1.0).then_some(status)
+    });
+    assert_eq!(after["mode"], "halt");
+    // Ctrl-C on the launcher stops its controller with safe outputs.
+    let launcher = &mut started.0[0];
+    unsafe { libc::kill(launcher.id() as i32, libc::SIGINT) };
+    let end = Instant::now() + Duration::from_secs(30);
+    while launcher.try_wait().unwrap().is_none() {
+        assert!(Instant::now() < end, "the launcher did not end at Ctrl-C");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let log = std::fs::read_to_string(dir.path().join("robot-pc.log")).unwrap();
+    assert!(
+        log.contains("the master went away; the processes run on"),
+        "{log}"
+    );
+    assert!(log.contains("the outputs are safe"), "{log}");
+
+    // stop: the launcher stops the controller (safe outputs) and ends.
+    let (dir, launcher, _) = master_killed("stop");
+    let mut started = Started(vec![launcher]);
+    let launcher = &mut started.0[0];
+    let end = Instant::now() + Duration::from_secs(30);
+    while launcher.try_wait().unwrap().is_none() {
+        assert!(
+            Instant::now() < end,
+            "the launcher did not stop when the master went"
+        );
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let log = std::fs::read_to_string(dir.path().join("robot-pc.log")).unwrap();
+    assert!(
+        log.contains("the master went away ([cluster] master_lost = stop)"),
+        "{log}"
+    );
+    assert!(
+        log.contains("the outputs are safe: amplifiers 0 V"),
+        "{log}"
+    );
 }

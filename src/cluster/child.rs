@@ -174,21 +174,18 @@ impl Child {
     }
 }
 
-/// "code 0", or "killed by signal 9 (SIGKILL)".
+/// "code 0", or "killed by SIGKILL".
 fn exit_words(status: ExitStatus) -> String {
     match (status.code(), status.signal()) {
         (Some(code), _) => format!("code {code}"),
-        (None, Some(signal)) => {
-            let name = match signal {
-                libc::SIGINT => " (SIGINT)",
-                libc::SIGTERM => " (SIGTERM)",
-                libc::SIGKILL => " (SIGKILL)",
-                libc::SIGSEGV => " (SIGSEGV: a crash)",
-                libc::SIGABRT => " (SIGABRT: an abort)",
-                _ => "",
-            };
-            format!("killed by signal {signal}{name}")
-        }
+        (None, Some(signal)) => match signal {
+            libc::SIGINT => "killed by SIGINT".to_string(),
+            libc::SIGTERM => "killed by SIGTERM".to_string(),
+            libc::SIGKILL => "killed by SIGKILL".to_string(),
+            libc::SIGSEGV => "killed by SIGSEGV, a crash".to_string(),
+            libc::SIGABRT => "killed by SIGABRT, an abort".to_string(),
+            other => format!("killed by signal {other}"),
+        },
         (None, None) => "ended".to_string(),
     }
 }

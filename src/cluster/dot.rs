@@ -23,7 +23,10 @@ pub fn dot(graph: &Graph) -> String {
     let _ = writeln!(
         out,
         "  master [label={}, shape=ellipse, style=dashed];",
-        quoted(&format!("master\n{}", graph.master))
+        quoted(&format!(
+            "master\n{}\n(control only: no data)",
+            graph.master
+        ))
     );
     for (i, machine) in graph.machines.iter().enumerate() {
         let _ = writeln!(out, "  subgraph cluster_{i} {{");
@@ -44,7 +47,12 @@ pub fn dot(graph: &Graph) -> String {
                 (Start::Auto, true) => "\n(restarted if it exits)",
                 (Start::Auto, false) => "",
             };
-            let label = format!("{}\n{}{how}", p.name, p.program.name());
+            let after = if p.after.is_empty() {
+                String::new()
+            } else {
+                format!("\n(starts after {})", p.after.join(", "))
+            };
+            let label = format!("{}\n{}{how}{after}", p.name, p.program.name());
             let _ = writeln!(out, "    {} [label={}];", quoted(&p.name), quoted(&label));
         }
         out.push_str("  }\n");

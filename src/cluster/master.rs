@@ -19,8 +19,9 @@ use super::plan::for_machine;
 use super::{Keys, ProcessReport, answer, ask};
 use crate::bus::session::{Role, open};
 
-/// How long the controller has to end (its own shutdown, plus the launcher's patience).
-const STOP_WAIT: Duration = Duration::from_secs(20);
+/// How long a launcher has to stop what it was asked to (10 s per process at most, the
+/// controller usually within one).
+const STOP_WAIT: Duration = Duration::from_secs(40);
 
 /// What the master knows of the cluster.
 struct Table {

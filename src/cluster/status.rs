@@ -66,6 +66,9 @@ fn rates(endpoint: &str, status: &Value, seconds: f64) -> Result<BTreeMap<String
             rates.insert(name, json!(0.0));
         } else if into_rows {
             rows_flow = Some(name);
+        } else if from.ends_with(".requests") {
+            let why = "not counted: requests are questions, each answered on its own";
+            rates.insert(name, json!(why));
         } else {
             rates.insert(
                 name,
@@ -137,7 +140,7 @@ pub fn text(status: &Value) -> String {
         };
         let _ = writeln!(
             out,
-            "  {:<12} {:<28} {launcher}",
+            "  {:<10} {:<24} {launcher}",
             s(&m["name"]),
             s(&m["endpoint"])
         );
@@ -152,7 +155,7 @@ pub fn text(status: &Value) -> String {
             .map_or(String::new(), |e| format!("last exit: {e}"));
         let _ = writeln!(
             out,
-            "  {:<12} {:<12} {:<13} {:<10} restarts {} {exit}",
+            "  {:<14} {:<10} {:<11} {:<10} restarts {}{exit}",
             s(&p["process"]),
             s(&p["machine"]),
             s(&p["state"]),
