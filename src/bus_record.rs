@@ -75,7 +75,7 @@ pub fn record(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
         .seconds
         .map(|s| Instant::now() + Duration::from_secs_f64(s));
     let mut recording = Recording {
-        tool: &tool,
+        tool: Some(&tool),
         settings: &opts.record,
         record: None,
         last_tick: None,
@@ -124,7 +124,8 @@ pub fn record(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
 }
 
 struct Recording<'a> {
-    tool: &'a Tool,
+    /// Where to ask for the robot's stride (None: `every_n` is known, in tests).
+    tool: Option<&'a Tool>,
     settings: &'a RecordSettings,
     record: Option<BusRecord>,
     last_tick: Option<u64>,
@@ -183,16 +184,17 @@ impl Recording<'_> {
 
     /// New files, at the first tick of a run: its start time and the robot's stride.
     fn begin(&mut self, first: &ReceivedTick) {
-        self.every_n = self
-            .tool
-            .ask("config/bus/tick_every_n", None)
-            .ok()
-            .and_then(|answer| {
-                let json: serde_json::Value = serde_json::from_str(&answer).ok()?;
-                json["value"].as_str()?.parse().ok()
-            })
-            .unwrap_or(1)
-            .max(1);
+        if let Some(tool) = self.tool {
+            self.every_n = tool
+                .ask("config/bus/tick_every_n", None)
+                .ok()
+                .and_then(|answer| {
+                    let json: serde_json::Value = serde_json::from_str(&answer).ok()?;
+                    json["value"].as_str()?.parse().ok()
+                })
+                .unwrap_or(1)
+                .max(1);
+        }
         let now_ns = SystemTime::now()
             .duration_since(UNIX_EPOCH)
             .map_or(0, |d| d.as_nanos() as u64);
@@ -221,5 +223,63 @@ impl Recording<'_> {
             }
         }
         self.last_tick = None;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::Settings;
+    use crate::record::{TickSample, read, tick_json};
+
+    fn tick(n: u64) -> ReceivedTick {
+        let mut sample = TickSample::default();
+        sample.status.tick = n;
+        sample.status.t_s = n as f64 / 100.0;
+        let mut json = String::new();
+        tick_json(&sample, &mut json);
+        parse_tick(json.as_bytes()).unwrap()
+    }
+
+    #[test]
+    fn a_gap_in_the_ticks_is_counted_and_written_where_it_happened() {
+        let folder = tempfile::tempdir().unwrap();
+        let mut settings = Settings::shipped().record;
+        settings.folder = folder.path().to_path_buf();
+        let mut recording = Recording {
+            tool: None,
+            settings: &settings,
+            record: None,
+            last_tick: None,
+            every_n: 10,
+            waiting_events: Vec::new(),
+            counts: Counts::default(),
+            broken: None,
+        };
+        for n in [10, 20, 50, 60] {
+            recording.tick(&tick(n));
+        }
+        // The robot program started again: a second record.
+        recording.tick(&tick(10));
+        recording.close();
+        let c = &recording.counts;
+        assert_eq!((c.ticks, c.missing, c.events), (5, 2, 1));
+        let csv = c
+            .files
+            .iter()
+            .find(|f| f.ends_with(".csv") && !f.contains("events"));
+        let first = read::read(std::path::Path::new(csv.unwrap()), &["tick"]).unwrap();
+        assert_eq!(first.ticks.rows.len(), 4);
+        let events = first.events.expect("the events file");
+        let kind = events.column("kind").unwrap();
+        let text = events.column("text").unwrap();
+        assert_eq!(events.text(0, kind), "dropped");
+        assert!(
+            events
+                .text(0, text)
+                .starts_with("2 ticks not received from the bus")
+        );
+        let records = c.files.iter().filter(|f| f.ends_with(".mcap")).count();
+        assert_eq!(records, 2, "{:?}", c.files);
     }
 }
