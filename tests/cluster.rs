@@ -366,3 +366,92 @@ fn when_the_master_goes_away_the_processes_run_on_or_stop_as_the_graph_says() {
         "{log}"
     );
 }
+
+#[test]
+fn any_executable_runs_with_the_robots_name_and_endpoint_in_its_environment() {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path();
+    let (master, robot) = (free_port(), free_port());
+    let graph = folder.join("tool.ini");
+    std::fs::write(
+        &graph,
+        format!(
+            "[cluster]\nrobot = farm/robot2\nmaster = tcp/127.0.0.1:{master}\nmaster_lost = run_on\n\
+             [machine robot-pc]\nendpoint = tcp/127.0.0.1:{robot}\n\
+             [process controller]\nmachine = robot-pc\nprogram = run\nargs = --headless\n\
+             set.rt.max_overruns = 1000000\nset.rt.max_late_periods = 20\n\
+             [process logger]\nmachine = robot-pc\nprogram = sh\n\
+             args = -c \"echo $MECHWEED_ROBOT at $MECHWEED_CONNECT > env.txt; sleep 60\"\n\
+             [flow status]\nfrom = controller.status\nto = logger.status\n"
+        ),
+    )
+    .unwrap();
+    let mut started = Started(Vec::new());
+    let mut master_cmd = mechweed_in(folder);
+    master_cmd
+        .args(["cluster", "master"])
+        .arg(&graph)
+        .stdout(Stdio::null());
+    started.0.push(master_cmd.spawn().unwrap());
+    let mut launcher = mechweed_in(folder);
+    launcher
+        .args([
+            "cluster",
+            "launcher",
+            "--machine",
+            "robot-pc",
+            "--robot",
+            "farm/robot2",
+        ])
+        .args(["--connect", &format!("tcp/127.0.0.1:{master}")])
+        .stdout(Stdio::null());
+    started.0.push(launcher.spawn().unwrap());
+    let said = wait_for("the executable's output", 30.0, || {
+        std::fs::read_to_string(folder.join("env.txt")).ok()
+    });
+    assert_eq!(said, format!("farm/robot2 at tcp/127.0.0.1:{robot}\n"));
+    // It is stopped with the rest when the master stops the cluster.
+    let cluster = wait_for("the logger running", 20.0, || {
+        let out = mechweed_in(folder)
+            .args([
+                "cluster",
+                "status",
+                "--json",
+                "--seconds",
+                "0.2",
+                "--robot",
+                "farm/robot2",
+            ])
+            .args(["--connect", &format!("tcp/127.0.0.1:{master}")])
+            .output()
+            .unwrap();
+        let cluster: Value = serde_json::from_slice(&out.stdout).ok()?;
+        (process(&cluster, "logger")["state"] == "running").then_some(cluster)
+    });
+    let logger = process(&cluster, "logger")["pid"].as_u64().unwrap();
+    unsafe { libc::kill(started.0[0].id() as i32, libc::SIGINT) };
+    for child in &mut started.0 {
+        let end = Instant::now() + Duration::from_secs(40);
+        while child.try_wait().unwrap().is_none() {
+            assert!(Instant::now() < end, "a launcher or the master did not end");
+            std::thread::sleep(Duration::from_millis(100));
+        }
+    }
+    assert!(
+        !alive(logger),
+        "the executable still runs after the master stopped"
+    );
+    // Its own child (the shell's sleep) went with it: nothing of the test's runs on.
+    let left = Command::new("pgrep").args(["-f", "sleep 60"]).output();
+    if let Ok(left) = left {
+        let mine: Vec<String> = text(&left.stdout)
+            .lines()
+            .filter(|pid| {
+                let cwd = std::fs::read_link(format!("/proc/{pid}/cwd"));
+                cwd.is_ok_and(|cwd| cwd == folder)
+            })
+            .map(str::to_string)
+            .collect();
+        assert!(mine.is_empty(), "the shell's sleep still runs: {mine:?}");
+    }
+}

@@ -119,8 +119,9 @@ impl Child {
         before != (self.state, self.restarts)
     }
 
-    /// Stop it: SIGINT (a mechweed program ends as at Ctrl-C, the controller with its
-    /// safe outputs), then SIGKILL if it has not ended within `patience`. No restart
+    /// Stop it: SIGINT to its process group (a mechweed program ends as at Ctrl-C, the
+    /// controller with its safe outputs), then SIGKILL if it has not ended within
+    /// `patience`. No restart
     /// follows. Returns how it ended, in words.
     pub fn stop(&mut self, patience: Duration) -> String {
         self.restart_at = None;
@@ -135,8 +136,10 @@ impl Child {
                 .clone()
                 .unwrap_or_else(|| "not running".to_string());
         };
-        // The pid is ours and the process not yet reaped, so it cannot be another's.
-        unsafe { libc::kill(process.id() as libc::pid_t, libc::SIGINT) };
+        // Its whole process group (a shell's children too). The pid is ours and not
+        // yet reaped, so the group cannot be another's.
+        let group = -(process.id() as libc::pid_t);
+        unsafe { libc::kill(group, libc::SIGINT) };
         let end = Instant::now() + patience;
         let status = loop {
             match process.try_wait() {
@@ -148,7 +151,7 @@ impl Child {
         let words = match status {
             Some(status) => exit_words(status),
             None => {
-                let _ = process.kill();
+                unsafe { libc::kill(group, libc::SIGKILL) };
                 let _ = process.wait();
                 format!(
                     "killed: it did not end within {:.0} s of SIGINT",

@@ -57,7 +57,7 @@ pub struct Process {
     pub name: String,
     pub machine: String,
     pub program: Program,
-    /// Its arguments, split at spaces.
+    /// Its arguments, split at spaces (double quotes keep spaces inside one).
     pub args: Vec<String>,
     /// Settings overrides (`set.SECTION.KEY = VALUE`), given as `--set SECTION.KEY=VALUE`.
     pub settings: Vec<String>,
@@ -229,10 +229,11 @@ fn process(r: &mut Reader, name: &str, machines: &[String], processes: &[String]
     };
     let machine = r.parsed(&s, "machine", on_machine).unwrap_or_default();
     let program = r.parsed(&s, "program", Program::parse);
-    let args = r
-        .optional(&s, "args")
-        .map(|a| a.split_whitespace().map(str::to_string).collect())
-        .unwrap_or_default();
+    let args = if r.keys(&s).iter().any(|k| k == "args") {
+        r.parsed(&s, "args", split_args).unwrap_or_default()
+    } else {
+        Vec::new()
+    };
     let mut settings = Vec::new();
     for key in r.keys(&s) {
         let Some(setting) = key.strip_prefix("set.") else {
@@ -284,6 +285,28 @@ fn process(r: &mut Reader, name: &str, machines: &[String], processes: &[String]
         restart,
         restart_delay_s,
     }
+}
+
+/// Arguments split at spaces; double quotes keep spaces inside one (`-c "echo hi"`).
+fn split_args(text: &str) -> Result<Vec<String>, String> {
+    let mut args = Vec::new();
+    let mut current: Option<String> = None;
+    let mut quoted = false;
+    for c in text.chars() {
+        match c {
+            '"' => {
+                quoted = !quoted;
+                current.get_or_insert_with(String::new);
+            }
+            c if c.is_whitespace() && !quoted => args.extend(current.take()),
+            c => current.get_or_insert_with(String::new).push(c),
+        }
+    }
+    if quoted {
+        return Err("a \" is not closed".to_string());
+    }
+    args.extend(current);
+    Ok(args)
 }
 
 fn listed(names: &[String]) -> String {

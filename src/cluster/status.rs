@@ -19,7 +19,11 @@ pub fn fetch(master: &str, robot: &str, seconds: f64) -> Result<Value, String> {
         connect: vec![master.to_string()],
         wait: false,
     })
-    .map_err(|e| format!("no cluster master at {master}: {e}"))?;
+    .map_err(|_| {
+        format!(
+            "no cluster master answers at {master} (is `mechweed cluster master GRAPH` running there, with this [cluster] master?)"
+        )
+    })?;
     let keys = Keys::new(robot);
     let mut status =
         ask(&session, &keys.status(), None, Duration::from_secs(3)).map_err(|why| {

@@ -176,3 +176,21 @@ fn the_picture_has_every_machine_process_and_flow() {
         "{picture}"
     );
 }
+
+#[test]
+fn arguments_split_at_spaces_and_quotes_keep_them() {
+    let graph = |args: &str| {
+        Graph::parse(
+            "g.ini",
+            &format!("{HEAD}[process x]\nmachine = a\nprogram = sh\nargs = {args}\n"),
+        )
+    };
+    let args = |text: &str| graph(text).unwrap().processes[0].args.clone();
+    assert_eq!(args("-c  \"echo $A  b\" \"\""), ["-c", "echo $A  b", ""]);
+    assert_eq!(
+        args("--headless --mode autonomous"),
+        ["--headless", "--mode", "autonomous"]
+    );
+    let open = graph("-c \"echo").unwrap_err()[0].to_string();
+    assert_eq!(open, "g.ini line 10: [process x] args: a \" is not closed");
+}
