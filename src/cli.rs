@@ -55,6 +55,24 @@ pub enum Command {
     /// The virtual cluster: one graph file starts the programs of several machines.
     #[command(subcommand)]
     Cluster(ClusterCommand),
+    /// The operator GUI on another computer, fed by the robot's flows on the bus.
+    Watch(WatchArgs),
+}
+
+#[derive(clap::Args)]
+pub struct WatchArgs {
+    /// Where the robot program listens ([bus] listen on the robot).
+    #[arg(long, value_name = "ENDPOINT", default_value = mechweed::bus_tools::DEFAULT_ENDPOINT)]
+    pub connect: String,
+    /// The robot's name on the bus ([bus] robot on the robot).
+    #[arg(long, value_name = "NAME", default_value = "mechweed")]
+    pub robot: String,
+    /// Close the window after this many seconds.
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    pub duration: Option<f64>,
+    /// The tab at start.
+    #[arg(long, value_enum, default_value = "status")]
+    pub tab: Tab,
 }
 
 #[derive(clap::Args)]

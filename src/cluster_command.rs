@@ -1,12 +1,12 @@
 //! `mechweed cluster ...`: the master, the launcher, the cluster's status and its
-//! picture (src/cluster/).
+//! picture (src/cluster/); and `mechweed watch`, the operator view on another computer.
 
 use std::process::ExitCode;
 
 use mechweed::cluster::graph::Graph;
 use mechweed::cluster::{dot, launcher, master, status};
 
-use crate::cli::ClusterCommand;
+use crate::cli::{ClusterCommand, WatchArgs};
 use crate::print_errors;
 use crate::record_command::ctrl_c;
 
@@ -75,4 +75,24 @@ pub fn cluster(command: ClusterCommand) -> ExitCode {
             Err(code) => code,
         },
     }
+}
+
+/// `mechweed watch`: the operator GUI fed by the robot's flows.
+pub fn watch(args: WatchArgs) -> ExitCode {
+    let settings = match crate::load_settings(None, &[]) {
+        Ok(settings) => settings,
+        Err(errors) => {
+            print_errors(&errors);
+            return ExitCode::FAILURE;
+        }
+    };
+    let remote = match mechweed::gui::remote::RemoteView::connect(&args.connect, &args.robot) {
+        Ok(remote) => remote,
+        Err(why) => return done(Err(why)),
+    };
+    println!("watching {} at {}", args.robot, args.connect);
+    let advice = "watch needs a window; on a computer without one, `mechweed bus echo status` prints the status";
+    let shown =
+        mechweed::gui::run_watch(remote, settings, args.duration, args.tab, ctrl_c(), advice);
+    done(shown.map(|frames| println!("window closed after {frames} frames")))
 }

@@ -338,5 +338,6 @@ fn main() -> ExitCode {
         Some(Command::Record(args)) => record_command::record(args),
         Some(Command::Bus(args)) => bus_command::bus(args),
         Some(Command::Cluster(command)) => cluster_command::cluster(command),
+        Some(Command::Watch(args)) => cluster_command::watch(args),
     }
 }

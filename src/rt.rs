@@ -61,7 +61,7 @@ fn sleep_until_ns(deadline_ns: u64) {
 }
 
 /// Percentiles of one measured quantity, in microseconds.
-#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct Percentiles {
     pub p50: u64,
     pub p99: u64,
@@ -70,7 +70,7 @@ pub struct Percentiles {
 }
 
 /// A loop's figures, as the report and the status line show them.
-#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct LoopSummary {
     pub rate_hz: f64,
     pub ticks: u64,

@@ -286,17 +286,12 @@ fn a_settled_gui_asks_for_no_frame_and_a_change_elsewhere_is_drawn_at_the_next_l
     );
     assert!(!gui.shows("PRESSED"));
 
-    let sim = shared
-        .lock()
-        .handles
-        .sim
-        .clone()
-        .expect("the simulated robot");
+    let sim = shared.lock().source.sim().expect("the simulated robot");
     assert!(sim.apply(EventAction::EstopFront));
     let end = Instant::now() + Duration::from_secs(30);
     while shared
         .lock()
-        .handles
+        .source
         .view()
         .status
         .inputs

@@ -11,7 +11,7 @@ use std::time::Duration;
 use eframe::egui;
 
 use super::Controller;
-use super::pacer::{SharedGui, shared};
+use super::pacer::{SharedGui, Source, shared};
 use super::plot_data::PlotSamples;
 use super::plots::Plots;
 use super::requests::{Feedback, Requests};
@@ -24,7 +24,7 @@ use super::{header, modes, status};
 use crate::config::Settings;
 use crate::modes::Mode;
 use crate::operator::needs_confirmation;
-use crate::run::{Handles, RunOptions, start};
+use crate::run::{RunOptions, start};
 
 /// While an answer of the supervisor is awaited, and while a test ramp or step is under
 /// way (it is sent from the pass), the GUI thread passes this often of its own accord,
@@ -65,7 +65,7 @@ pub struct GuiApp {
 
 impl GuiApp {
     pub fn new(
-        handles: Handles,
+        source: Source,
         opts: &RunOptions,
         settings_file: Option<PathBuf>,
         stop: Arc<AtomicBool>,
@@ -73,7 +73,7 @@ impl GuiApp {
     ) -> GuiApp {
         let settings = &opts.settings;
         let mut app = GuiApp {
-            shared: shared(handles, Tab::default()),
+            shared: shared(source, Tab::default()),
             view: View::default(),
             tab: Tab::default(),
             requests: Requests::default(),
@@ -156,7 +156,7 @@ impl GuiApp {
                 *slot = Some(running);
                 {
                     let mut shared = self.shared.lock();
-                    shared.handles = handles;
+                    shared.source = Source::Local(handles);
                     shared.samples = PlotSamples::default();
                 }
                 self.script = GuiScript::new(&[], Mode::Halt);
@@ -191,8 +191,10 @@ impl GuiApp {
         let sim = {
             let mut shared = self.shared.lock();
             shared.passes += 1;
-            self.view = shared.handles.view();
-            shared.handles.sim.clone()
+            let in_words = shared.source.answers_in_words();
+            self.requests.take_answers_in_words(in_words);
+            self.view = shared.source.view();
+            shared.source.sim()
         };
         let now_s = self.view.now_s;
         self.script.pass(&self.view, &mut self.requests);
@@ -200,7 +202,7 @@ impl GuiApp {
         if let Some(sim) = &sim {
             self.sim.keep_joystick(sim);
         }
-        self.requests.post(&self.shared.lock().handles, now_s);
+        self.requests.post(&self.shared.lock().source, now_s);
         if let Some(settings) = self.sim.restart.take() {
             self.restart(settings);
         }
@@ -227,7 +229,7 @@ impl GuiApp {
             header::halt(&self.view, &mut self.requests);
         }
         self.show_confirmation(&ui.ctx().clone());
-        let sim = self.shared.lock().handles.sim.clone();
+        let sim = self.shared.lock().source.sim();
         let (view, requests) = (&self.view, &mut self.requests);
         egui::Panel::top("header").show(ui, |ui| header::show(ui, view, requests));
         egui::Panel::left("modes")
@@ -265,7 +267,7 @@ impl GuiApp {
         let mut shared = self.shared.lock();
         shared.frames += 1;
         shared.tab = self.tab;
-        self.requests.post(&shared.handles, self.view.now_s);
+        self.requests.post(&shared.source, self.view.now_s);
     }
 }
 

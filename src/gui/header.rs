@@ -5,7 +5,7 @@
 use eframe::egui::{self, Color32, RichText};
 
 use super::requests::Requests;
-use super::view::View;
+use super::view::{RemoteLink, View};
 use crate::modes::{Mode, Request};
 
 /// If the supervisor has not published for this long, it has stopped, s.
@@ -80,7 +80,21 @@ pub fn show(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
                         .color(Color32::from_rgb(255, 150, 40)),
                 );
             }
+            if let Some(link) = &view.remote {
+                remote(ui, link);
+            }
+            let remote_fault = view.remote.as_ref().and_then(|link| link.fault.as_ref());
             match st.fault {
+                // Over the bus the fault comes in words.
+                None if remote_fault.is_some() => {
+                    let fault = remote_fault.cloned().unwrap_or_default();
+                    ui.label(
+                        RichText::new(format!("FAULT: {fault}"))
+                            .size(18.0)
+                            .strong()
+                            .color(Color32::from_rgb(255, 90, 90)),
+                    );
+                }
                 Some(fault) => {
                     ui.label(
                         RichText::new(format!(
@@ -97,7 +111,7 @@ pub fn show(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
                     ui.label(RichText::new("no fault").size(18.0));
                 }
             }
-            if st.tick > 0 && view.now_s - st.t_s > SUPERVISOR_SILENT_S {
+            if view.remote.is_none() && st.tick > 0 && view.now_s - st.t_s > SUPERVISOR_SILENT_S {
                 ui.label(
                     RichText::new("the controller has stopped: close this window and see the log")
                         .strong()
@@ -115,6 +129,44 @@ pub fn show(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
         });
     });
     ui.add_space(4.0);
+}
+
+/// Which robot this window watches over the bus, and how old its newest status is.
+pub fn remote_line(link: &RemoteLink) -> String {
+    let what = if link.operator {
+        "HALT, power up and modes"
+    } else {
+        "HALT only"
+    };
+    match link.age_s {
+        None => format!("waiting for {}'s status at {}", link.robot, link.endpoint),
+        Some(age_s) if link.stale() => format!(
+            "watching {} at {}: no status for {age_s:.1} s",
+            link.robot, link.endpoint
+        ),
+        Some(age_s) => format!(
+            "watching {} at {}: status {:.0} ms old; requests: {what}",
+            link.robot,
+            link.endpoint,
+            age_s * 1000.0
+        ),
+    }
+}
+
+/// The link to a robot watched over the bus: red once its status is older than a
+/// second, since everything else in the window is then older too.
+fn remote(ui: &mut egui::Ui, link: &RemoteLink) {
+    let colour = if link.stale() {
+        Color32::RED
+    } else {
+        Color32::from_rgb(120, 200, 255)
+    };
+    ui.label(
+        RichText::new(remote_line(link))
+            .size(16.0)
+            .strong()
+            .color(colour),
+    );
 }
 
 pub fn power_text(power: crate::status::PowerState) -> &'static str {

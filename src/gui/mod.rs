@@ -30,6 +30,8 @@ pub mod pace;
 pub mod pacer;
 pub mod plot_data;
 pub mod plots;
+pub mod remote;
+mod remote_view;
 pub mod requests;
 pub mod script;
 mod sim_panel;
@@ -98,13 +100,36 @@ pub fn run_gui(
     }
     let controller: Controller = Arc::new(Mutex::new(Some(running)));
     let mut app = GuiApp::new(
-        handles,
+        pacer::Source::Local(handles),
         opts,
         settings_file,
         stop.clone(),
         controller.clone(),
     );
     app.tab = first_tab;
+    let (shown, frames) = show_window(app, stop);
+    // Whatever happened to the window, stop the controller: the supervisor writes the
+    // safe outputs as it ends.
+    let running = controller
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
+        .take();
+    let outcome = running
+        .ok_or("the controller could not be restarted after a reset: see the messages above")?
+        .finish();
+    match shown {
+        Ok(()) => Ok((outcome, frames)),
+        // The window library's own message quotes its source files: said in our words.
+        Err(_) => Err(format!(
+            "{}; the controller was stopped with safe outputs: {advice}",
+            window_failed()
+        )),
+    }
+}
+
+/// Open the window for `app` and run it until it closes; the pacer thread looks for it.
+/// Gives how the window ended and the number of frames drawn.
+fn show_window(app: GuiApp, stop: Arc<AtomicBool>) -> (Result<(), eframe::Error>, u64) {
     let native = eframe::NativeOptions {
         viewport: eframe::egui::ViewportBuilder::default()
             .with_title("mechweed")
@@ -131,22 +156,54 @@ pub fn run_gui(
     if let Some(pacer) = pacer {
         let _ = pacer.join();
     }
-    // Whatever happened to the window, stop the controller: the supervisor writes the
-    // safe outputs as it ends.
-    let running = controller
-        .lock()
-        .unwrap_or_else(|poisoned| poisoned.into_inner())
-        .take();
-    let outcome = running
-        .ok_or("the controller could not be restarted after a reset: see the messages above")?
-        .finish();
     let frames = shared.lock().frames;
-    match shown {
-        Ok(()) => Ok((outcome, frames)),
-        // The window library's own message quotes its source files: said in our words.
-        Err(_) => Err(format!(
-            "{}; the controller was stopped with safe outputs: {advice}",
-            window_failed()
-        )),
+    (shown, frames)
+}
+
+/// `mechweed watch`: the operator GUI on another computer, fed by `remote`, until the
+/// window closes, `duration_s` passes or `stop` is set. Gives the frames drawn.
+/// `settings` are this computer's (the Tuning tab's file); `advice` ends a message that
+/// there is no window.
+pub fn run_watch(
+    remote: remote::RemoteView,
+    settings: crate::config::Settings,
+    duration_s: Option<f64>,
+    first_tab: Tab,
+    stop: Arc<AtomicBool>,
+    advice: &str,
+) -> Result<u64, String> {
+    if let Some(why) = display_missing() {
+        return Err(format!("{why}: {advice}"));
+    }
+    let opts = RunOptions {
+        settings,
+        start_mode: crate::modes::Mode::Halt,
+        // The robot's clock is not this window's: the time limit is kept here.
+        duration_s: None,
+        status_every_s: 0.0,
+        inject: None,
+    };
+    if let Some(seconds) = duration_s {
+        let stop = stop.clone();
+        std::thread::Builder::new()
+            .name("watch-duration".into())
+            .spawn(move || {
+                std::thread::sleep(std::time::Duration::from_secs_f64(seconds));
+                stop.store(true, std::sync::atomic::Ordering::Relaxed);
+            })
+            .map_err(|e| format!("cannot start a thread: {e}"))?;
+    }
+    let controller: Controller = Arc::new(Mutex::new(None));
+    let mut app = GuiApp::new(
+        pacer::Source::Remote(Box::new(remote)),
+        &opts,
+        None,
+        stop.clone(),
+        controller,
+    );
+    app.tab = first_tab;
+    match show_window(app, stop) {
+        (Ok(()), frames) => Ok(frames),
+        (Err(_), _) => Err(format!("{}: {advice}", window_failed())),
     }
 }

@@ -25,6 +25,19 @@ fn button_with_reason(ui: &mut egui::Ui, label: RichText, why_not: Option<String
     clicked
 }
 
+/// Over the bus, only HALT unless the robot takes more from it.
+fn read_only(view: &View) -> Option<String> {
+    let link = view.remote.as_ref()?;
+    if link.operator {
+        None
+    } else {
+        Some(
+            "watching only: the robot takes only HALT from the bus ([bus] accept_requests = halt)"
+                .into(),
+        )
+    }
+}
+
 pub fn show(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
     let st = &view.status;
     ui.heading("Modes");
@@ -32,7 +45,7 @@ pub fn show(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
     let power_up = button_with_reason(
         ui,
         RichText::new("Power up").size(18.0),
-        power_up_refusal(st).map(|r| r.to_string()),
+        read_only(view).or_else(|| power_up_refusal(st).map(|r| r.to_string())),
     );
     if power_up {
         requests.ask(Request::PowerUp, "powering up");
@@ -47,7 +60,7 @@ pub fn show(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
         let reason = if st.mode == mode {
             Some(format!("now in {mode}"))
         } else {
-            why_not(mode, st)
+            read_only(view).or_else(|| why_not(mode, st))
         };
         let text = RichText::new(label).size(18.0).color(mode_colour(mode));
         if button_with_reason(ui, text, reason) {

@@ -59,6 +59,9 @@ struct AtOnce {
     /// The supervisor's first tick: the operator script starts from it.
     started: bool,
     controller_silent: bool,
+    /// Watching over the bus: the link gone stale, the robot's fault in words.
+    remote_stale: bool,
+    remote_fault: bool,
 }
 
 impl AtOnce {
@@ -96,6 +99,11 @@ impl AtOnce {
             bus: view.bus.state,
             started: st.tick > 0,
             controller_silent: st.tick > 0 && view.now_s - st.t_s > SUPERVISOR_SILENT_S,
+            remote_stale: view.remote.as_ref().is_some_and(|link| link.stale()),
+            remote_fault: view
+                .remote
+                .as_ref()
+                .is_some_and(|link| link.fault.is_some()),
         }
     }
 }

@@ -19,14 +19,78 @@ use parking_lot::Mutex;
 use super::app::Tab;
 use super::pace::{LOOK_S, Pace};
 use super::plot_data::PlotSamples;
-use super::view::ViewSource;
+use super::remote::RemoteView;
+use super::view::{View, ViewSource};
+use crate::modes::Request;
+use crate::request_channel::Answer;
 use crate::run::Handles;
+
+/// Where the window's view comes from.
+pub enum Source {
+    /// The controller in this process (replaced when the operator resets the simulated
+    /// robot).
+    Local(Handles),
+    /// A robot watched over the bus (`mechweed watch`); boxed, as it keeps a whole
+    /// `View` between looks.
+    Remote(Box<RemoteView>),
+}
+
+impl Source {
+    /// The simulated robot's controls, for its panel: only where the controller is.
+    pub fn sim(&self) -> Option<mechweed_hw::sim::SimControl> {
+        match self {
+            Source::Local(handles) => handles.sim.clone(),
+            Source::Remote(_) => None,
+        }
+    }
+
+    /// The GUI's heartbeat, which the supervisor in this process watches.
+    fn beat(&self, now_s: f64) {
+        if let Source::Local(handles) = self {
+            handles.gui_beat.publish(&now_s);
+        }
+    }
+}
+
+impl ViewSource for Source {
+    fn view(&mut self) -> View {
+        match self {
+            Source::Local(handles) => handles.view(),
+            Source::Remote(remote) => remote.view(),
+        }
+    }
+
+    fn send(
+        &self,
+        request: Request,
+        reply: &crossbeam_channel::Sender<Answer>,
+    ) -> Result<(), String> {
+        match self {
+            Source::Local(handles) => handles.send(request, reply),
+            Source::Remote(remote) => remote.send(request, reply),
+        }
+    }
+
+    fn ping_link(&self) {
+        match self {
+            Source::Local(handles) => handles.ping_link(),
+            Source::Remote(remote) => remote.ping_link(),
+        }
+    }
+
+    fn answers_in_words(&self) -> Vec<(Request, Result<(), String>)> {
+        match self {
+            Source::Local(handles) => handles.answers_in_words(),
+            Source::Remote(remote) => remote.answers_in_words(),
+        }
+    }
+}
 
 /// What the GUI thread and its pacer share, behind one lock that neither holds while
 /// drawing.
 pub struct Shared {
-    /// The controller's objects (replaced when the operator resets the simulated robot).
-    pub handles: Handles,
+    /// Where the view comes from and the requests go.
+    pub source: Source,
     /// The tab shown.
     pub tab: Tab,
     /// Passes the GUI thread has run: frames, and the passes without drawing that
@@ -39,9 +103,9 @@ pub struct Shared {
 
 pub type SharedGui = Arc<Mutex<Shared>>;
 
-pub fn shared(handles: Handles, tab: Tab) -> SharedGui {
+pub fn shared(source: Source, tab: Tab) -> SharedGui {
     Arc::new(Mutex::new(Shared {
-        handles,
+        source,
         tab,
         passes: 0,
         frames: 0,
@@ -85,11 +149,11 @@ pub fn spawn(
 pub fn look_once(ctx: &egui::Context, shared: &SharedGui, pace: &mut Pace, t_s: f64) {
     let look = {
         let mut s = shared.lock();
-        let view = s.handles.view();
+        let view = s.source.view();
         s.samples.record(&view);
         let look = pace.look(&view, s.tab, s.passes, t_s);
         if look.beat {
-            s.handles.gui_beat.publish(&view.now_s);
+            s.source.beat(view.now_s);
         }
         look
     };

@@ -166,24 +166,33 @@ impl Requests {
     /// the feedback line.
     pub fn take_answers(&mut self) {
         while let Ok((request, answer)) = self.answers.try_recv() {
-            // Answers come in the order asked; one may be lost (a full channel), so the
-            // oldest open ask of the same request is the one answered.
-            let ask = self
-                .pending
-                .iter()
-                .position(|a| a.request == request)
-                .and_then(|k| self.pending.remove(k));
-            let (done, at_s) = match ask {
-                Some(ask) => (ask.done, ask.at_s),
-                None => (None, self.last_post_s),
-            };
-            match (answer, done) {
-                (Ok(()), Some(done)) => self.say(done, false, at_s),
-                (Ok(()), None) => {}
-                (Err(refusal), _) => {
-                    self.say(refused_text(&request, &refusal.to_string()), true, at_s)
-                }
-            }
+            self.answered(request, answer.map_err(|refusal| refusal.to_string()));
+        }
+    }
+
+    /// Answers in words (the robot's, over the bus): said as the supervisor's are.
+    pub fn take_answers_in_words(&mut self, answers: Vec<(Request, Result<(), String>)>) {
+        for (request, answer) in answers {
+            self.answered(request, answer);
+        }
+    }
+
+    fn answered(&mut self, request: Request, answer: Result<(), String>) {
+        // Answers come in the order asked; one may be lost (a full channel), so the
+        // oldest open ask of the same request is the one answered.
+        let ask = self
+            .pending
+            .iter()
+            .position(|a| a.request == request)
+            .and_then(|k| self.pending.remove(k));
+        let (done, at_s) = match ask {
+            Some(ask) => (ask.done, ask.at_s),
+            None => (None, self.last_post_s),
+        };
+        match (answer, done) {
+            (Ok(()), Some(done)) => self.say(done, false, at_s),
+            (Ok(()), None) => {}
+            (Err(why), _) => self.say(refused_text(&request, &why), true, at_s),
         }
     }
 

@@ -200,8 +200,20 @@ pub fn show(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
     loops_grid(ui, view);
     ui.separator();
     ui.heading("Bus");
-    ui.label(view.bus.line());
-    if view.bus.state != crate::bus::BusState::Off {
-        ui.label(&view.bus_endpoints);
+    match &view.remote {
+        // This window watches the robot over the bus: its link, not the robot's bus.
+        Some(link) => {
+            ui.label(super::header::remote_line(link));
+            ui.label(format!(
+                "{}; messages that could not be read: {}",
+                view.bus_endpoints, link.refused
+            ));
+        }
+        None => {
+            ui.label(view.bus.line());
+            if view.bus.state != crate::bus::BusState::Off {
+                ui.label(&view.bus_endpoints);
+            }
+        }
     }
 }

@@ -3,9 +3,10 @@
 //! itself, so it draws the same from any source and can be tested from a `View` made
 //! by hand.
 //!
-//! `ViewSource` is that source. Today there is one: the protected objects of the
-//! controller in this process (`Handles`). A second (the bus, for a remote operator
-//! view) fills the same `View` and carries the same requests.
+//! `ViewSource` is that source: the protected objects of the controller in this
+//! process (`Handles`), or the robot's flows on the bus for the operator view on
+//! another computer (`remote.rs`, `mechweed watch`), which fills the same `View` and
+//! carries the requests the robot takes from the bus.
 
 use crossbeam_channel::Sender;
 use mechweed_hw::sim::Truth;
@@ -41,6 +42,33 @@ pub struct View {
     pub bus: BusFigures,
     /// Where the bus listens and connects ([bus] listen and connect).
     pub bus_endpoints: String,
+    /// Watching a robot over the bus (`mechweed watch`); None: the controller is here.
+    pub remote: Option<RemoteLink>,
+}
+
+/// What the operator view on another computer knows of its link to the robot.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RemoteLink {
+    /// The robot's name on the bus, and where it is reached.
+    pub robot: String,
+    pub endpoint: String,
+    /// How long ago the newest status arrived, s; None: none yet.
+    pub age_s: Option<f64>,
+    /// The robot takes power up and modes from the bus ([bus] accept_requests =
+    /// operator); else only HALT.
+    pub operator: bool,
+    /// The robot's fault and notice, in its words (the flows carry words, not causes).
+    pub fault: Option<String>,
+    pub notice: Option<String>,
+    /// Messages on the flows that could not be read (the first few are logged).
+    pub refused: u64,
+}
+
+impl RemoteLink {
+    /// The robot's status is older than a second: what the window shows is stale.
+    pub fn stale(&self) -> bool {
+        self.age_s.is_none_or(|age_s| age_s > 1.0)
+    }
 }
 
 /// Where the GUI's `View` comes from and where its requests go.
@@ -55,6 +83,12 @@ pub trait ViewSource {
 
     /// Ask the camera link for a round trip (PING); its result shows in the link status.
     fn ping_link(&self);
+
+    /// Answers that come in words rather than as the supervisor's refusals (the robot's
+    /// answers over the bus), each with its request.
+    fn answers_in_words(&self) -> Vec<(Request, Result<(), String>)> {
+        Vec::new()
+    }
 }
 
 /// The controller in this process: its protected objects, read without waiting.
@@ -72,6 +106,7 @@ impl ViewSource for Handles {
             not_realtime: self.not_realtime.clone(),
             bus: self.bus.snapshot(),
             bus_endpoints: self.bus_endpoints.clone(),
+            remote: None,
         }
     }
 

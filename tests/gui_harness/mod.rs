@@ -12,7 +12,7 @@ use egui_kittest::kittest::{NodeT, Queryable};
 use mechweed::config::Settings;
 use mechweed::fault_cause::FaultCause;
 use mechweed::gui::pace::Pace;
-use mechweed::gui::pacer::look_once;
+use mechweed::gui::pacer::{Source, look_once};
 use mechweed::gui::{Controller, GuiApp};
 use mechweed::modes::Mode;
 use mechweed::run::{Handles, RunOptions, RunOutcome, Running, start};
@@ -49,7 +49,13 @@ pub fn gui_customised(settings_file: Option<PathBuf>, adjust: impl FnOnce(&mut H
     let (mut handles, running) = start(&opts, stop.clone()).expect("the controller starts");
     adjust(&mut handles);
     let controller: Controller = Arc::new(Mutex::new(Some(running)));
-    let app = GuiApp::new(handles, &opts, settings_file, stop, controller.clone());
+    let app = GuiApp::new(
+        Source::Local(handles),
+        &opts,
+        settings_file,
+        stop,
+        controller.clone(),
+    );
     let harness = Harness::builder()
         .with_size(eframe::egui::vec2(1280.0, 1000.0))
         .build_ui_state(

@@ -1,0 +1,265 @@
+//! The operator view on another computer (`mechweed watch`): a `ViewSource` fed by the
+//! robot's flows on the bus instead of the protected objects. Zenoh's callbacks only
+//! hand each message to a channel; the pacer's look reads the newest status and tick
+//! from it. Requests go out as bus queries without waiting: HALT always, power up and
+//! modes only where the robot takes them from the bus (`[bus] accept_requests =
+//! operator`, asked of the robot every few seconds).
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use crossbeam_channel::{Receiver, Sender, bounded};
+use serde_json::{Value, json};
+use zenoh::{Session, Wait};
+
+use super::remote_view::{fill_from_status, fill_from_tick};
+use super::view::{RemoteLink, View, ViewSource};
+use crate::bus::session::{Role, open};
+use crate::modes::{Mode, Request};
+use crate::request_channel::Answer;
+
+/// Messages waiting for the next look; beyond, the oldest are not needed (only the
+/// newest status and tick are drawn) and new ones are dropped.
+const QUEUE: usize = 256;
+/// Bad messages are counted; the first few are also said.
+const SAY_BAD: u64 = 5;
+/// How often the robot is asked whether it takes operator requests from the bus.
+const ASK_OPERATOR_EVERY: Duration = Duration::from_secs(5);
+const ANSWER_WAIT: Duration = Duration::from_secs(3);
+
+/// The flows the view reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Flow {
+    Status,
+    Tick,
+}
+
+type Said = (Request, Result<(), String>);
+
+pub struct RemoteView {
+    robot: String,
+    endpoint: String,
+    /// None: fed by hand (`feed`), as the tests do.
+    session: Option<Session>,
+    _subscribers: Vec<zenoh::pubsub::Subscriber<()>>,
+    arrived: Receiver<(Flow, Vec<u8>, Instant)>,
+    arrive: Sender<(Flow, Vec<u8>, Instant)>,
+    operator: Arc<AtomicBool>,
+    answers: Receiver<Said>,
+    answer: Sender<Said>,
+    /// The request payloads a view fed by hand would have sent.
+    pub sent: parking_lot::Mutex<Vec<String>>,
+    view: View,
+    status_at: Option<Instant>,
+    quit: Arc<AtomicBool>,
+}
+
+impl Drop for RemoteView {
+    fn drop(&mut self) {
+        self.quit.store(true, Ordering::Relaxed);
+    }
+}
+
+impl RemoteView {
+    /// A view fed by hand (`feed`), with no network: for tests.
+    pub fn offline(robot: &str, endpoint: &str) -> RemoteView {
+        let (arrive, arrived) = bounded(QUEUE);
+        let (answer, answers) = bounded(QUEUE);
+        let view = View {
+            bus_endpoints: format!("watching over the bus, connected to {endpoint}"),
+            remote: Some(RemoteLink {
+                robot: robot.to_string(),
+                endpoint: endpoint.to_string(),
+                ..RemoteLink::default()
+            }),
+            ..View::default()
+        };
+        RemoteView {
+            robot: robot.to_string(),
+            endpoint: endpoint.to_string(),
+            session: None,
+            _subscribers: Vec::new(),
+            arrived,
+            arrive,
+            operator: Arc::default(),
+            answers,
+            answer,
+            sent: parking_lot::Mutex::default(),
+            view,
+            status_at: None,
+            quit: Arc::default(),
+        }
+    }
+
+    /// Watch robot `robot` at `endpoint` (it may start later: the session waits).
+    pub fn connect(endpoint: &str, robot: &str) -> Result<RemoteView, String> {
+        let mut remote = RemoteView::offline(robot, endpoint);
+        let session = open(Role::Tool {
+            connect: vec![endpoint.to_string()],
+            wait: true,
+        })
+        .map_err(|e| e.to_string())?;
+        for (flow, key) in [(Flow::Status, "status"), (Flow::Tick, "tick")] {
+            let arrive = remote.arrive.clone();
+            let subscriber = session
+                .declare_subscriber(format!("{robot}/{key}"))
+                .callback(move |sample| {
+                    let bytes = sample.payload().to_bytes().into_owned();
+                    let _ = arrive.try_send((flow, bytes, Instant::now()));
+                })
+                .wait()
+                .map_err(|e| e.to_string())?;
+            remote._subscribers.push(subscriber);
+        }
+        let (asker, operator, quit) = (
+            session.clone(),
+            remote.operator.clone(),
+            remote.quit.clone(),
+        );
+        let key = format!("{robot}/config/bus/accept_requests");
+        std::thread::Builder::new()
+            .name("watch-operator".into())
+            .spawn(move || {
+                while !quit.load(Ordering::Relaxed) {
+                    if let Some(taken) = accepts_operator(&asker, &key) {
+                        operator.store(taken, Ordering::Relaxed);
+                    }
+                    std::thread::sleep(ASK_OPERATOR_EVERY);
+                }
+            })
+            .map_err(|e| format!("cannot start a thread: {e}"))?;
+        remote.session = Some(session);
+        Ok(remote)
+    }
+
+    /// Hand a message of `flow` over, as zenoh's callback does.
+    pub fn feed(&self, flow: Flow, bytes: &[u8], at: Instant) {
+        let _ = self.arrive.try_send((flow, bytes.to_vec(), at));
+    }
+
+    /// As if the robot took (true) or refused (false) operator requests from the bus.
+    pub fn set_operator(&self, taken: bool) {
+        self.operator.store(taken, Ordering::Relaxed);
+    }
+
+    /// The view at `now`: every message that arrived, the newest last.
+    pub fn view_at(&mut self, now: Instant) -> View {
+        while let Ok((flow, bytes, at)) = self.arrived.try_recv() {
+            let read = serde_json::from_slice::<Value>(&bytes)
+                .map_err(|e| format!("not JSON ({e})"))
+                .and_then(|json| match flow {
+                    Flow::Status => self.take_status(&json, at),
+                    Flow::Tick => {
+                        fill_from_tick(&mut self.view, &json);
+                        Ok(())
+                    }
+                });
+            if let Err(why) = read {
+                let link = self.view.remote.get_or_insert_default();
+                link.refused += 1;
+                if link.refused <= SAY_BAD {
+                    eprintln!("watch: a {flow:?} message of {} refused: {why}", self.robot);
+                }
+            }
+        }
+        let age_s = self
+            .status_at
+            .map(|at| now.saturating_duration_since(at).as_secs_f64());
+        let mut view = self.view.clone();
+        // The robot's clock, running on since its newest status.
+        view.now_s = view.status.t_s + age_s.unwrap_or(0.0);
+        if let Some(link) = &mut view.remote {
+            link.age_s = age_s;
+            link.operator = self.operator.load(Ordering::Relaxed);
+        }
+        view
+    }
+
+    fn take_status(&mut self, json: &Value, at: Instant) -> Result<(), String> {
+        if self.status_at.is_some_and(|seen| at < seen) {
+            return Ok(()); // an older one, overtaken
+        }
+        fill_from_status(&mut self.view, json)?;
+        self.status_at = Some(at);
+        if let Some(link) = &mut self.view.remote {
+            link.fault = json["fault"].as_str().map(str::to_string);
+            link.notice = json["notice"].as_str().map(str::to_string);
+        }
+        Ok(())
+    }
+}
+
+/// Whether the robot takes operator requests from the bus; None: no answer.
+fn accepts_operator(session: &Session, key: &str) -> Option<bool> {
+    let replies = session.get(key).timeout(ANSWER_WAIT).wait().ok()?;
+    let reply = replies.recv().ok()?;
+    let sample = reply.result().ok()?;
+    let json: Value = serde_json::from_slice(&sample.payload().to_bytes()).ok()?;
+    Some(json["value"].as_str()? == "operator")
+}
+
+/// The robot's answer to a request, in its words.
+fn answer_of(body: &[u8], ok: bool) -> Result<(), String> {
+    let json: Value = serde_json::from_slice(body).unwrap_or_default();
+    match (ok, json["accepted"].as_bool()) {
+        (true, Some(true)) => Ok(()),
+        (true, _) => Err(json["reason"].as_str().unwrap_or("refused").to_string()),
+        (false, _) => Err(json["error"].as_str().unwrap_or("refused").to_string()),
+    }
+}
+
+impl ViewSource for RemoteView {
+    fn view(&mut self) -> View {
+        self.view_at(Instant::now())
+    }
+
+    fn send(
+        &self,
+        request: Request,
+        _reply: &crossbeam_channel::Sender<Answer>,
+    ) -> Result<(), String> {
+        let operator = self.operator.load(Ordering::Relaxed);
+        let payload = match request {
+            Request::Mode(Mode::Halt) => json!({"request": "halt"}),
+            _ if !operator => {
+                return Err(
+                    "the robot takes only HALT from the bus ([bus] accept_requests = halt)".into(),
+                );
+            }
+            Request::PowerUp => json!({"request": "power_up"}),
+            Request::Mode(mode) => json!({"request": "mode", "mode": mode.name()}),
+            _ => {
+                return Err(
+                    "from another computer only HALT, power up and modes (a gain: mechweed bus set)"
+                        .into(),
+                );
+            }
+        };
+        let Some(session) = &self.session else {
+            // Fed by hand: nothing to send it to; the tests read what would have gone.
+            self.sent.lock().push(payload.to_string());
+            return Ok(());
+        };
+        let answer = self.answer.clone();
+        session
+            .get(format!("{}/request", self.robot))
+            .payload(payload.to_string())
+            .timeout(ANSWER_WAIT)
+            .callback(move |reply| {
+                let said = match reply.result() {
+                    Ok(sample) => answer_of(&sample.payload().to_bytes(), true),
+                    Err(error) => answer_of(&error.payload().to_bytes(), false),
+                };
+                let _ = answer.try_send((request, said));
+            })
+            .wait()
+            .map_err(|e| format!("cannot ask {} at {}: {e}", self.robot, self.endpoint))
+    }
+
+    fn ping_link(&self) {}
+
+    fn answers_in_words(&self) -> Vec<(Request, Result<(), String>)> {
+        self.answers.try_iter().collect()
+    }
+}

@@ -1,0 +1,162 @@
+//! The robot's flows turned into the `View` the panels draw: the status (10 per
+//! second: mode, power, fault, camera link, loop figures) and the newest tick (every
+//! input, output, reference and measured value, the steering law's workings, the
+//! simulated truth), with the names and units of the run record.
+
+use mechweed_hw::Side;
+use mechweed_hw::camproto::RowEstimate;
+use mechweed_hw::sim::Truth;
+use serde_json::Value;
+
+use super::view::View;
+use crate::modes::Mode;
+use crate::rt::LoopSummary;
+use crate::status::PowerState;
+
+fn num(json: &Value, key: &str) -> f64 {
+    json[key].as_f64().unwrap_or(f64::NAN)
+}
+
+fn int(json: &Value, key: &str) -> i64 {
+    json[key].as_i64().unwrap_or(0)
+}
+
+fn flag(json: &Value, key: &str) -> bool {
+    json[key].as_i64() == Some(1) || json[key].as_bool() == Some(true)
+}
+
+pub fn mode(word: &str) -> Option<Mode> {
+    Some(match word {
+        "halt" => Mode::Halt,
+        "joystick" => Mode::Joystick,
+        "autonomous" => Mode::Autonomous,
+        "test" => Mode::Test,
+        "fault" => Mode::Fault,
+        _ => return None,
+    })
+}
+
+fn power(word: &str) -> PowerState {
+    match word {
+        "on" => PowerState::On,
+        "closing" => PowerState::Closing { since_s: f64::NAN },
+        _ => PowerState::Off,
+    }
+}
+
+/// What `ROBOT/status` carries: time, mode, power, the camera link, the loops.
+pub fn fill_from_status(view: &mut View, status: &Value) -> Result<(), String> {
+    let word = status["mode"].as_str().unwrap_or_default();
+    let st = &mut view.status;
+    st.mode = mode(word).ok_or_else(|| format!("\"mode\": '{word}' is not a mode"))?;
+    st.t_s = status["t_s"]
+        .as_f64()
+        .ok_or("\"t_s\" is not a number of seconds")?;
+    st.tick = status["tick"].as_u64().unwrap_or(st.tick);
+    st.power = power(status["power"].as_str().unwrap_or_default());
+    st.measured.speed_mps = num(status, "speed_mps");
+    st.measured.wheel_angle_rad = num(status, "wheel_angle_rad");
+    st.measured.distance_m = num(status, "distance_m");
+    st.inputs.battery_v = num(status, "battery_v");
+    let camera = &status["camera"];
+    let link = &mut view.link;
+    link.connected = flag(camera, "connected");
+    link.streaming = flag(camera, "streaming");
+    link.last_usable_s = st.t_s - num(camera, "age_s");
+    link.last_usable.offset_m = num(camera, "offset_m");
+    link.last_usable.angle_rad = num(camera, "angle_rad");
+    link.last_usable.quality = int(camera, "quality").clamp(0, 255) as u8;
+    // The flows carry the estimate in use, not every frame: it stands for the last one.
+    link.last_row = link.last_usable;
+    link.last_row_s = link.last_usable_s;
+    let counters = &camera["counters"];
+    let c = &mut link.counters;
+    for (key, field) in [
+        ("frames_ok", &mut c.frames_ok),
+        ("crc_errors", &mut c.crc_errors),
+        ("resyncs", &mut c.resyncs),
+        ("seq_gaps", &mut c.seq_gaps),
+        ("bytes_skipped", &mut c.bytes_skipped),
+        ("pongs", &mut c.pongs),
+        ("bad_values", &mut c.bad_values),
+        ("unknown_kinds", &mut c.unknown_kinds),
+        ("duplicates", &mut c.duplicates),
+    ] {
+        *field = counters[key].as_u64().unwrap_or(0);
+    }
+    for (i, name) in ["supervisor", "steer"].into_iter().enumerate() {
+        let figures = status["loops"][name].clone();
+        view.loops[i] = serde_json::from_value::<LoopSummary>(figures).unwrap_or_default();
+    }
+    Ok(())
+}
+
+/// What `ROBOT/tick` carries beyond the status: every input and output, the
+/// regulators' references, the steer thread's command, the simulated truth.
+pub fn fill_from_tick(view: &mut View, tick: &Value) {
+    let st = &mut view.status;
+    let i = &mut st.inputs;
+    i.pot_v = num(tick, "pot_v");
+    i.joystick_steer_v = num(tick, "joystick_steer_v");
+    i.joystick_speed_v = num(tick, "joystick_speed_v");
+    i.estop_front_released = flag(tick, "estop_front_released");
+    i.estop_back_released = flag(tick, "estop_back_released");
+    i.motor_power_present = flag(tick, "motor_power_present");
+    i.end_switch_left = flag(tick, "end_switch_left");
+    i.end_switch_right = flag(tick, "end_switch_right");
+    i.joystick_enable = flag(tick, "joystick_enable");
+    i.enc_left_counts = int(tick, "enc_left_counts");
+    i.enc_right_counts = int(tick, "enc_right_counts");
+    i.enc_steer_counts = int(tick, "enc_steer_counts");
+    let o = &mut st.outputs;
+    o.amp_left_v = num(tick, "amp_left_v");
+    o.amp_right_v = num(tick, "amp_right_v");
+    o.amp_steer_v = num(tick, "amp_steer_v");
+    o.main_power_on = flag(tick, "main_power_on");
+    o.brake_release_left = flag(tick, "brake_release_left");
+    o.brake_release_right = flag(tick, "brake_release_right");
+    o.tool_on = flag(tick, "tool_on");
+    let m = &mut st.measured;
+    m.v_left_mps = num(tick, "v_left_mps");
+    m.v_right_mps = num(tick, "v_right_mps");
+    m.pot_angle_filtered_rad = num(tick, "pot_angle_filtered_rad");
+    m.wheel_angle_filtered_rad = num(tick, "wheel_angle_filtered_rad");
+    m.yaw_rate_rps = num(tick, "yaw_rate_rps");
+    m.calibrated = flag(tick, "calibrated");
+    st.speed_ref_mps = num(tick, "speed_ref_mps");
+    st.v_left_ref_mps = num(tick, "v_left_ref_mps");
+    st.v_right_ref_mps = num(tick, "v_right_ref_mps");
+    st.wheel_angle_ref_rad = num(tick, "wheel_angle_ref_rad");
+    st.endswitch_hit = match tick["endswitch_hit"].as_str() {
+        Some("left") => Some(Side::Left),
+        Some("right") => Some(Side::Right),
+        _ => None,
+    };
+    let tick_t_s = num(tick, "t_s");
+    let steer = &mut view.steer;
+    steer.speed_mps = num(tick, "steer_speed_mps");
+    steer.wheel_angle_rad = num(tick, "steer_wheel_angle_rad");
+    steer.t_s = tick_t_s - num(tick, "steer_age_s");
+    steer.law.lookahead_offset_m = num(tick, "law_lookahead_offset_m");
+    steer.law.tool_offset_m = num(tick, "law_tool_offset_m");
+    steer.law.row_curvature_per_m = num(tick, "law_row_curvature_per_m");
+    steer.law.integral_per_m = num(tick, "law_integral_per_m");
+    view.link.last_usable = RowEstimate {
+        seq: int(tick, "cam_seq").clamp(0, 255) as u8,
+        ..view.link.last_usable
+    };
+    view.link.last_row = view.link.last_usable;
+    // Simulated: the truth's columns are numbers (empty on the real robot).
+    view.simulated = tick["sim_distance_m"].is_number();
+    view.truth = if view.simulated {
+        Truth {
+            t_s: tick_t_s,
+            tool_cross_track_m: num(tick, "sim_tool_cross_track_m"),
+            distance_m: num(tick, "sim_distance_m"),
+            row_done: flag(tick, "sim_row_done"),
+            ..Truth::default()
+        }
+    } else {
+        Truth::default()
+    };
+}

@@ -1,0 +1,256 @@
+//! `mechweed watch`: the operator GUI fed by the robot's flows, through egui_kittest
+//! (no window). The flows are recorded from a real run (`tests/watch_flows.jsonl`, lines
+//! of `mechweed bus echo`: a status and a tick, twice, of the simulated robot in
+//! autonomous) and handed to the view as zenoh's callback would; one test reads the real
+//! flows of a robot program on loopback.
+
+mod common;
+
+use std::process::{Child, Stdio};
+use std::sync::atomic::AtomicBool;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::{NodeT, Queryable};
+use mechweed::config::Settings;
+use mechweed::gui::pacer::Source;
+use mechweed::gui::remote::{Flow, RemoteView};
+use mechweed::gui::view::ViewSource;
+use mechweed::gui::{Controller, GuiApp};
+use mechweed::modes::{Gains, Mode, Request};
+use mechweed::run::RunOptions;
+use serde_json::Value;
+
+const RECORDED: &str = include_str!("watch_flows.jsonl");
+
+/// The recorded messages: (flow, payload).
+fn recorded() -> Vec<(Flow, Value)> {
+    RECORDED
+        .lines()
+        .map(|line| {
+            let line: Value = serde_json::from_str(line).unwrap();
+            let flow = match line["key"].as_str().unwrap() {
+                "mechweed/status" => Flow::Status,
+                "mechweed/tick" => Flow::Tick,
+                other => panic!("a flow the view does not read: {other}"),
+            };
+            (flow, line["payload"].clone())
+        })
+        .collect()
+}
+
+/// The GUI over a view fed by hand, the recorded flows arrived `age` ago.
+fn watching(age: Duration, change: impl Fn(Flow, &mut Value)) -> Harness<'static, GuiApp> {
+    let remote = RemoteView::offline("mechweed", "tcp/10.0.0.7:7447");
+    let at = Instant::now() - age;
+    for (flow, mut payload) in recorded() {
+        change(flow, &mut payload);
+        remote.feed(flow, payload.to_string().as_bytes(), at);
+    }
+    let opts = RunOptions {
+        settings: Settings::shipped(),
+        start_mode: Mode::Halt,
+        duration_s: None,
+        status_every_s: 0.0,
+        inject: None,
+    };
+    let controller: Controller = Arc::new(Mutex::new(None));
+    let stop = Arc::new(AtomicBool::new(false));
+    let app = GuiApp::new(
+        Source::Remote(Box::new(remote)),
+        &opts,
+        None,
+        stop,
+        controller,
+    );
+    let mut harness = Harness::builder()
+        .with_size(eframe::egui::vec2(1280.0, 1000.0))
+        .build_ui_state(
+            |ui, app: &mut GuiApp| {
+                app.pass(ui.ctx());
+                app.show(ui);
+            },
+            app,
+        );
+    harness.run_steps(2);
+    harness
+}
+
+fn shows(harness: &Harness<'static, GuiApp>, text: &str) -> bool {
+    harness.query_all_by_label_contains(text).next().is_some()
+}
+
+fn enabled(harness: &Harness<'static, GuiApp>, label: &str) -> bool {
+    !harness.get_by_label(label).accesskit_node().is_disabled()
+}
+
+/// What the view would have sent to the robot.
+fn sent(harness: &Harness<'static, GuiApp>) -> Vec<String> {
+    match &harness.state().shared.lock().source {
+        Source::Remote(remote) => remote.sent.lock().clone(),
+        Source::Local(_) => panic!("not watching"),
+    }
+}
+
+#[test]
+fn the_same_panels_show_the_recorded_flows_and_the_header_names_the_robot() {
+    let harness = watching(Duration::from_millis(100), |_, _| {});
+    assert!(shows(
+        &harness,
+        "watching mechweed at tcp/10.0.0.7:7447: status"
+    ));
+    assert!(shows(&harness, "requests: HALT only"));
+    assert!(shows(&harness, "AUTONOMOUS"));
+    let view = &harness.state().view;
+    assert!(!view.remote.as_ref().unwrap().stale());
+    // The newest tick's encoder and wheel speed, in the Status tab's words.
+    let tick: Value = recorded()[3].1.clone();
+    let counts = format!(
+        "{:>10} counts  {:+.3} m/s",
+        tick["enc_left_counts"].as_i64().unwrap(),
+        tick["v_left_mps"].as_f64().unwrap()
+    );
+    assert!(shows(&harness, &counts), "{counts} not shown");
+    assert!(shows(
+        &harness,
+        &format!("{:+.2} V", tick["amp_left_v"].as_f64().unwrap())
+    ));
+    assert_eq!(view.status.tick, 910);
+    assert!(view.simulated, "the simulated truth comes with the ticks");
+}
+
+#[test]
+fn the_header_turns_red_with_the_age_when_the_status_is_older_than_a_second() {
+    let harness = watching(Duration::from_secs(3), |_, _| {});
+    assert!(shows(
+        &harness,
+        "watching mechweed at tcp/10.0.0.7:7447: no status for 3."
+    ));
+    assert!(harness.state().view.remote.as_ref().unwrap().stale());
+    let waiting = {
+        let remote = RemoteView::offline("mechweed", "tcp/10.0.0.7:7447");
+        let mut source = Source::Remote(Box::new(remote));
+        source.view().remote.unwrap()
+    };
+    assert!(waiting.stale() && waiting.age_s.is_none());
+    assert_eq!(
+        mechweed::gui::header::remote_line(&waiting),
+        "waiting for mechweed's status at tcp/10.0.0.7:7447"
+    );
+}
+
+#[test]
+fn a_fault_on_the_robot_is_shown_in_its_words() {
+    let harness = watching(Duration::from_millis(100), |flow, payload| {
+        if flow == Flow::Status {
+            payload["mode"] = "fault".into();
+            payload["fault"] = "camera link lost: no row frame for 0.50 s".into();
+        }
+    });
+    assert!(shows(
+        &harness,
+        "FAULT: camera link lost: no row frame for 0.50 s"
+    ));
+    assert!(shows(&harness, "FAULT"));
+}
+
+#[test]
+fn halt_is_always_sent_and_the_rest_only_where_the_robot_takes_it_from_the_bus() {
+    // Standing in halt, powered: every mode is the robot's to allow.
+    let mut harness = watching(Duration::from_millis(100), |_, payload| {
+        payload["mode"] = "halt".into();
+    });
+    // The robot takes only HALT from the bus (its shipped settings).
+    assert!(!enabled(&harness, "Power up"));
+    assert!(!enabled(&harness, "Autonomous"));
+    assert!(shows(
+        &harness,
+        "watching only: the robot takes only HALT from the bus"
+    ));
+    // The Space key is HALT, as the button is ("HALT" is also the mode's name here).
+    harness.key_press(eframe::egui::Key::Space);
+    harness.run_steps(2);
+    assert_eq!(sent(&harness), [r#"{"request":"halt"}"#]);
+
+    // With [bus] accept_requests = operator the modes are the robot's to decide.
+    if let Source::Remote(remote) = &harness.state().shared.lock().source {
+        remote.set_operator(true);
+    }
+    harness.run_steps(2);
+    assert!(shows(&harness, "requests: HALT, power up and modes"));
+    assert!(enabled(&harness, "Autonomous"));
+    harness.get_by_label("Autonomous").click();
+    harness.run_steps(2);
+    assert_eq!(
+        sent(&harness)[1],
+        r#"{"mode":"autonomous","request":"mode"}"#
+    );
+    // Gains are not sent from another computer: said, not silently dropped.
+    let request = Request::Gains(Gains::from_settings(&Settings::shipped()));
+    let (reply, _) = crossbeam_channel::bounded(1);
+    let refused = harness.state().shared.lock().source.send(request, &reply);
+    assert!(
+        refused
+            .unwrap_err()
+            .contains("only HALT, power up and modes")
+    );
+}
+
+/// A robot program on loopback with its bus on `port`.
+fn robot(port: u16, extra: &[&str]) -> (tempfile::TempDir, Child) {
+    let folder = tempfile::tempdir().unwrap();
+    let child = common::mechweed()
+        .args(["run", "--headless", "--duration", "60"])
+        .args(common::test_run_settings(folder.path()))
+        .args(["--set", "bus.enabled=yes"])
+        .args(["--set", &format!("bus.listen=tcp/127.0.0.1:{port}")])
+        .args(extra)
+        .stdout(Stdio::null())
+        .spawn()
+        .unwrap();
+    (folder, child)
+}
+
+#[test]
+fn the_view_reads_a_real_robots_flows_and_its_halt_is_answered() {
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port();
+    let (_folder, mut child) = robot(port, &["--set", "bus.accept_requests=operator"]);
+    let mut remote = RemoteView::connect(&format!("tcp/127.0.0.1:{port}"), "mechweed").unwrap();
+    let end = Instant::now() + Duration::from_secs(30);
+    let view = loop {
+        let view = remote.view();
+        let link = view.remote.clone().unwrap();
+        if link.age_s.is_some() && link.operator && view.status.tick > 0 {
+            break view;
+        }
+        assert!(
+            Instant::now() < end,
+            "no status, or operator never seen: {link:?}"
+        );
+        std::thread::sleep(Duration::from_millis(100));
+    };
+    assert_eq!(view.status.mode, Mode::Halt);
+    assert!(view.status.inputs.estop_front_released, "the tick's inputs");
+    let (reply, _) = crossbeam_channel::bounded(1);
+    remote.send(Request::Mode(Mode::Joystick), &reply).unwrap();
+    let answer = loop {
+        if let Some(answer) = remote.answers_in_words().pop() {
+            break answer;
+        }
+        assert!(Instant::now() < end, "no answer from the robot");
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    // Not powered: the supervisor's own refusal, in its words.
+    assert_eq!(answer.0, Request::Mode(Mode::Joystick));
+    assert!(
+        answer.1.unwrap_err().contains("power"),
+        "the refusal names power"
+    );
+    let _ = child.kill();
+    let _ = child.wait();
+}
