@@ -257,6 +257,13 @@ impl GuiApp {
                 }
             });
             ui.separator();
+            if view.remote.is_some() && matches!(self.tab, Tab::Tuning | Tab::Test) {
+                ui.label(
+                    "Watching over the bus: this tab shows this computer's robot.ini, and what it \
+                     sends is refused here. Gains: `mechweed bus get|set`; the test panel: on the \
+                     robot's own window.",
+                );
+            }
             egui::ScrollArea::vertical().show(ui, |ui| match self.tab {
                 Tab::Status => status::show(ui, view, requests),
                 Tab::Plots => self.plots.show(ui, view.simulated, &self.shared),
