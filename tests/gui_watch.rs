@@ -254,3 +254,30 @@ fn the_view_reads_a_real_robots_flows_and_its_halt_is_answered() {
     let _ = child.kill();
     let _ = child.wait();
 }
+
+#[test]
+fn messages_that_are_not_the_robots_flows_are_counted_and_change_nothing() {
+    let mut remote = RemoteView::offline("mechweed", "tcp/10.0.0.7:7447");
+    let now = Instant::now();
+    for (flow, payload) in recorded() {
+        remote.feed(flow, payload.to_string().as_bytes(), now);
+    }
+    let before = remote.view_at(now);
+    let mut no_mode = recorded()[0].1.clone();
+    no_mode["mode"] = "dancing".into();
+    let mut short_tick = recorded()[1].1.clone();
+    short_tick.as_object_mut().unwrap().remove("amp_left_v");
+    for (flow, bytes) in [
+        (Flow::Status, b"not json".to_vec()),
+        (Flow::Status, no_mode.to_string().into_bytes()),
+        (Flow::Tick, b"[1, 2]".to_vec()),
+        (Flow::Tick, short_tick.to_string().into_bytes()),
+        (Flow::Tick, vec![0xff, 0xfe]),
+    ] {
+        remote.feed(flow, &bytes, now);
+    }
+    let after = remote.view_at(now);
+    assert_eq!(after.remote.as_ref().unwrap().refused, 5);
+    assert_eq!(after.status, before.status);
+    assert_eq!(after.steer, before.steer);
+}

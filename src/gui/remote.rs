@@ -17,6 +17,7 @@ use super::remote_view::{fill_from_status, fill_from_tick};
 use super::view::{RemoteLink, View, ViewSource};
 use crate::bus::session::{Role, open};
 use crate::modes::{Mode, Request};
+use crate::record::received::parse_tick;
 use crate::request_channel::Answer;
 
 /// Messages waiting for the next look; beyond, the oldest are not needed (only the
@@ -146,15 +147,16 @@ impl RemoteView {
     /// The view at `now`: every message that arrived, the newest last.
     pub fn view_at(&mut self, now: Instant) -> View {
         while let Ok((flow, bytes, at)) = self.arrived.try_recv() {
-            let read = serde_json::from_slice::<Value>(&bytes)
-                .map_err(|e| format!("not JSON ({e})"))
-                .and_then(|json| match flow {
-                    Flow::Status => self.take_status(&json, at),
-                    Flow::Tick => {
-                        fill_from_tick(&mut self.view, &json);
-                        Ok(())
-                    }
-                });
+            let read = match flow {
+                Flow::Status => serde_json::from_slice::<Value>(&bytes)
+                    .map_err(|e| format!("not JSON ({e})"))
+                    .and_then(|json| self.take_status(&json, at)),
+                // Checked as the off-board recorder checks it: every column of a record.
+                Flow::Tick => parse_tick(&bytes).map(|tick| {
+                    let json = serde_json::from_str(&tick.json).unwrap_or_default();
+                    fill_from_tick(&mut self.view, &json);
+                }),
+            };
             if let Err(why) = read {
                 let link = self.view.remote.get_or_insert_default();
                 link.refused += 1;

@@ -46,12 +46,15 @@ fn power(word: &str) -> PowerState {
 
 /// What `ROBOT/status` carries: time, mode, power, the camera link, the loops.
 pub fn fill_from_status(view: &mut View, status: &Value) -> Result<(), String> {
+    // Checked before anything is written: a bad status changes nothing.
     let word = status["mode"].as_str().unwrap_or_default();
-    let st = &mut view.status;
-    st.mode = mode(word).ok_or_else(|| format!("\"mode\": '{word}' is not a mode"))?;
-    st.t_s = status["t_s"]
+    let new_mode = mode(word).ok_or_else(|| format!("\"mode\": '{word}' is not a mode"))?;
+    let t_s = status["t_s"]
         .as_f64()
         .ok_or("\"t_s\" is not a number of seconds")?;
+    let st = &mut view.status;
+    st.mode = new_mode;
+    st.t_s = t_s;
     st.tick = status["tick"].as_u64().unwrap_or(st.tick);
     st.power = power(status["power"].as_str().unwrap_or_default());
     st.measured.speed_mps = num(status, "speed_mps");
