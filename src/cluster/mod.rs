@@ -17,6 +17,7 @@
 
 mod child;
 pub mod dot;
+mod flow;
 pub mod graph;
 pub mod launcher;
 pub mod master;

@@ -10,6 +10,8 @@
 
 use std::collections::BTreeMap;
 
+use super::reader::{ConfigError, Place};
+
 /// What the scan found: the clean text for rust-ini, where each section and key
 /// stands, and the lines that are wrong.
 pub(super) struct Layout {
@@ -39,6 +41,24 @@ pub(super) fn decode(bytes: &[u8]) -> Result<String, (usize, String)> {
             ))
         }
     }
+}
+
+/// The text of an ini file (`what` names it in the message), or why it cannot be read:
+/// a file that is not UTF-8 is named by the line where it stops being so.
+pub fn read_text(path: &std::path::Path, what: &str) -> Result<String, Vec<ConfigError>> {
+    let label = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| {
+        vec![ConfigError {
+            place: Place::File(label.clone()),
+            what: format!("cannot read {what}: {e}"),
+        }]
+    })?;
+    decode(&bytes).map_err(|(line, what)| {
+        vec![ConfigError {
+            place: Place::Line { file: label, line },
+            what,
+        }]
+    })
 }
 
 /// Letters, digits, `_`, `.` and `-`: every section and key name robot.ini uses, and

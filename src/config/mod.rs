@@ -16,7 +16,8 @@ use std::path::Path;
 
 pub use bus::{AcceptRequests, BusSettings, parse_endpoints, parse_prefix};
 pub use camera_port::{BAUD_RATES, CameraPort};
-pub use reader::{ConfigError, Place, Reader, read_text};
+pub use lines::read_text;
+pub use reader::{ConfigError, Place, Reader};
 pub use record::{RecordFormats, RecordSettings};
 pub use source::SettingsSource;
 
@@ -196,7 +197,7 @@ impl Settings {
     /// Read and check a settings file, with `--set SECTION.KEY=VALUE` overrides.
     pub fn load(path: &Path, overrides: &[String]) -> Result<Settings, Vec<ConfigError>> {
         let label = path.display().to_string();
-        let text = reader::read_text(path, "the settings file")?;
+        let text = lines::read_text(path, "the settings file")?;
         Settings::parse(&label, &text, overrides)
     }
 

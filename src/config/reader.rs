@@ -44,24 +44,6 @@ impl fmt::Display for ConfigError {
     }
 }
 
-/// The text of an ini file (`what` names it in the message), or why it cannot be read:
-/// a file that is not UTF-8 is named by the line where it stops being so.
-pub fn read_text(path: &std::path::Path, what: &str) -> Result<String, Vec<ConfigError>> {
-    let label = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| {
-        vec![ConfigError {
-            place: Place::File(label.clone()),
-            what: format!("cannot read {what}: {e}"),
-        }]
-    })?;
-    lines::decode(&bytes).map_err(|(line, what)| {
-        vec![ConfigError {
-            place: Place::Line { file: label, line },
-            what,
-        }]
-    })
-}
-
 /// Where a value came from, to name it in an error.
 enum Origin {
     Line(usize),

@@ -58,7 +58,27 @@ pub fn start(
     delivery: Delivery,
 ) -> Result<(RecordTap, Recorder), RecordError> {
     let started = SystemTime::now();
-    let stamp = utc_stamp(started);
+    let start_unix_ns = started
+        .duration_since(UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos() as u64);
+    let sinks = new_sinks(settings, started, start_unix_ns, settings.every_n_ticks)?;
+    start_with_sinks(sinks, settings.every_n_ticks, delivery, truth).map_err(|e| {
+        RecordError::Begin {
+            folder: settings.folder.clone(),
+            error: e.kind(),
+        }
+    })
+}
+
+/// New files in `[record] folder`, in its formats, named by the time `now`; the run they
+/// record began at `start_unix_ns` and keeps every `every_n_ticks`th tick.
+fn new_sinks(
+    settings: &RecordSettings,
+    now: SystemTime,
+    start_unix_ns: u64,
+    every_n_ticks: u64,
+) -> Result<Vec<Box<dyn Sink>>, RecordError> {
+    let stamp = utc_stamp(now);
     let folder = &settings.folder;
     let why = |e: std::io::Error| RecordError::Begin {
         folder: folder.clone(),
@@ -81,18 +101,15 @@ pub fn start(
         sinks.push(Box::new(csv::CsvSink::new(ticks, events).map_err(why)?));
     }
     if mcap && let Some(file) = made.next() {
-        let start_unix_ns = started
-            .duration_since(UNIX_EPOCH)
-            .map_or(0, |d| d.as_nanos() as u64);
         let about = self::mcap::About {
             started_utc: &stamp,
-            every_n_ticks: settings.every_n_ticks,
+            every_n_ticks,
         };
         sinks.push(Box::new(
             self::mcap::McapSink::new(file, start_unix_ns, &about).map_err(why)?,
         ));
     }
-    start_with_sinks(sinks, settings.every_n_ticks, delivery, truth).map_err(why)
+    Ok(sinks)
 }
 
 /// Start a recorder thread writing into `sinks` (tests give their own sinks).

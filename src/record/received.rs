@@ -8,9 +8,9 @@ use std::time::{Instant, SystemTime};
 
 use serde_json::{Map, Value};
 
+use super::RecordError;
 use super::row::{COLUMNS, TickSample, Value as Kind};
 use super::thread::Sink;
-use super::{RecordError, csv, files, mcap, utc_stamp};
 use crate::config::RecordSettings;
 
 /// One cell of a received tick, in the order of the record's columns.
@@ -161,37 +161,8 @@ impl BusRecord {
         start_unix_ns: u64,
         every_n_ticks: u64,
     ) -> Result<BusRecord, RecordError> {
-        let stamp = utc_stamp(SystemTime::now());
-        let folder = &settings.folder;
-        let why = |e: std::io::Error| RecordError::Begin {
-            folder: folder.clone(),
-            error: e.kind(),
-        };
-        let (want_csv, want_mcap) = (settings.formats.csv(), settings.formats.mcap());
-        let mut extensions = Vec::new();
-        if want_csv {
-            extensions.extend([".csv", ".events.csv"]);
-        }
-        if want_mcap {
-            extensions.push(".mcap");
-        }
-        let mut made = files::create(folder, &stamp, &extensions)?
-            .files
-            .into_iter();
-        let mut sinks: Vec<Option<Box<dyn Sink>>> = Vec::new();
-        if want_csv && let (Some(ticks), Some(events)) = (made.next(), made.next()) {
-            sinks.push(Some(Box::new(
-                csv::CsvSink::new(ticks, events).map_err(why)?,
-            )));
-        }
-        if want_mcap && let Some(file) = made.next() {
-            let about = mcap::About {
-                started_utc: &stamp,
-                every_n_ticks,
-            };
-            let sink = mcap::McapSink::new(file, start_unix_ns, &about).map_err(why)?;
-            sinks.push(Some(Box::new(sink)));
-        }
+        let sinks = super::new_sinks(settings, SystemTime::now(), start_unix_ns, every_n_ticks)?;
+        let sinks: Vec<Option<Box<dyn Sink>>> = sinks.into_iter().map(Some).collect();
         let files = sinks.iter().flatten().flat_map(|s| s.files()).collect();
         Ok(BusRecord {
             sinks,

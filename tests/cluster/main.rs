@@ -1,7 +1,10 @@
 //! The virtual cluster between real processes on loopback: the one-machine graph
 //! (config/cluster-local.ini) run as a master and three launchers with three machine
-//! names, each on ports of its own.
+//! names, each on ports of its own; and (`alone.rs`) one machine when its master goes
+//! away, and a program that is not mechweed's.
 
+mod alone;
+#[path = "../common/mod.rs"]
 mod common;
 
 use std::fs::File;
@@ -12,14 +15,14 @@ use std::time::{Duration, Instant};
 use common::text;
 use serde_json::Value;
 
-fn free_port() -> u16 {
+pub fn free_port() -> u16 {
     let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
     listener.local_addr().unwrap().port()
 }
 
 /// The program, run in `folder` (no robot.ini there: the built-in settings; records
 /// land there).
-fn mechweed_in(folder: &Path) -> Command {
+pub fn mechweed_in(folder: &Path) -> Command {
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_mechweed"));
     cmd.current_dir(folder);
     cmd
@@ -27,7 +30,7 @@ fn mechweed_in(folder: &Path) -> Command {
 
 /// The processes of a test, killed if it fails half-way (the launchers' children run in
 /// process groups of their own: killed by group).
-struct Started(Vec<Child>);
+pub struct Started(pub Vec<Child>);
 
 impl Drop for Started {
     fn drop(&mut self) {
@@ -44,7 +47,7 @@ impl Drop for Started {
     }
 }
 
-fn wait_for<T>(what: &str, seconds: f64, mut check: impl FnMut() -> Option<T>) -> T {
+pub fn wait_for<T>(what: &str, seconds: f64, mut check: impl FnMut() -> Option<T>) -> T {
     let end = Instant::now() + Duration::from_secs_f64(seconds);
     loop {
         if let Some(found) = check() {
@@ -56,7 +59,7 @@ fn wait_for<T>(what: &str, seconds: f64, mut check: impl FnMut() -> Option<T>) -
 }
 
 /// The robot's newest status, from `bus echo`.
-fn robot_status(folder: &Path, robot: &str) -> Option<Value> {
+pub fn robot_status(folder: &Path, robot: &str) -> Option<Value> {
     let out = mechweed_in(folder)
         .args(["bus", "echo", "status", "--count", "1", "--seconds", "2"])
         .args(["--connect", robot])
@@ -66,7 +69,7 @@ fn robot_status(folder: &Path, robot: &str) -> Option<Value> {
     Some(line["payload"].clone())
 }
 
-fn cluster_status(folder: &Path, master: &str) -> Option<Value> {
+pub fn cluster_status(folder: &Path, master: &str) -> Option<Value> {
     let out = mechweed_in(folder)
         .args([
             "cluster",
@@ -82,12 +85,23 @@ fn cluster_status(folder: &Path, master: &str) -> Option<Value> {
     serde_json::from_slice(&out.stdout).ok()
 }
 
-fn process<'a>(cluster: &'a Value, name: &str) -> &'a Value {
+pub fn process<'a>(cluster: &'a Value, name: &str) -> &'a Value {
     let all = cluster["processes"].as_array().unwrap();
     all.iter().find(|p| p["process"] == name).unwrap()
 }
 
-fn alive(pid: u64) -> bool {
+/// Wait for each of `children` to end (they were asked to), at most `seconds` each.
+pub fn wait_ended(children: &mut [Child], seconds: u64, what: &str) {
+    for child in children {
+        let end = Instant::now() + Duration::from_secs(seconds);
+        while child.try_wait().unwrap().is_none() {
+            assert!(Instant::now() < end, "{what} did not end");
+            std::thread::sleep(Duration::from_millis(100));
+        }
+    }
+}
+
+pub fn alive(pid: u64) -> bool {
     unsafe { libc::kill(pid as i32, 0) == 0 }
 }
 
@@ -194,13 +208,7 @@ fn the_one_machine_graph_drives_restarts_the_camera_and_stops_with_safe_outputs(
     // Stopping the master ends every process, the controller first, in safe outputs.
     let master_pid = started.0[0].id();
     unsafe { libc::kill(master_pid as i32, libc::SIGINT) };
-    for child in &mut started.0 {
-        let end = Instant::now() + Duration::from_secs(60);
-        while child.try_wait().unwrap().is_none() {
-            assert!(Instant::now() < end, "a launcher or the master did not end");
-            std::thread::sleep(Duration::from_millis(100));
-        }
-    }
+    wait_ended(&mut started.0, 60, "a launcher or the master");
     for pid in pids {
         assert!(
             !alive(pid),
@@ -277,181 +285,4 @@ fn a_broken_graph_is_refused_with_line_and_key_before_anything_starts() {
     }
     // Nothing listens where the master would have.
     assert!(std::net::TcpStream::connect(("127.0.0.1", port)).is_err());
-}
-
-/// A graph of one machine running the controller alone, and what happens to it when
-/// the master is killed (a dropped link looks the same to a launcher).
-fn master_killed(master_lost: &str) -> (tempfile::TempDir, Child, String) {
-    let dir = tempfile::tempdir().unwrap();
-    let folder = dir.path();
-    let (master, robot) = (free_port(), free_port());
-    let graph = folder.join("one.ini");
-    std::fs::write(
-        &graph,
-        format!(
-            "[cluster]\nrobot = mechweed\nmaster = tcp/127.0.0.1:{master}\nmaster_lost = {master_lost}\n\
-             [machine robot-pc]\nendpoint = tcp/127.0.0.1:{robot}\n\
-             [process controller]\nmachine = robot-pc\nprogram = run\nargs = --headless\n\
-             set.rt.max_overruns = 1000000\nset.rt.max_late_periods = 20\n"
-        ),
-    )
-    .unwrap();
-    let mut master_process = mechweed_in(folder)
-        .args(["cluster", "master"])
-        .arg(&graph)
-        .stdout(Stdio::null())
-        .spawn()
-        .unwrap();
-    let launcher = mechweed_in(folder)
-        .args(["cluster", "launcher", "--machine", "robot-pc"])
-        .args(["--connect", &format!("tcp/127.0.0.1:{master}")])
-        .stdout(File::create(folder.join("robot-pc.log")).unwrap())
-        .spawn()
-        .unwrap();
-    let robot = format!("tcp/127.0.0.1:{robot}");
-    wait_for("the controller's status", 40.0, || {
-        robot_status(folder, &robot)
-    });
-    master_process.kill().unwrap();
-    master_process.wait().unwrap();
-    (dir, launcher, robot)
-}
-
-#[test]
-fn when_the_master_goes_away_the_processes_run_on_or_stop_as_the_graph_says() {
-    // run_on (the default of the shipped graphs): the robot's program goes on.
-    let (dir, launcher, robot) = master_killed("run_on");
-    let mut started = Started(vec![launcher]);
-    std::thread::sleep(Duration::from_secs(3));
-    let before = robot_status(dir.path(), &robot).expect("the controller runs on");
-    let after = wait_for("newer statuses", 10.0, || {
-        let status = robot_status(dir.path(), &robot)?;
-        (status["t_s"].as_f64()? > before["t_s"].as_f64()? + 1.0).then_some(status)
-    });
-    assert_eq!(after["mode"], "halt");
-    // Ctrl-C on the launcher stops its controller with safe outputs.
-    let launcher = &mut started.0[0];
-    unsafe { libc::kill(launcher.id() as i32, libc::SIGINT) };
-    let end = Instant::now() + Duration::from_secs(30);
-    while launcher.try_wait().unwrap().is_none() {
-        assert!(Instant::now() < end, "the launcher did not end at Ctrl-C");
-        std::thread::sleep(Duration::from_millis(100));
-    }
-    let log = std::fs::read_to_string(dir.path().join("robot-pc.log")).unwrap();
-    assert!(
-        log.contains("the master went away; the processes run on"),
-        "{log}"
-    );
-    assert!(log.contains("the outputs are safe"), "{log}");
-
-    // stop: the launcher stops the controller (safe outputs) and ends.
-    let (dir, launcher, _) = master_killed("stop");
-    let mut started = Started(vec![launcher]);
-    let launcher = &mut started.0[0];
-    let end = Instant::now() + Duration::from_secs(30);
-    while launcher.try_wait().unwrap().is_none() {
-        assert!(
-            Instant::now() < end,
-            "the launcher did not stop when the master went"
-        );
-        std::thread::sleep(Duration::from_millis(100));
-    }
-    let log = std::fs::read_to_string(dir.path().join("robot-pc.log")).unwrap();
-    assert!(
-        log.contains("the master went away ([cluster] master_lost = stop)"),
-        "{log}"
-    );
-    assert!(
-        log.contains("the outputs are safe: amplifiers 0 V"),
-        "{log}"
-    );
-}
-
-#[test]
-fn any_executable_runs_with_the_robots_name_and_endpoint_in_its_environment() {
-    let dir = tempfile::tempdir().unwrap();
-    let folder = dir.path();
-    let (master, robot) = (free_port(), free_port());
-    let graph = folder.join("tool.ini");
-    std::fs::write(
-        &graph,
-        format!(
-            "[cluster]\nrobot = farm/robot2\nmaster = tcp/127.0.0.1:{master}\nmaster_lost = run_on\n\
-             [machine robot-pc]\nendpoint = tcp/127.0.0.1:{robot}\n\
-             [process controller]\nmachine = robot-pc\nprogram = run\nargs = --headless\n\
-             set.rt.max_overruns = 1000000\nset.rt.max_late_periods = 20\n\
-             [process logger]\nmachine = robot-pc\nprogram = sh\n\
-             args = -c \"echo $MECHWEED_ROBOT at $MECHWEED_CONNECT > env.txt; sleep 60\"\n\
-             [flow status]\nfrom = controller.status\nto = logger.status\n"
-        ),
-    )
-    .unwrap();
-    let mut started = Started(Vec::new());
-    let mut master_cmd = mechweed_in(folder);
-    master_cmd
-        .args(["cluster", "master"])
-        .arg(&graph)
-        .stdout(Stdio::null());
-    started.0.push(master_cmd.spawn().unwrap());
-    let mut launcher = mechweed_in(folder);
-    launcher
-        .args([
-            "cluster",
-            "launcher",
-            "--machine",
-            "robot-pc",
-            "--robot",
-            "farm/robot2",
-        ])
-        .args(["--connect", &format!("tcp/127.0.0.1:{master}")])
-        .stdout(Stdio::null());
-    started.0.push(launcher.spawn().unwrap());
-    let said = wait_for("the executable's output", 30.0, || {
-        std::fs::read_to_string(folder.join("env.txt")).ok()
-    });
-    assert_eq!(said, format!("farm/robot2 at tcp/127.0.0.1:{robot}\n"));
-    // It is stopped with the rest when the master stops the cluster.
-    let cluster = wait_for("the logger running", 20.0, || {
-        let out = mechweed_in(folder)
-            .args([
-                "cluster",
-                "status",
-                "--json",
-                "--seconds",
-                "0.2",
-                "--robot",
-                "farm/robot2",
-            ])
-            .args(["--connect", &format!("tcp/127.0.0.1:{master}")])
-            .output()
-            .unwrap();
-        let cluster: Value = serde_json::from_slice(&out.stdout).ok()?;
-        (process(&cluster, "logger")["state"] == "running").then_some(cluster)
-    });
-    let logger = process(&cluster, "logger")["pid"].as_u64().unwrap();
-    unsafe { libc::kill(started.0[0].id() as i32, libc::SIGINT) };
-    for child in &mut started.0 {
-        let end = Instant::now() + Duration::from_secs(40);
-        while child.try_wait().unwrap().is_none() {
-            assert!(Instant::now() < end, "a launcher or the master did not end");
-            std::thread::sleep(Duration::from_millis(100));
-        }
-    }
-    assert!(
-        !alive(logger),
-        "the executable still runs after the master stopped"
-    );
-    // Its own child (the shell's sleep) went with it: nothing of the test's runs on.
-    let left = Command::new("pgrep").args(["-f", "sleep 60"]).output();
-    if let Ok(left) = left {
-        let mine: Vec<String> = text(&left.stdout)
-            .lines()
-            .filter(|pid| {
-                let cwd = std::fs::read_link(format!("/proc/{pid}/cwd"));
-                cwd.is_ok_and(|cwd| cwd == folder)
-            })
-            .map(str::to_string)
-            .collect();
-        assert!(mine.is_empty(), "the shell's sleep still runs: {mine:?}");
-    }
 }
