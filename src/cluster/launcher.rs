@@ -45,6 +45,17 @@ pub fn run(machine: &str, master: &str, robot: &str, stop: &Arc<AtomicBool>) -> 
     let Some(plan) = fetch_plan(&session, &keys, machine, master, stop)? else {
         return Ok(());
     };
+    // Everything that can fail before the first process starts: an error after it would
+    // leave that process behind.
+    let (query_tx, queries) = bounded::<Query>(16);
+    let _stop_queryable = session
+        .declare_queryable(keys.stop(machine))
+        .callback(move |q| {
+            let _ = query_tx.try_send(q);
+        })
+        .wait()
+        .map_err(|e| e.to_string())?;
+    let (masters, _watching) = watch_master(&session, &keys)?;
     let mechweed =
         std::env::current_exe().map_err(|e| format!("cannot find this program's own path: {e}"))?;
     let mut children: Vec<Child> = plan
@@ -74,15 +85,6 @@ pub fn run(machine: &str, master: &str, robot: &str, stop: &Arc<AtomicBool>) -> 
             _ => start(child, machine),
         }
     }
-    let (query_tx, queries) = bounded::<Query>(16);
-    let _stop_queryable = session
-        .declare_queryable(keys.stop(machine))
-        .callback(move |q| {
-            let _ = query_tx.try_send(q);
-        })
-        .wait()
-        .map_err(|e| e.to_string())?;
-    let (masters, _watching) = watch_master(&session, &keys)?;
     let mut launcher = Launcher {
         machine: machine.to_string(),
         keys,
