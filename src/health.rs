@@ -19,6 +19,8 @@ pub enum ThreadName {
     Console = 5,
     /// The bus thread: not a safety channel, but a panic anywhere stops the robot.
     Bus = 6,
+    /// The gamepad thread ([joystick] source = gamepad).
+    Gamepad = 7,
 }
 
 impl ThreadName {
@@ -30,6 +32,7 @@ impl ThreadName {
             ThreadName::Gui => "GUI",
             ThreadName::Console => "console",
             ThreadName::Bus => "bus",
+            ThreadName::Gamepad => "gamepad",
         }
     }
 
@@ -41,6 +44,7 @@ impl ThreadName {
             ThreadName::Gui,
             ThreadName::Console,
             ThreadName::Bus,
+            ThreadName::Gamepad,
         ]
         .into_iter()
         .find(|t| *t as u8 == code)

@@ -21,6 +21,7 @@ pub mod config;
 pub mod console;
 pub mod fault_cause;
 mod faults;
+pub mod gamepad;
 pub mod gui;
 pub mod health;
 pub mod inject;

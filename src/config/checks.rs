@@ -230,6 +230,17 @@ fn joystick(s: &Settings, r: &mut Reader) {
             named("joystick", "full_scale_v", j.full_scale_v)
         )
     });
+    let pad = &s.gamepad;
+    let keys = [
+        ("joystick", "gamepad_speed_axis"),
+        ("joystick", "gamepad_steer_axis"),
+    ];
+    require(r, pad.speed_axis != pad.steer_axis, &keys, || {
+        format!(
+            "[joystick] gamepad_speed_axis and gamepad_steer_axis are both {:?}: steering would drive",
+            pad.speed_axis
+        )
+    });
 }
 
 /// The end-switch procedure steers back off a switch towards the centre, so its angle

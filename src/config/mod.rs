@@ -6,6 +6,7 @@ mod bus;
 mod camera_port;
 mod checks;
 mod io;
+mod joystick;
 mod lines;
 mod reader;
 mod record;
@@ -16,6 +17,7 @@ use std::path::Path;
 
 pub use bus::{AcceptRequests, BusSettings, parse_endpoints, parse_prefix};
 pub use camera_port::{BAUD_RATES, CameraPort};
+pub use joystick::{GamepadDevice, GamepadSettings, JoystickSettings, JoystickSource};
 pub use lines::read_text;
 pub use reader::{ConfigError, Place, Reader};
 pub use record::{RecordFormats, RecordSettings};
@@ -125,15 +127,6 @@ pub struct SteerSettings {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct JoystickSettings {
-    pub full_scale_v: f64,
-    pub deadband_v: f64,
-    pub max_speed_mps: f64,
-    pub max_angle_deg: f64,
-    pub axis_fault_v: f64,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CameraSettings {
     pub link_timeout_s: f64,
     pub restart_after_s: f64,
@@ -175,6 +168,8 @@ pub struct Settings {
     pub pid_steer: PdSettings,
     pub steer: SteerSettings,
     pub joystick: JoystickSettings,
+    /// The gamepad's device, buttons and axes ([joystick] gamepad_*).
+    pub gamepad: GamepadSettings,
     pub camera: CameraSettings,
     /// Where the camera computer is: [camera] port and baud.
     pub camera_port: CameraPort,
@@ -222,7 +217,8 @@ impl Settings {
             pid_right: pi(&mut r, "pid.right"),
             pid_steer: pd(&mut r, "pid.steer"),
             steer: steer(&mut r),
-            joystick: joystick(&mut r),
+            joystick: joystick::load(&mut r),
+            gamepad: joystick::gamepad(&mut r),
             camera: camera(&mut r),
             camera_port: camera_port::load(&mut r),
             rt: rt(&mut r),
@@ -330,18 +326,6 @@ fn steer(r: &mut Reader) -> SteerSettings {
         curvature_filter_m: r.f64(s, "curvature_filter_m", 0.01, 100.0),
         latency_s: r.f64(s, "latency_s", 0.0, 1.0),
         endswitch_back_deg: r.f64(s, "endswitch_back_deg", 0.0, 45.0),
-    }
-}
-
-fn joystick(r: &mut Reader) -> JoystickSettings {
-    let s = "joystick";
-    JoystickSettings {
-        full_scale_v: r.f64(s, "full_scale_v", 0.1, 10.0),
-        deadband_v: r.f64(s, "deadband_v", 0.0, 5.0),
-        max_speed_mps: r.f64(s, "max_speed_mps", 0.0, 3.0),
-        max_angle_deg: r.f64(s, "max_angle_deg", 0.0, 45.0),
-        // The A/D reads at most 5 V: a limit at or above it could never trip.
-        axis_fault_v: r.f64(s, "axis_fault_v", 0.1, 4.95),
     }
 }
 

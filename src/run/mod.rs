@@ -20,7 +20,8 @@ use crate::bus::thread::BusWires;
 use crate::camlink::thread::{LinkThread, LinkWires, READ_TIMEOUT};
 use crate::camlink::{LinkCore, LinkStatus, simwire};
 use crate::config::CameraPort;
-use crate::config::{Backend, Settings};
+use crate::config::{Backend, JoystickSource, Settings};
+use crate::gamepad::{self, PadHw};
 use crate::health::{self, PanicFlag, ThreadName};
 use crate::modes::Gains;
 use crate::record::{self, RecordTap, Recorder};
@@ -55,6 +56,7 @@ pub struct Running {
     bus: Option<JoinHandle<BusFigures>>,
     bus_figures: Reader<BusFigures>,
     cable: Option<JoinHandle<()>>,
+    gamepad: Option<JoinHandle<()>>,
     link_status: Reader<LinkStatus>,
     truth: TruthHandle,
     settings: Settings,
@@ -102,6 +104,15 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
     health::watch_this_thread(&panics, ThreadName::Console);
     let (record_tap, recorder) = record::start_for_run(&s.record, truth.clone());
     let bus_session = crate::bus::open_for_run(s).map_err(RunError::Bus)?;
+    // A gamepad in place of the wired joystick: the supervisor reads it with the inputs.
+    let (hw, gamepad, gamepad_thread) = match s.joystick.source {
+        JoystickSource::Analog => (hw, None, None),
+        JoystickSource::Gamepad => {
+            let (pad, thread) = gamepad::start(s, panics.clone(), stop.clone());
+            let hw: Box<dyn Hw> = Box::new(PadHw::new(hw, pad.clone()));
+            (hw, Some(pad), Some(thread))
+        }
+    };
 
     let (status_w, status_r) = shared(Status::default());
     let (steer_w, steer_r) = shared(SteerCommand::default());
@@ -221,6 +232,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         not_realtime: not_realtime(s.backend, &s.rt, priorities_refused.as_deref()),
         bus: bus_figures.clone(),
         bus_endpoints: s.bus.endpoints(),
+        gamepad,
     };
     let running = Running {
         supervisor,
@@ -229,6 +241,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         bus,
         bus_figures,
         cable,
+        gamepad: gamepad_thread,
         link_status: link_r,
         truth,
         settings: s.clone(),
@@ -271,6 +284,9 @@ impl Running {
         }
         if let Some(cable) = self.cable {
             let _ = cable.join();
+        }
+        if let Some(Err(_)) = self.gamepad.map(JoinHandle::join) {
+            tracing::error!("the gamepad thread panicked");
         }
         let bus = match self.bus.map(JoinHandle::join) {
             Some(Ok(figures)) => figures,

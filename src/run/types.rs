@@ -9,6 +9,7 @@ use mechweed_hw::sim::{CrossTrackSummary, SimControl, TruthHandle};
 use crate::bus::BusFigures;
 use crate::camlink::LinkStatus;
 use crate::config::{Settings, SteerSettings};
+use crate::gamepad::PadState;
 use crate::inject::Injection;
 use crate::modes::Mode;
 use crate::record::RecordOutcome;
@@ -44,6 +45,8 @@ pub struct Handles {
     pub bus: Reader<BusFigures>,
     /// Where the bus listens and connects, for the GUI ("" without a bus).
     pub bus_endpoints: String,
+    /// The gamepad ([joystick] source = gamepad), as the supervisor reads it.
+    pub gamepad: Option<Reader<PadState>>,
 }
 
 pub struct RunOptions {
