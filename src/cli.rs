@@ -38,7 +38,8 @@ pub enum Command {
     Bench(BenchCommand),
     /// A stand-alone simulated camera computer, for bench tests of a link.
     Camsim(mechweed::camsim_main::CamsimArgs),
-    /// Find the I/O cards and read every input once (writes nothing but safe outputs).
+    /// List the gamepads; find the I/O cards and read every input once (writes nothing
+    /// but safe outputs).
     Probe {
         /// Also print the cards' registers.
         #[arg(long)]

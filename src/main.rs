@@ -307,6 +307,8 @@ fn probe(raw: bool, config: Option<PathBuf>) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
+    let input_dir = std::path::Path::new(mechweed::gamepad::device::INPUT_DIR);
+    print!("{}", mechweed::probe::gamepads(&settings, input_dir));
     match mechweed::probe::probe(&settings, raw) {
         Ok(text) => {
             print!("{text}");

@@ -18,6 +18,8 @@ use mechweed_hw::{Hw, HwError, OpenError};
 
 use crate::backend::{DEV_PORT, PCI_DEVICES, open_cards};
 use crate::config::Settings;
+use crate::gamepad::PadMap;
+use crate::gamepad::device::{self, Found};
 
 /// Why the probe found nothing to print.
 #[derive(Debug, thiserror::Error)]
@@ -30,6 +32,38 @@ pub enum ProbeError {
     /// A card stopped answering while its inputs were read.
     #[error(transparent)]
     Read(#[from] HwError),
+}
+
+/// The input devices that look like gamepads, and whether each has the axes and button
+/// [joystick] names; what could not be opened, with the reason.
+pub fn gamepads(settings: &Settings, dir: &Path) -> String {
+    let map = PadMap::new(&settings.gamepad, &settings.joystick);
+    let mut out = format!("gamepads ({}):\n", dir.display());
+    let (devices, refused) = match device::list(dir) {
+        Ok(listed) => listed,
+        Err(why) => return format!("{out}  none: {why}\n"),
+    };
+    let pads: Vec<Found> = devices
+        .into_iter()
+        .map(|(f, _)| f)
+        .filter(Found::looks_like_gamepad)
+        .collect();
+    for pad in &pads {
+        let fits = match device::lacks(pad, &map) {
+            None => "fits [joystick]".to_string(),
+            Some(missing) => format!("does not fit [joystick]: no {missing}"),
+        };
+        let _ = writeln!(out, "  {}  \"{}\"  {fits}", pad.path.display(), pad.name);
+        let _ = writeln!(out, "    axes {}", pad.axes.join(" "));
+        let _ = writeln!(out, "    buttons {}", pad.buttons.join(" "));
+    }
+    if pads.is_empty() {
+        out += "  none\n";
+    }
+    for line in &refused {
+        let _ = writeln!(out, "  not readable: {line} (see the README's udev rule)");
+    }
+    out
 }
 
 /// Probe the cards of this computer.

@@ -62,6 +62,8 @@ struct AtOnce {
     /// Watching over the bus: the link gone stale, the robot's fault in words.
     remote_stale: bool,
     remote_fault: bool,
+    /// The gamepad connected, and its dead-man counting as held.
+    gamepad: Option<(bool, bool)>,
 }
 
 impl AtOnce {
@@ -104,6 +106,8 @@ impl AtOnce {
                 .remote
                 .as_ref()
                 .is_some_and(|link| link.fault.is_some()),
+            gamepad: (view.gamepad.as_ref())
+                .map(|pad| (pad.state.pad.connected, pad.joystick.enable)),
         }
     }
 }

@@ -100,10 +100,15 @@ impl SimPanel {
         ui.separator();
 
         ui.label(RichText::new("Joystick").strong());
-        self.pad(ui);
-        ui.checkbox(&mut self.dead_man, "Dead-man button held");
-        let (s, v, _) = self.joystick();
-        ui.label(format!("steer {s:+.2} V, speed {v:+.2} V"));
+        if view.gamepad.is_some() {
+            // The supervisor reads the gamepad in place of the wired joystick.
+            ui.label("the gamepad drives ([joystick] source = gamepad): see Inputs");
+        } else {
+            self.pad(ui);
+            ui.checkbox(&mut self.dead_man, "Dead-man button held");
+            let (s, v, _) = self.joystick();
+            ui.label(format!("steer {s:+.2} V, speed {v:+.2} V"));
+        }
         ui.separator();
 
         ui.label(RichText::new("Faults").strong());

@@ -4,7 +4,7 @@
 use eframe::egui::{self, RichText};
 
 use super::requests::Requests;
-use super::view::View;
+use super::view::{GamepadView, View};
 use crate::rt::liu_layland;
 
 fn on_off(on: bool) -> &'static str {
@@ -15,6 +15,23 @@ fn row(ui: &mut egui::Ui, name: &str, value: String) {
     ui.label(name);
     ui.monospace(value);
     ui.end_row();
+}
+
+/// The gamepad in place of the wired joystick: which, its sticks, its dead-man.
+pub fn gamepad_words(pad: &GamepadView) -> String {
+    let state = &pad.state;
+    if !state.pad.connected {
+        return format!("not connected: {}", state.problem.as_str());
+    }
+    let (right, forward) = state.pad.deflection();
+    format!(
+        "{} ({})  steer {:+.0} %  speed {:+.0} %  dead-man {}",
+        state.name.as_str(),
+        state.place.as_str(),
+        100.0 * right,
+        100.0 * forward,
+        pad.joystick.dead_man.words()
+    )
 }
 
 /// Every input, in the units at the connector and what they mean.
@@ -79,6 +96,9 @@ pub fn inputs_grid(ui: &mut egui::Ui, view: &View) {
                 }
             ),
         );
+        if let Some(pad) = &view.gamepad {
+            row(ui, "Gamepad", gamepad_words(pad));
+        }
     });
 }
 

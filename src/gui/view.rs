@@ -8,11 +8,14 @@
 //! another computer (`remote.rs`, `mechweed watch`), which fills the same `View` and
 //! carries the requests the robot takes from the bus.
 
+use std::time::Instant;
+
 use crossbeam_channel::Sender;
 use mechweed_hw::sim::Truth;
 
 use crate::bus::BusFigures;
 use crate::camlink::LinkStatus;
+use crate::gamepad::{PadJoystick, PadState};
 use crate::modes::Request;
 use crate::request_channel::Answer;
 use crate::rt::LoopSummary;
@@ -44,6 +47,16 @@ pub struct View {
     pub bus_endpoints: String,
     /// Watching a robot over the bus (`mechweed watch`); None: the controller is here.
     pub remote: Option<RemoteLink>,
+    /// The gamepad, when it is the joystick ([joystick] source = gamepad).
+    pub gamepad: Option<GamepadView>,
+}
+
+/// The gamepad as its thread last published it, and its joystick as the supervisor
+/// reads it at the view's instant.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GamepadView {
+    pub state: PadState,
+    pub joystick: PadJoystick,
 }
 
 /// What the operator view on another computer knows of its link to the robot.
@@ -107,6 +120,11 @@ impl ViewSource for Handles {
             bus: self.bus.snapshot(),
             bus_endpoints: self.bus_endpoints.clone(),
             remote: None,
+            gamepad: self.gamepad.as_ref().map(|pad| {
+                let state = pad.snapshot();
+                let joystick = state.pad.joystick(Instant::now());
+                GamepadView { state, joystick }
+            }),
         }
     }
 

@@ -33,7 +33,15 @@ pub fn gui_with(settings_file: Option<PathBuf>) -> Gui {
 
 /// The GUI over a controller whose handles `adjust` may change first.
 pub fn gui_customised(settings_file: Option<PathBuf>, adjust: impl FnOnce(&mut Handles)) -> Gui {
-    let mut settings = Settings::shipped();
+    gui_from(Settings::shipped(), settings_file, adjust)
+}
+
+/// The GUI over a controller with these settings (the bus off, late ticks tolerated).
+pub fn gui_from(
+    mut settings: Settings,
+    settings_file: Option<PathBuf>,
+    adjust: impl FnOnce(&mut Handles),
+) -> Gui {
     // Tests run side by side; the bus has tests of its own, on ports of their own.
     settings.bus.enabled = false;
     // Software rendering is slow: a late tick now and then is not these tests' subject.
