@@ -217,7 +217,10 @@ fn probe_on_a_computer_without_the_cards_says_so_and_fails() {
     // The gamepads are listed first; of the cards nothing is read, nothing printed.
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.starts_with("gamepads (/dev/input):"), "{stdout}");
-    assert!(!stdout.contains("found ") && !stdout.contains("battery_v"), "{stdout}");
+    assert!(
+        !stdout.contains("found ") && !stdout.contains("battery_v"),
+        "{stdout}"
+    );
 }
 
 #[test]
