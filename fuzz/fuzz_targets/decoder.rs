@@ -1,5 +1,5 @@
 //! Fuzz the camera-link decoder with arbitrary bytes: it must never panic, and what it
-//! passes on must be physically possible (camera-link.md).
+//! passes on must be physically possible (docs/camera-link.md).
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

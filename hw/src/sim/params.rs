@@ -241,7 +241,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn benchmark_sets_the_scenario_of_plant_md() {
+    fn benchmark_sets_the_scenario_of_docs_simulation_md() {
         let straight = SimParams::benchmark(RowShape::Straight, 7);
         assert_eq!(
             (
