@@ -8,7 +8,7 @@ use eframe::egui;
 use eframe::egui::accesskit::Role;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use evdev::{EventType, KeyCode};
+use evdev::{AbsoluteAxisCode, EventType, KeyCode};
 use mechweed::config::{GamepadDevice, JoystickSource, Settings};
 use mechweed::gamepad::mapping::{AxisRange, Opened};
 use mechweed::gamepad::{Label, PadMap, PadState};
@@ -61,11 +61,18 @@ fn pad_view(held_at_connect: bool) -> View {
     };
     let now = Instant::now();
     let opened = Opened {
-        speed: (range, -32768),
-        steer: (range, 16384),
+        speed: (range, 0),
+        steer: (range, 0),
         deadman_held: held_at_connect,
     };
     state.pad.connect(opened, now);
+    // Full forward and half right.
+    state
+        .pad
+        .event(EventType::ABSOLUTE, AbsoluteAxisCode::ABS_Y.0, -32768, now);
+    state
+        .pad
+        .event(EventType::ABSOLUTE, AbsoluteAxisCode::ABS_X.0, 16384, now);
     if !held_at_connect {
         state
             .pad

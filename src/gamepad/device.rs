@@ -150,13 +150,11 @@ pub fn lacks(found: &Found, map: &PadMap) -> Option<String> {
         .or_else(|| (!found.buttons.contains(&button)).then(|| format!("button {button}")))
 }
 
-/// The axes' ranges and readings and the dead-man's state now, from the kernel.
-fn ready(device: Device, found: Found, map: &PadMap) -> Result<OpenPad, String> {
-    let place = found.path.display().to_string();
-    let problem = |e: std::io::Error| format!("{place}: {e}");
+/// The axes' ranges and readings and the dead-man's state now, as the kernel has them.
+fn kernel_state(device: &Device, map: &PadMap) -> Result<Opened, String> {
     let mut speed = None;
     let mut steer = None;
-    for (code, info) in device.get_absinfo().map_err(problem)? {
+    for (code, info) in device.get_absinfo().map_err(|e| e.to_string())? {
         let reading = (
             AxisRange {
                 min: info.minimum(),
@@ -171,19 +169,22 @@ fn ready(device: Device, found: Found, map: &PadMap) -> Result<OpenPad, String> 
             steer = Some(reading);
         }
     }
-    let deadman_held = device
-        .get_key_state()
-        .map_err(problem)?
-        .contains(map.deadman);
+    let keys = device.get_key_state().map_err(|e| e.to_string())?;
+    let missing = || "the kernel gave no range for the axes".to_string();
+    Ok(Opened {
+        speed: speed.ok_or_else(missing)?,
+        steer: steer.ok_or_else(missing)?,
+        deadman_held: keys.contains(map.deadman),
+    })
+}
+
+fn ready(device: Device, found: Found, map: &PadMap) -> Result<OpenPad, String> {
+    let place = found.path.display().to_string();
+    let opened = kernel_state(&device, map).map_err(|e| format!("{place}: {e}"))?;
     // Read without waiting: the thread looks for the stop flag and the time-out between.
-    device.set_nonblocking(true).map_err(problem)?;
-    let missing = || format!("{place}: the kernel gave no range for the axes");
+    (device.set_nonblocking(true)).map_err(|e| format!("{place}: {e}"))?;
     Ok(OpenPad {
-        opened: Opened {
-            speed: speed.ok_or_else(missing)?,
-            steer: steer.ok_or_else(missing)?,
-            deadman_held,
-        },
+        opened,
         device,
         found,
     })
@@ -242,6 +243,13 @@ impl PadSource for InputDevices {
             self.open = None;
         }
         result
+    }
+
+    fn state(&mut self, map: &PadMap) -> Result<Opened, String> {
+        match self.open.as_ref() {
+            Some(device) => kernel_state(device, map),
+            None => Err("not open".into()),
+        }
     }
 }
 

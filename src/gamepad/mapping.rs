@@ -9,7 +9,14 @@
 //!   values in the kernel, so silence is the only sign);
 //! - it was connected, or came back after a silence, with the button held: the button
 //!   must be released and pressed again, so a pad plugged in by someone holding it (or
-//!   back in range) never starts the robot by itself.
+//!   back in range) never starts the robot by itself;
+//! - both sticks have not been seen in the middle (within the dead band) since the pad
+//!   was connected: a stick held over, or an axis that rests at an end of its range (a
+//!   trigger named by mistake), never starts the robot either.
+//!
+//! The kernel drops events when its buffer overflows; the thread therefore also gives
+//! the kernel's own state of the sticks and button now and then (`reconcile`), so a
+//! release that was dropped is not missed.
 
 use std::time::Instant;
 
@@ -28,6 +35,8 @@ pub struct PadMap {
     pub timeout_s: f64,
     /// The analog joystick's volts at full deflection: a pad's full deflection reads so.
     pub full_scale_v: f64,
+    /// The analog joystick's dead band, V: a stick within it is in the middle.
+    pub deadband_v: f64,
 }
 
 impl PadMap {
@@ -41,6 +50,7 @@ impl PadMap {
             steer_sign: sign(pad.steer_right_negative),
             timeout_s: pad.timeout_s,
             full_scale_v: joystick.full_scale_v,
+            deadband_v: joystick.deadband_v,
         }
     }
 }
@@ -79,6 +89,8 @@ pub enum DeadMan {
     Silent(f64),
     /// Held since the pad was connected or came back: release it and press again.
     ReleaseFirst,
+    /// A stick has not been in the middle since the pad was connected.
+    NotCentred,
 }
 
 impl DeadMan {
@@ -89,6 +101,9 @@ impl DeadMan {
             DeadMan::NotConnected => "released (no gamepad)".into(),
             DeadMan::Silent(s) => format!("released (nothing from the gamepad for {s:.1} s)"),
             DeadMan::ReleaseFirst => "held, but must be released and pressed again".into(),
+            DeadMan::NotCentred => {
+                "held, but both sticks must first be let go to the middle".into()
+            }
         }
     }
 }
@@ -111,6 +126,8 @@ pub struct Pad {
     steer: (AxisRange, i32),
     deadman_held: bool,
     must_release: bool,
+    /// Both sticks seen in the middle since the pad was connected.
+    centred_seen: bool,
     last_event: Option<Instant>,
     /// Events taken since the program started, and times connected.
     pub events: u64,
@@ -127,6 +144,7 @@ impl Pad {
             steer: idle,
             deadman_held: false,
             must_release: false,
+            centred_seen: false,
             last_event: None,
             events: 0,
             connections: 0,
@@ -140,8 +158,34 @@ impl Pad {
         self.steer = opened.steer;
         self.deadman_held = opened.deadman_held;
         self.must_release = opened.deadman_held;
+        self.centred_seen = false;
+        self.look_for_centre();
         self.last_event = Some(now);
         self.connections += 1;
+    }
+
+    /// The kernel's state of the sticks and button now, in case an event was dropped. A
+    /// release, or a stick's place, is taken at once; it is no sign of life (a pad out
+    /// of range keeps its last state in the kernel).
+    pub fn reconcile(&mut self, now: Opened) {
+        self.speed.1 = now.speed.1;
+        self.steer.1 = now.steer.1;
+        self.look_for_centre();
+        if !now.deadman_held {
+            self.deadman_held = false;
+            self.must_release = false;
+        }
+    }
+
+    /// The dead-man button is down (as far as the pad has said).
+    pub fn deadman_down(&self) -> bool {
+        self.connected && self.deadman_held
+    }
+
+    fn look_for_centre(&mut self) {
+        let (steer, speed) = self.deflection();
+        let band = self.map.deadband_v / self.map.full_scale_v;
+        self.centred_seen |= steer.abs() <= band && speed.abs() <= band;
     }
 
     /// The pad went away (unplugged, out of a wireless receiver's reach, or unreadable).
@@ -165,6 +209,7 @@ impl Pad {
             if code == self.map.steer_axis.0 {
                 self.steer.1 = value;
             }
+            self.look_for_centre();
         } else if kind == evdev::EventType::KEY && code == self.map.deadman.code() {
             // 1 pressed, 2 the kernel's auto-repeat while held, 0 released.
             self.deadman_held = value != 0;
@@ -200,6 +245,8 @@ impl Pad {
             DeadMan::Silent(quiet_s)
         } else if self.must_release {
             DeadMan::ReleaseFirst
+        } else if !self.centred_seen {
+            DeadMan::NotCentred
         } else {
             DeadMan::Held
         };

@@ -115,7 +115,8 @@ fn a_stick_near_the_centre_is_in_the_analog_dead_band_and_a_trigger_range_is_cen
 fn nothing_moves_without_the_dead_man_button() {
     let (mut pad, s) = shipped();
     let t0 = Instant::now();
-    pad.connect(opened(-32768, 0, false), t0);
+    pad.connect(opened(0, 0, false), t0);
+    axis(&mut pad, AbsoluteAxisCode::ABS_Y, -32768, ms(t0, 5));
     assert_eq!(pad.joystick(ms(t0, 10)).dead_man, DeadMan::Released);
     assert_eq!(command(&pad, &s, ms(t0, 10)).0, 0.0);
     press(&mut pad, true, ms(t0, 20));
@@ -136,7 +137,8 @@ fn nothing_moves_without_the_dead_man_button() {
 fn a_silent_pad_counts_as_released_and_needs_a_new_press() {
     let (mut pad, s) = shipped();
     let t0 = Instant::now();
-    pad.connect(opened(-32768, 0, false), t0);
+    pad.connect(opened(0, 0, false), t0);
+    axis(&mut pad, AbsoluteAxisCode::ABS_Y, -32768, ms(t0, 50));
     press(&mut pad, true, ms(t0, 100));
     // Driving full forward, then nothing more from the pad (out of range).
     assert!(pad.joystick(ms(t0, 1000)).enable);
@@ -174,7 +176,8 @@ fn unplugged_the_pad_stops_the_robot_and_plugged_in_held_it_waits_for_a_new_pres
     let (mut pad, s) = shipped();
     let t0 = Instant::now();
     assert_eq!(pad.joystick(t0).dead_man, DeadMan::NotConnected);
-    pad.connect(opened(-32768, 32767, false), t0);
+    pad.connect(opened(0, 0, false), t0);
+    axis(&mut pad, AbsoluteAxisCode::ABS_Y, -32768, ms(t0, 5));
     press(&mut pad, true, ms(t0, 10));
     assert!(command(&pad, &s, ms(t0, 20)).0 > 0.7);
     pad.disconnect();
@@ -187,6 +190,52 @@ fn unplugged_the_pad_stops_the_robot_and_plugged_in_held_it_waits_for_a_new_pres
     assert_eq!(command(&pad, &s, ms(t0, 2010)).0, 0.0);
     press(&mut pad, false, ms(t0, 2100));
     press(&mut pad, true, ms(t0, 2200));
-    assert!(command(&pad, &s, ms(t0, 2210)).0 > 0.7);
+    // Pressed again, but the stick has been forward since it was plugged in.
+    assert_eq!(pad.joystick(ms(t0, 2210)).dead_man, DeadMan::NotCentred);
+    axis(&mut pad, AbsoluteAxisCode::ABS_Y, 0, ms(t0, 2300));
+    axis(&mut pad, AbsoluteAxisCode::ABS_Y, -32768, ms(t0, 2400));
+    assert!(command(&pad, &s, ms(t0, 2410)).0 > 0.7);
     assert_eq!(pad.connections, 2);
+}
+
+#[test]
+fn an_axis_resting_at_its_end_never_drives() {
+    // A trigger (0..255, resting at 0) named as the speed axis by mistake reads full
+    // deflection at rest: the pad must not drive on it.
+    let (mut pad, s) = shipped();
+    let t0 = Instant::now();
+    let trigger = AxisRange { min: 0, max: 255 };
+    let mut at_rest = opened(0, 0, false);
+    at_rest.speed = (trigger, 0);
+    pad.connect(at_rest, t0);
+    press(&mut pad, true, ms(t0, 10));
+    let j = pad.joystick(ms(t0, 20));
+    assert_eq!(
+        (j.dead_man, j.enable),
+        (DeadMan::NotCentred, false),
+        "{j:?}"
+    );
+    assert_eq!(command(&pad, &s, ms(t0, 20)).0, 0.0);
+}
+
+#[test]
+fn a_release_the_kernel_dropped_is_taken_from_its_state() {
+    let (mut pad, _) = shipped();
+    let t0 = Instant::now();
+    pad.connect(opened(0, 0, false), t0);
+    press(&mut pad, true, ms(t0, 10));
+    axis(&mut pad, AbsoluteAxisCode::ABS_Y, -32768, ms(t0, 20));
+    assert!(pad.joystick(ms(t0, 30)).enable);
+    // The release and the stick's return were among the events the kernel dropped;
+    // its state says the button is up and the stick in the middle.
+    pad.reconcile(opened(0, 0, false));
+    let j = pad.joystick(ms(t0, 40));
+    assert!(!j.enable && j.speed_v.abs() < 0.01, "{j:?}");
+    // The kernel's state is no sign of life: a silent pad stays silent.
+    press(&mut pad, true, ms(t0, 50));
+    pad.reconcile(opened(0, 0, true));
+    assert!(matches!(
+        pad.joystick(ms(t0, 2000)).dead_man,
+        DeadMan::Silent(_)
+    ));
 }

@@ -35,6 +35,9 @@ pub trait PadSource: Send {
         wait: Duration,
         out: &mut Vec<(EventType, u16, i32)>,
     ) -> Result<(), String>;
+    /// The pad's sticks and button as the kernel has them now (it drops events when its
+    /// buffer overflows), or why the pad is gone.
+    fn state(&mut self, map: &PadMap) -> Result<Opened, String>;
 }
 
 /// Start the gamepad thread; its object is what the supervisor and the GUI read.
@@ -128,13 +131,16 @@ fn read_until_gone(
         if let Err(why) = source.events(WAIT_FOR_EVENTS, &mut events) {
             return why;
         }
-        if !events.is_empty() {
-            let now = Instant::now();
-            for &(kind, code, value) in &events {
-                state.pad.event(kind, code, value, now);
-            }
-            writer.publish(state);
+        let now = Instant::now();
+        for &(kind, code, value) in &events {
+            state.pad.event(kind, code, value, now);
         }
+        // At least every 0.1 s: what the kernel has, in case it dropped an event.
+        match source.state(&state.pad.map) {
+            Ok(kernel) => state.pad.reconcile(kernel),
+            Err(why) => return why,
+        }
+        writer.publish(state);
         // Said once per silence: the supervisor applies the time-out at every tick.
         match state.pad.joystick(Instant::now()).dead_man {
             DeadMan::Silent(s) if !silent_said => {

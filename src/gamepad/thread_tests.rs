@@ -19,7 +19,6 @@ use crate::gamepad::{PadHw, PadJoystick};
 struct Hand {
     plugged: Option<Opened>,
     events: VecDeque<(EventType, u16, i32)>,
-    pulled_out: bool,
 }
 
 #[derive(Clone, Default)]
@@ -37,13 +36,21 @@ impl TestPad {
             deadman_held,
         });
     }
+    /// An event, and the kernel's state it leaves.
     fn send(&self, kind: EventType, code: u16, value: i32) {
-        self.0.lock().events.push_back((kind, code, value));
+        let mut hand = self.0.lock();
+        hand.events.push_back((kind, code, value));
+        if let Some(kernel) = hand.plugged.as_mut() {
+            if kind == EventType::KEY && code == KeyCode::BTN_TL.code() {
+                kernel.deadman_held = value != 0;
+            }
+            if kind == EventType::ABSOLUTE && code == AbsoluteAxisCode::ABS_Y.0 {
+                kernel.speed.1 = value;
+            }
+        }
     }
     fn pull_out(&self) {
-        let mut hand = self.0.lock();
-        hand.plugged = None;
-        hand.pulled_out = true;
+        self.0.lock().plugged = None;
     }
 }
 
@@ -61,13 +68,16 @@ impl PadSource for TestPad {
     }
     fn events(&mut self, _: Duration, out: &mut Vec<(EventType, u16, i32)>) -> Result<(), String> {
         let mut hand = self.0.lock();
-        if std::mem::take(&mut hand.pulled_out) {
+        if hand.plugged.is_none() {
             return Err("No such device (os error 19)".into());
         }
         out.extend(hand.events.drain(..));
         drop(hand);
         std::thread::sleep(Duration::from_millis(2));
         Ok(())
+    }
+    fn state(&mut self, _: &PadMap) -> Result<Opened, String> {
+        (self.0.lock().plugged).ok_or_else(|| "No such device (os error 19)".into())
     }
 }
 
@@ -180,12 +190,14 @@ fn the_supervisor_reads_the_pad_in_place_of_the_wired_joystick_and_judges_silenc
         max: 32767,
     };
     let opened = Opened {
-        speed: (range, 32767),
+        speed: (range, 0),
         steer: (range, 0),
         deadman_held: false,
     };
     let now = Instant::now();
     state.pad.connect(opened, now);
+    let y = AbsoluteAxisCode::ABS_Y.0;
+    state.pad.event(EventType::ABSOLUTE, y, 32767, now);
     state
         .pad
         .event(EventType::KEY, KeyCode::BTN_TL.code(), 1, now);
@@ -205,4 +217,26 @@ fn the_supervisor_reads_the_pad_in_place_of_the_wired_joystick_and_judges_silenc
         .event(EventType::KEY, KeyCode::BTN_TL.code(), 1, then);
     writer.publish(&silent);
     assert!(!hw.read().unwrap().joystick_enable);
+    // The thread then publishes a pad that looks alive and held (an event it took just
+    // before the silence was judged here): the robot still waits for the dead-man to be
+    // released and pressed again.
+    let mut alive = PadState::new(map);
+    alive.pad.connect(opened, Instant::now());
+    alive
+        .pad
+        .event(EventType::KEY, KeyCode::BTN_TL.code(), 1, Instant::now());
+    writer.publish(&alive);
+    assert!(alive.pad.joystick(Instant::now()).enable);
+    assert!(!hw.read().unwrap().joystick_enable);
+    let mut silent = alive;
+    silent
+        .pad
+        .event(EventType::KEY, KeyCode::BTN_TL.code(), 0, Instant::now());
+    writer.publish(&silent);
+    assert!(!hw.read().unwrap().joystick_enable);
+    silent
+        .pad
+        .event(EventType::KEY, KeyCode::BTN_TL.code(), 1, Instant::now());
+    writer.publish(&silent);
+    assert!(hw.read().unwrap().joystick_enable);
 }

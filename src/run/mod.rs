@@ -104,15 +104,6 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
     health::watch_this_thread(&panics, ThreadName::Console);
     let (record_tap, recorder) = record::start_for_run(&s.record, truth.clone());
     let bus_session = crate::bus::open_for_run(s).map_err(RunError::Bus)?;
-    // A gamepad in place of the wired joystick: the supervisor reads it with the inputs.
-    let (hw, gamepad, gamepad_thread) = match s.joystick.source {
-        JoystickSource::Analog => (hw, None, None),
-        JoystickSource::Gamepad => {
-            let (pad, thread) = gamepad::start(s, panics.clone(), stop.clone());
-            let hw: Box<dyn Hw> = Box::new(PadHw::new(hw, pad.clone()));
-            (hw, Some(pad), Some(thread))
-        }
-    };
 
     let (status_w, status_r) = shared(Status::default());
     let (steer_w, steer_r) = shared(SteerCommand::default());
@@ -150,10 +141,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         panics: panics.clone(),
         stop: stop.clone(),
     };
-    let supervisor =
-        SupervisorThread::new(hw, Supervisor::new(s), s.supervisor.rate_hz, clock, wires)
-            .with_priority(priority(s.rt.supervisor_priority), s.rt.supervisor_cpu)
-            .with_injection(opts.inject);
+    let supervisor_wires = wires;
     let wires = SteerWires {
         new_estimate: estimate_rx,
         command: steer_w,
@@ -189,6 +177,25 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         .map_err(|e| RunError::BusRows(e.to_string()))?;
         link = link.with_stream(Box::new(rows));
     }
+    // A gamepad in place of the wired joystick: the supervisor reads it with the inputs.
+    // Started after the last step that can fail, so that no error leaves it running.
+    let (hw, gamepad, gamepad_thread) = match s.joystick.source {
+        JoystickSource::Analog => (hw, None, None),
+        JoystickSource::Gamepad => {
+            let (pad, thread) = gamepad::start(s, panics.clone(), stop.clone());
+            let hw: Box<dyn Hw> = Box::new(PadHw::new(hw, pad.clone()));
+            (hw, Some(pad), Some(thread))
+        }
+    };
+    let supervisor = SupervisorThread::new(
+        hw,
+        Supervisor::new(s),
+        s.supervisor.rate_hz,
+        clock,
+        supervisor_wires,
+    )
+    .with_priority(priority(s.rt.supervisor_priority), s.rt.supervisor_cpu)
+    .with_injection(opts.inject);
     let bus = match (bus_session, bus_flow) {
         (Some(session), Some(flow)) => {
             let wires = BusWires {
