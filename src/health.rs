@@ -36,6 +36,13 @@ impl ThreadName {
         }
     }
 
+    /// The thread of this `label` (as a record writes it), or None.
+    pub fn from_label(label: &str) -> Option<ThreadName> {
+        (1..=7)
+            .filter_map(ThreadName::from_code)
+            .find(|t| t.label() == label)
+    }
+
     fn from_code(code: u8) -> Option<ThreadName> {
         [
             ThreadName::Supervisor,

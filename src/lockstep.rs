@@ -20,7 +20,7 @@ use crate::config::Settings;
 use crate::health::ThreadHealth;
 use crate::modes::{Mode, Refusal, Request};
 use crate::operator::OperatorScript;
-use crate::record::RecordTap;
+use crate::record::{Given, HwFailure, RecordTap};
 use crate::steer::{SteerCommand, SteerCore};
 use crate::supervisor::Supervisor;
 
@@ -108,7 +108,7 @@ impl Lockstep {
 
     /// Send a request to the supervisor, as the GUI would.
     pub fn request(&mut self, request: Request) -> Result<(), Refusal> {
-        let answer = self.supervisor.handle(request);
+        let answer = self.handle(request);
         // As the real-time run passes them on its channel: the steer "thread" takes them.
         if let Some(settings) = self.supervisor.take_steer_settings() {
             self.steer.set_law_settings(&settings);
@@ -158,8 +158,18 @@ impl Lockstep {
         let now = self.now_s();
         if let Some(request) = self.operator.due(now, self.supervisor.status()) {
             // A refused request is what a person would see greyed out; the status shows why.
-            let _ = self.supervisor.handle(request);
+            let _ = self.handle(request);
         }
+    }
+
+    /// The supervisor handles a request before its next tick; the record keeps both.
+    fn handle(&mut self, request: Request) -> Result<(), Refusal> {
+        let answer = self.supervisor.handle(request);
+        let (now_s, next_tick) = (self.now_s(), self.supervisor.status().tick + 1);
+        if let Some(tap) = &mut self.record {
+            tap.requested(now_s, next_tick, request, answer);
+        }
+        answer
     }
 
     /// The supervisor's tick as its thread runs it: read every input, tick, write every
@@ -169,6 +179,7 @@ impl Lockstep {
         let (steer, link) = (&self.steer_command, self.link.status());
         // In lockstep every "thread" is a function call: none can stall or panic unseen.
         let health = ThreadHealth::default();
+        let mut hw_failed = None;
         let outputs = match &mut self.io {
             Io::Direct => {
                 let outputs = self
@@ -182,9 +193,19 @@ impl Lockstep {
                 rig.set_wires(&self.robot.inputs());
                 let mut outputs = match rig.hw.read() {
                     Ok(inputs) => self.supervisor.tick(now, &inputs, steer, link, &health),
-                    Err(e) => self.supervisor.hardware_failed(now, e.card()),
+                    Err(e) => {
+                        hw_failed = Some(HwFailure {
+                            during: "read",
+                            card: e.card(),
+                        });
+                        self.supervisor.hardware_failed(now, e.card())
+                    }
                 };
                 if let Err(e) = rig.hw.write(&outputs) {
+                    hw_failed = Some(HwFailure {
+                        during: "write",
+                        card: e.card(),
+                    });
                     outputs = self.supervisor.hardware_failed(now, e.card());
                 }
                 self.robot.set_outputs(&rig.plant_outputs());
@@ -198,6 +219,7 @@ impl Lockstep {
                 &self.steer_command,
                 self.link.status(),
                 Some(&truth),
+                &Given { health, hw_failed },
             );
         }
         outputs

@@ -55,6 +55,19 @@ impl Mode {
         }
     }
 
+    /// The mode of this name (as `name` writes it), or None.
+    pub fn from_name(name: &str) -> Option<Mode> {
+        [
+            Mode::Halt,
+            Mode::Joystick,
+            Mode::Autonomous,
+            Mode::Test,
+            Mode::Fault,
+        ]
+        .into_iter()
+        .find(|m| m.name() == name)
+    }
+
     /// The robot may move in this mode.
     pub fn drives(self) -> bool {
         matches!(self, Mode::Joystick | Mode::Autonomous)

@@ -14,7 +14,7 @@ use crate::config::SteerSettings;
 use crate::health::{self, PanicFlag, ThreadHealth, ThreadName};
 use crate::inject::{Fail, Injection};
 use crate::modes::{Gains, Request};
-use crate::record::RecordTap;
+use crate::record::{Given, HwFailure, RecordTap};
 use crate::request_channel::{Envelope, RequestReceiver};
 use crate::rt::{self, LoopSummary, Periodic};
 use crate::state::{Latest, Mailbox, Reader, Writer};
@@ -146,6 +146,8 @@ impl SupervisorThread {
             let lock_start = rt::monotonic_ns();
             while let Ok(Envelope { request, reply }) = requests.try_recv() {
                 let answer = core.handle(request);
+                // Recorded with the tick it precedes, so that a replay gives it there.
+                record.requested(now_s, core.status().tick + 1, request, answer);
                 if let Some(accepted) = core.take_steer_settings() {
                     // A newer set replaces one the steer thread has not taken yet, so
                     // that it ends on the law that goes with the gains in use.
@@ -173,15 +175,24 @@ impl SupervisorThread {
                 panicked: panics.panicked(),
                 supervisor_overruns: periodic.stats.overruns,
             };
+            let mut hw_failed = None;
             let outputs = match hw.0.read() {
                 Ok(inputs) => core.tick(now_s, &inputs, &steer_now, &link_now, &health),
                 Err(e) => {
                     tracing::error!("{e}");
+                    hw_failed = Some(HwFailure {
+                        during: "read",
+                        card: e.card(),
+                    });
                     core.hardware_failed(now_s, e.card())
                 }
             };
             if let Err(e) = hw.0.write(&outputs) {
                 tracing::error!("{e}");
+                hw_failed = Some(HwFailure {
+                    during: "write",
+                    card: e.card(),
+                });
                 core.hardware_failed(now_s, e.card());
                 let _ = hw.0.write(&Outputs::SAFE);
             }
@@ -195,7 +206,8 @@ impl SupervisorThread {
             }
             lock_ns = lock_ns.max(rt::monotonic_ns() - publish_start);
             periodic.stats.worst_lock_us = periodic.stats.worst_lock_us.max(lock_ns / 1000);
-            record.after_tick(&mut bus, core.status(), &steer_now, &link_now);
+            let given = Given { health, hw_failed };
+            record.after_tick(&mut bus, core.status(), &steer_now, &link_now, &given);
             if let Some(Injection {
                 thread: ThreadName::Supervisor,
                 at_s,

@@ -141,12 +141,9 @@ fn no_allocation_per_tick_while_recording() {
     let dir = tempfile::tempdir().unwrap();
     let mut settings = Settings::shipped();
     settings.record.folder = dir.path().to_path_buf();
-    let (tap, recorder) = mechweed::record::start(
-        &settings.record,
-        None,
-        mechweed::record::Delivery::NeverWait,
-    )
-    .expect("a record in the temporary folder");
+    let (tap, recorder) =
+        mechweed::record::start(&settings, None, mechweed::record::Delivery::NeverWait)
+            .expect("a record in the temporary folder");
     let mut sim = Lockstep::new(&settings, Mode::Autonomous);
     sim.record_into(tap);
     sim.run_for(3.0);

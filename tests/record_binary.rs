@@ -101,11 +101,16 @@ fn record_summary_of_a_real_run_prints_its_figures() {
         .iter()
         .map(|f| f.file_name().unwrap().to_string_lossy().into_owned())
         .collect();
-    assert_eq!(names.len(), 3, "{names:?}");
+    assert_eq!(names.len(), 4, "{names:?}");
     let stem = names[0].strip_suffix(".csv").unwrap();
     assert_eq!(stem.len(), "2026-11-23T07-43-12".len(), "{names:?}");
     assert_eq!(names[1], format!("{stem}.events.csv"));
     assert_eq!(names[2], format!("{stem}.mcap"));
+    assert_eq!(
+        names[3],
+        format!("{stem}.run.json"),
+        "the settings, for a replay"
+    );
 
     let from_csv = summary(&files[0]);
     let from_mcap = summary(&files[2]);

@@ -24,7 +24,7 @@ struct Seen {
 fn recorded(folder: &Path, events: &str, seconds: f64) -> (Lockstep, Vec<Seen>, RecordOutcome) {
     let mut settings = settings_with(events, &[]);
     settings.record.folder = folder.to_path_buf();
-    let (tap, recorder) = record::start(&settings.record, None, Delivery::WaitForRoom).unwrap();
+    let (tap, recorder) = record::start(&settings, None, Delivery::WaitForRoom).unwrap();
     let mut sim = autonomous(&settings);
     sim.record_into(tap);
     let mut seen = Vec::new();

@@ -124,7 +124,10 @@ fn latest_without_a_record_is_a_clear_error() {
 
 /// Four old records (one only an .mcap), oldest first.
 const OLD: [(&str, &[&str]); 4] = [
-    ("2000-01-01T00-00-00", &[".csv", ".events.csv", ".mcap"]),
+    (
+        "2000-01-01T00-00-00",
+        &[".csv", ".events.csv", ".mcap", ".run.json"],
+    ),
     ("2000-01-01T00-00-00-2", &[".mcap"]),
     ("2000-01-01T00-00-00-10", &[".csv", ".events.csv"]),
     ("2000-01-02T00-00-00", &[".csv", ".events.csv", ".mcap"]),
@@ -177,14 +180,15 @@ fn keep_removes_exactly_the_oldest_records_and_says_so() {
             "2000-01-01T00-00-00.csv",
             "2000-01-01T00-00-00.events.csv",
             "2000-01-01T00-00-00.mcap",
+            "2000-01-01T00-00-00.run.json",
         ]
     );
     for name in FOREIGN {
         assert!(after.iter().any(|n| n == name), "{name} was removed");
     }
-    // The new record is there, all three files.
+    // The new record is there, all four files.
     let new: Vec<&String> = after.iter().filter(|n| !before.contains(n)).collect();
-    assert_eq!(new.len(), 3, "{new:?}");
+    assert_eq!(new.len(), 4, "{new:?}");
 }
 
 #[test]
@@ -200,7 +204,7 @@ fn keep_all_or_zero_removes_nothing() {
         assert!(!stdout.contains("removed old record"), "{stdout}");
         let after = names(&folder);
         assert!(before.iter().all(|n| after.contains(n)), "keep = {keep}");
-        assert_eq!(after.len(), before.len() + 3, "keep = {keep}");
+        assert_eq!(after.len(), before.len() + 4, "keep = {keep}");
     }
 }
 

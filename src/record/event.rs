@@ -2,8 +2,9 @@
 //! notices, and ticks the record could not keep. Events are rare, so they travel on
 //! their own queue and are not lost when the tick queue is full.
 
+use super::request_text::event_text;
 use crate::fault_cause::FaultCause;
-use crate::modes::Mode;
+use crate::modes::{Mode, Refusal, Request};
 use crate::status::Notice;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -18,6 +19,11 @@ pub enum EventKind {
     Dropped {
         ticks: u64,
     },
+    /// An operator's request, handled just before the tick, and the answer.
+    Request {
+        request: Request,
+        answer: Result<(), Refusal>,
+    },
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -31,13 +37,14 @@ pub struct RecordEvent {
 pub const EVENT_COLUMNS: [&str; 4] = ["t_s", "tick", "kind", "text"];
 
 impl RecordEvent {
-    /// One word for the kind: mode, fault, notice or dropped.
+    /// One word for the kind: mode, fault, notice, dropped or request.
     pub fn kind_name(&self) -> &'static str {
         match self.kind {
             EventKind::Mode { .. } => "mode",
             EventKind::Fault(_) => "fault",
             EventKind::Notice(_) => "notice",
             EventKind::Dropped { .. } => "dropped",
+            EventKind::Request { .. } => "request",
         }
     }
 
@@ -60,6 +67,7 @@ impl RecordEvent {
             EventKind::Dropped { ticks } => {
                 format!("{ticks} ticks not recorded: the recorder fell behind")
             }
+            EventKind::Request { request, answer } => event_text(&request, &answer),
         }
     }
 }

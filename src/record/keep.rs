@@ -1,15 +1,15 @@
 //! The records in a folder, as the recorder names them (files.rs): the newest one for
 //! `record summary latest`, and the oldest ones deleted for `[record] keep`.
 //!
-//! A record is the group of files of one start time: NAME.csv, NAME.events.csv and
-//! NAME.mcap, where NAME is a UTC stamp (2026-11-23T07-43-12), perhaps with `-2`, `-3`
+//! A record is the group of files of one start time: NAME.csv, NAME.events.csv,
+//! NAME.mcap and NAME.run.json, where NAME is a UTC stamp (2026-11-23T07-43-12), perhaps with `-2`, `-3`
 //! for a second record of the same second. Any other file in the folder is not ours
 //! and is never touched.
 
 use std::path::{Path, PathBuf};
 
 /// The endings the recorder gives its files; `.events.csv` before `.csv`.
-const ENDINGS: [&str; 3] = [".events.csv", ".csv", ".mcap"];
+const ENDINGS: [&str; 4] = [".events.csv", ".csv", ".mcap", ".run.json"];
 
 /// One record: its name without ending, and its files.
 #[derive(Debug)]

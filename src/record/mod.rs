@@ -16,10 +16,12 @@ mod csv;
 mod error;
 mod event;
 mod files;
+pub mod header;
 pub mod keep;
 mod mcap;
 pub mod read;
 pub mod received;
+pub mod request_text;
 mod row;
 pub mod summary;
 mod tap;
@@ -34,13 +36,14 @@ use std::time::{SystemTime, UNIX_EPOCH};
 use crossbeam_channel::bounded;
 use mechweed_hw::sim::TruthHandle;
 
-use crate::config::RecordSettings;
+use crate::config::{RecordSettings, Settings};
+use header::{HEADER_SUFFIX, RunHeader};
 
 pub use self::mcap::{EVENT_TOPIC, TICK_TOPIC};
 pub use error::{Place, ReadProblem, RecordError};
 pub use event::{EVENT_COLUMNS, EventKind, RecordEvent};
 pub use files::utc_stamp;
-pub use row::{COLUMNS, Column, TickSample, Value, column_names, tick_json};
+pub use row::{COLUMNS, Column, Given, HwFailure, TickSample, Value, column_names, tick_json};
 pub use tap::{Delivery, RecordTap};
 pub use thread::{RecordOutcome, Recorder, Sink};
 
@@ -52,8 +55,9 @@ const QUEUE_EVENTS: usize = 256;
 /// Start recording into new files in `[record] folder`, named by the time now.
 /// `truth` is the simulated robot's, read on each recorded tick by `after_tick`.
 /// The error names the folder and what is wrong.
+/// Beside the ticks and events, NAME.run.json holds the settings in force, for a replay.
 pub fn start(
-    settings: &RecordSettings,
+    run_settings: &Settings,
     truth: Option<TruthHandle>,
     delivery: Delivery,
 ) -> Result<(RecordTap, Recorder), RecordError> {
@@ -61,7 +65,22 @@ pub fn start(
     let start_unix_ns = started
         .duration_since(UNIX_EPOCH)
         .map_or(0, |d| d.as_nanos() as u64);
-    let sinks = new_sinks(settings, started, start_unix_ns, settings.every_n_ticks)?;
+    let name = utc_stamp(started);
+    start_named(run_settings, &name, start_unix_ns, truth, delivery)
+}
+
+/// As `start`, into files named `name` (a what-if beside the record it replays).
+pub fn start_named(
+    run_settings: &Settings,
+    name: &str,
+    start_unix_ns: u64,
+    truth: Option<TruthHandle>,
+    delivery: Delivery,
+) -> Result<(RecordTap, Recorder), RecordError> {
+    let settings = &run_settings.record;
+    let header = RunHeader::of(run_settings);
+    let every_n = settings.every_n_ticks;
+    let sinks = new_sinks(settings, name, start_unix_ns, every_n, Some(&header))?;
     start_with_sinks(sinks, settings.every_n_ticks, delivery, truth).map_err(|e| {
         RecordError::Begin {
             folder: settings.folder.clone(),
@@ -74,11 +93,11 @@ pub fn start(
 /// record began at `start_unix_ns` and keeps every `every_n_ticks`th tick.
 fn new_sinks(
     settings: &RecordSettings,
-    now: SystemTime,
+    stamp: &str,
     start_unix_ns: u64,
     every_n_ticks: u64,
+    header: Option<&RunHeader>,
 ) -> Result<Vec<Box<dyn Sink>>, RecordError> {
-    let stamp = utc_stamp(now);
     let folder = &settings.folder;
     let why = |e: std::io::Error| RecordError::Begin {
         folder: folder.clone(),
@@ -92,9 +111,10 @@ fn new_sinks(
     if mcap {
         extensions.push(".mcap");
     }
-    let mut made = files::create(folder, &stamp, &extensions)?
-        .files
-        .into_iter();
+    if header.is_some() {
+        extensions.push(HEADER_SUFFIX);
+    }
+    let mut made = files::create(folder, stamp, &extensions)?.files.into_iter();
     let mut sinks: Vec<Box<dyn Sink>> = Vec::new();
     // The files come in the order of `extensions`.
     if csv && let (Some(ticks), Some(events)) = (made.next(), made.next()) {
@@ -102,12 +122,15 @@ fn new_sinks(
     }
     if mcap && let Some(file) = made.next() {
         let about = self::mcap::About {
-            started_utc: &stamp,
+            started_utc: stamp,
             every_n_ticks,
         };
         sinks.push(Box::new(
             self::mcap::McapSink::new(file, start_unix_ns, &about).map_err(why)?,
         ));
+    }
+    if let (Some(header), Some((_, mut file))) = (header, made.next()) {
+        header.write(&mut file).map_err(why)?;
     }
     Ok(sinks)
 }
@@ -176,7 +199,8 @@ impl TickFlow {
 
 /// For `mechweed run`: record as robot.ini says, and say where. If the record cannot
 /// be made, warn (naming the folder) and run on without one.
-pub fn start_for_run(settings: &RecordSettings, truth: TruthHandle) -> (RecordTap, Recorder) {
+pub fn start_for_run(run_settings: &Settings, truth: TruthHandle) -> (RecordTap, Recorder) {
+    let settings = &run_settings.record;
     if !settings.enabled {
         let outcome = RecordOutcome {
             problems: vec!["recording is off ([record] enabled = no)".to_string()],
@@ -184,7 +208,7 @@ pub fn start_for_run(settings: &RecordSettings, truth: TruthHandle) -> (RecordTa
         };
         return (RecordTap::off(), Recorder::without(outcome));
     }
-    match start(settings, Some(truth), Delivery::NeverWait) {
+    match start(run_settings, Some(truth), Delivery::NeverWait) {
         Ok((tap, recorder)) => {
             println!("recording into {}", recorder.files().join(", "));
             if let Some(keep) = settings.keep_records {

@@ -161,7 +161,8 @@ impl BusRecord {
         start_unix_ns: u64,
         every_n_ticks: u64,
     ) -> Result<BusRecord, RecordError> {
-        let sinks = super::new_sinks(settings, SystemTime::now(), start_unix_ns, every_n_ticks)?;
+        let stamp = super::utc_stamp(SystemTime::now());
+        let sinks = super::new_sinks(settings, &stamp, start_unix_ns, every_n_ticks, None)?;
         let sinks: Vec<Option<Box<dyn Sink>>> = sinks.into_iter().map(Some).collect();
         let files = sinks.iter().flatten().flat_map(|s| s.files()).collect();
         Ok(BusRecord {

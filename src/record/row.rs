@@ -6,9 +6,10 @@ use mechweed_hw::Side;
 use mechweed_hw::sim::Truth;
 
 use crate::camlink::LinkStatus;
+use crate::health::ThreadHealth;
 use crate::status::PowerState;
 use crate::status::Status;
-use crate::steer::SteerCommand;
+use crate::steer::{EndSwitchState, SteerCommand};
 
 /// What the supervisor thread hands to the recorder for one tick: plain copies, so
 /// handing it over never allocates.
@@ -22,6 +23,24 @@ pub struct TickSample {
     pub link: LinkStatus,
     /// The simulated robot's truth at this tick; None on the real robot.
     pub truth: Option<Truth>,
+    /// What else the tick was given, so that a replay can give it again.
+    pub given: Given,
+}
+
+/// What a supervisor tick is given besides the inputs, the steer command and the link
+/// status: the other threads' health, and a card that failed in this tick.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Given {
+    pub health: ThreadHealth,
+    pub hw_failed: Option<HwFailure>,
+}
+
+/// A card that did not answer: in the tick's read or its write.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HwFailure {
+    /// "read" or "write".
+    pub during: &'static str,
+    pub card: &'static str,
 }
 
 /// One cell. Numbers that are not finite (no camera estimate yet, not simulated) are
@@ -165,6 +184,30 @@ pub const COLUMNS: &[Column] = &[
     col("cam_duplicates", "count", "frames received twice (ignored) so far",
         |r| Value::Int(r.link.counters.duplicates as i64)),
     col("cam_connected", "0/1", "1 = camera port open", |r| flag(r.link.connected)),
+    // The rest of what the tick was given (for `mechweed replay`): the steer command's
+    // time, mode and end-switch procedure, the link's times, the threads' health.
+    col("steer_t_s", "s", "when the steer command was made", |r| num(r.steer.t_s)),
+    col("steer_mode", "text", "the mode the steer command was made for", |r| Value::Text(r.steer.mode.name())),
+    col("steer_endswitch", "text", "end-switch procedure under way: left, right or empty",
+        |r| side(match r.steer.endswitch { EndSwitchState::Active { side: s, .. } => Some(s), _ => None })),
+    col("steer_endswitch_since_s", "s", "when that procedure began (empty: none)",
+        |r| num(match r.steer.endswitch { EndSwitchState::Active { since_s, .. } => since_s, _ => f64::NAN })),
+    col("steer_endswitch_done", "count", "end-switch procedures finished so far",
+        |r| Value::Int(r.steer.endswitch_done_count as i64)),
+    col("steer_endswitch_last", "text", "side of the last one finished", |r| side(r.steer.endswitch_last_side)),
+    col("link_last_row_s", "s", "when the last valid row frame came (empty: none yet)", |r| num(r.link.last_row_s)),
+    col("link_last_usable_s", "s", "when the last usable estimate came (empty: none yet)",
+        |r| num(r.link.last_usable_s)),
+    col("link_beat_s", "s", "the camera-link thread's last beat", |r| num(r.link.beat_s)),
+    col("gui_beat_s", "s", "the GUI's last heartbeat (empty: no GUI)",
+        |r| num(r.given.health.gui_beat_s.unwrap_or(f64::NAN))),
+    col("thread_panicked", "text", "a thread that panicked, or empty",
+        |r| Value::Text(r.given.health.panicked.map_or("", |t| t.label()))),
+    col("supervisor_overruns", "count", "supervisor deadline overruns so far",
+        |r| Value::Int(r.given.health.supervisor_overruns as i64)),
+    col("hw_failed", "text", "a card that did not answer in this tick: read or write, or empty",
+        |r| Value::Text(r.given.hw_failed.map_or("", |f| f.during))),
+    col("hw_failed_card", "text", "which card", |r| Value::Text(r.given.hw_failed.map_or("", |f| f.card))),
     // The simulated robot's truth (empty on the real robot).
     col("sim_tool_cross_track_m", "m", "tool offset from the row, + = tool left", |r| sim(r, |t| t.tool_cross_track_m)),
     col("sim_distance_m", "m", "true distance driven by the rear axle", |r| sim(r, |t| t.distance_m)),

@@ -9,9 +9,9 @@ use crossbeam_channel::{Sender, TrySendError};
 use mechweed_hw::sim::{Truth, TruthHandle};
 
 use super::event::{EventKind, RecordEvent};
-use super::row::TickSample;
+use super::row::{Given, TickSample};
 use crate::camlink::LinkStatus;
-use crate::modes::Mode;
+use crate::modes::{Mode, Refusal, Request};
 use crate::status::{Notice, Status};
 use crate::steer::SteerCommand;
 
@@ -91,6 +91,7 @@ impl RecordTap {
         status: &Status,
         steer: &SteerCommand,
         link: &LinkStatus,
+        given: &Given,
     ) {
         let truth = [&*self, &*also]
             .into_iter()
@@ -98,8 +99,8 @@ impl RecordTap {
             .find(|q| status.tick.is_multiple_of(q.every_n_ticks))
             .and_then(|q| q.truth.as_ref())
             .map(TruthHandle::truth);
-        self.offer(status, steer, link, truth.as_ref());
-        also.offer(status, steer, link, truth.as_ref());
+        self.offer(status, steer, link, truth.as_ref(), given);
+        also.offer(status, steer, link, truth.as_ref(), given);
     }
 
     /// Offer one tick (every tick: events are found here, ticks kept every Nth).
@@ -109,6 +110,7 @@ impl RecordTap {
         steer: &SteerCommand,
         link: &LinkStatus,
         truth: Option<&Truth>,
+        given: &Given,
     ) {
         self.offer_events(status);
         let Some(q) = &self.queue else { return };
@@ -120,6 +122,7 @@ impl RecordTap {
             steer: *steer,
             link: *link,
             truth: truth.copied(),
+            given: *given,
         };
         let sent = match q.delivery {
             Delivery::NeverWait => match q.ticks.try_send(sample) {
@@ -134,6 +137,33 @@ impl RecordTap {
         };
         if !sent {
             q.counters.ticks_dropped.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+
+    /// A request the supervisor handled just before tick `tick` (at `t_s`), and its
+    /// answer: a replay gives it again at the same tick.
+    pub fn requested(
+        &mut self,
+        t_s: f64,
+        tick: u64,
+        request: Request,
+        answer: Result<(), Refusal>,
+    ) {
+        let kind = EventKind::Request { request, answer };
+        self.send_event(RecordEvent { t_s, tick, kind });
+    }
+
+    fn send_event(&self, event: RecordEvent) {
+        let Some(q) = &self.queue else { return };
+        let sent = match q.delivery {
+            Delivery::NeverWait => !matches!(q.events.try_send(event), Err(TrySendError::Full(_))),
+            Delivery::WaitForRoom => {
+                let _ = q.events.send(event);
+                true
+            }
+        };
+        if !sent {
+            q.counters.events_dropped.fetch_add(1, Ordering::Relaxed);
         }
     }
 
@@ -157,25 +187,12 @@ impl RecordTap {
             self.last_notice = status.notice;
             found[2] = status.notice.map(EventKind::Notice);
         }
-        let Some(q) = &self.queue else { return };
         for kind in found.into_iter().flatten() {
-            let event = RecordEvent {
+            self.send_event(RecordEvent {
                 t_s: status.t_s,
                 tick: status.tick,
                 kind,
-            };
-            let sent = match q.delivery {
-                Delivery::NeverWait => {
-                    !matches!(q.events.try_send(event), Err(TrySendError::Full(_)))
-                }
-                Delivery::WaitForRoom => {
-                    let _ = q.events.send(event);
-                    true
-                }
-            };
-            if !sent {
-                q.counters.events_dropped.fetch_add(1, Ordering::Relaxed);
-            }
+            });
         }
     }
 }

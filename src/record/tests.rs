@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use super::csv::CsvSink;
 use super::event::{EventKind, RecordEvent};
-use super::row::TickSample;
+use super::row::{Given, TickSample};
 use super::*;
 use crate::camlink::LinkStatus;
 use crate::config::Settings;
@@ -66,7 +66,7 @@ fn a_slow_disk_drops_and_counts_ticks_and_the_tap_never_waits() {
     for tick in 1..=OFFERED {
         status.tick = tick;
         status.t_s = tick as f64 * 0.01;
-        tap.offer(&status, &steer, &link, None);
+        tap.offer(&status, &steer, &link, None, &Given::default());
     }
     let offering = started.elapsed();
     // The disk writes one tick in 20 ms: a tap that waited for room would have taken
@@ -79,7 +79,7 @@ fn a_slow_disk_drops_and_counts_ticks_and_the_tap_never_waits() {
     slow.store(false, Ordering::Relaxed);
     std::thread::sleep(Duration::from_millis(500));
     status.tick = OFFERED + 1;
-    tap.offer(&status, &steer, &link, None);
+    tap.offer(&status, &steer, &link, None, &Given::default());
     drop(tap);
     let outcome = recorder.finish();
     assert!(outcome.ticks_dropped > 1000, "{outcome:?}");
@@ -96,7 +96,7 @@ fn recorded_run(folder: &std::path::Path, events: &str) -> (Lockstep, Recorder) 
     let mut settings = Settings::shipped();
     settings.sim.events = mechweed_hw::sim::parse_events(events).unwrap();
     settings.record.folder = folder.to_path_buf();
-    let (tap, recorder) = start(&settings.record, None, Delivery::WaitForRoom).unwrap();
+    let (tap, recorder) = start(&settings, None, Delivery::WaitForRoom).unwrap();
     let mut sim = Lockstep::new(&settings, Mode::Autonomous);
     sim.record_into(tap);
     (sim, recorder)
@@ -143,7 +143,7 @@ fn each_format_alone_and_every_nth_tick() {
         settings.record.folder = dir.path().join(format!("{formats:?}"));
         settings.record.formats = formats;
         settings.record.every_n_ticks = 10;
-        let (tap, recorder) = start(&settings.record, None, Delivery::WaitForRoom).unwrap();
+        let (tap, recorder) = start(&settings, None, Delivery::WaitForRoom).unwrap();
         let mut sim = Lockstep::new(&settings, Mode::Autonomous);
         sim.record_into(tap);
         sim.run_for(3.0);
@@ -160,11 +160,11 @@ fn each_format_alone_and_every_nth_tick() {
         let expected: Vec<Option<f64>> = (1..=30).map(|k| Some(k as f64 * 10.0)).collect();
         assert_eq!(ticks, expected, "{formats:?}: every 10th tick");
         let events = record.events.unwrap();
-        assert_eq!(
-            events.text(0, 3),
-            "halt -> autonomous",
-            "events of ticks between"
-        );
+        let modes: Vec<String> = (0..events.rows.len())
+            .filter(|&row| events.text(row, 2) == "mode")
+            .map(|row| events.text(row, 3))
+            .collect();
+        assert_eq!(modes, ["halt -> autonomous"], "events of ticks between");
     }
 }
 
@@ -211,9 +211,12 @@ fn a_folder_under_a_file_cannot_be_made_and_says_which() {
     let dir = tempfile::tempdir().unwrap();
     let plain = dir.path().join("plain.txt");
     std::fs::write(&plain, "not a folder").unwrap();
-    let mut settings = Settings::shipped().record;
-    settings.folder = plain.join("records");
-    let err = start(&settings, None, Delivery::NeverWait).err().unwrap();
+    let mut run_settings = Settings::shipped();
+    run_settings.record.folder = plain.join("records");
+    let settings = run_settings.record.clone();
+    let err = start(&run_settings, None, Delivery::NeverWait)
+        .err()
+        .unwrap();
     assert_eq!(
         err,
         RecordError::CreateFolder {
@@ -229,13 +232,14 @@ fn a_folder_under_a_file_cannot_be_made_and_says_which() {
         )),
         "{why}"
     );
-    let (mut tap, recorder) = start_for_run(&settings, truth_of_a_robot());
+    let (mut tap, recorder) = start_for_run(&run_settings, truth_of_a_robot());
     // The tap records nothing, and takes ticks as if nothing were wrong.
     tap.offer(
         &Status::default(),
         &SteerCommand::default(),
         &LinkStatus::default(),
         None,
+        &Given::default(),
     );
     let outcome = recorder.finish();
     assert!(outcome.files.is_empty());

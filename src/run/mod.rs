@@ -102,7 +102,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
     let priority = |p: u8| if priorities_refused.is_some() { 0 } else { p };
     let panics = Arc::new(PanicFlag::default());
     health::watch_this_thread(&panics, ThreadName::Console);
-    let (record_tap, recorder) = record::start_for_run(&s.record, truth.clone());
+    let (record_tap, recorder) = record::start_for_run(s, truth.clone());
     let bus_session = crate::bus::open_for_run(s).map_err(RunError::Bus)?;
 
     let (status_w, status_r) = shared(Status::default());
