@@ -51,6 +51,9 @@ pub enum Command {
     /// Run records (CSV or MCAP) left by `mechweed run`, and the off-board recorder
     /// (`record --bus`).
     Record(RecordArgs),
+    /// Feed a record's inputs through the supervisor again: the same outputs, or with
+    /// --set a what-if on the same inputs.
+    Replay(crate::replay_command::ReplayArgs),
     /// The robot's data flows on the bus, from this or another computer.
     Bus(BusArgs),
     /// The virtual cluster: one graph file starts the programs of several machines.

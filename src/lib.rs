@@ -32,6 +32,7 @@ pub mod operator;
 mod pid;
 pub mod probe;
 pub mod record;
+pub mod replay;
 pub mod report;
 pub mod request_channel;
 pub mod rt;

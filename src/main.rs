@@ -5,6 +5,7 @@ mod cli;
 mod cluster_command;
 mod log_style;
 mod record_command;
+mod replay_command;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -338,6 +339,7 @@ fn main() -> ExitCode {
         },
         Some(Command::Probe { raw, config }) => probe(raw, config),
         Some(Command::Record(args)) => record_command::record(args),
+        Some(Command::Replay(args)) => replay_command::replay(args),
         Some(Command::Bus(args)) => bus_command::bus(args),
         Some(Command::Cluster(command)) => cluster_command::cluster(command),
         Some(Command::Watch(args)) => cluster_command::watch(args),

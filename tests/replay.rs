@@ -1,0 +1,243 @@
+//! `mechweed replay`: a record of a lockstep run and of a real-thread run give every
+//! output again; a changed fault limit reports the fault that would have tripped, at
+//! its tick; a truncated or edited record is reported or refused, never a panic.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::{mechweed, settings_with, test_run_settings, text};
+use mechweed::lockstep::Lockstep;
+use mechweed::modes::Mode;
+use mechweed::record::{self, Delivery};
+use mechweed::replay::{ReplayOptions, replay};
+
+fn options(record: &Path, set: &[&str]) -> ReplayOptions {
+    ReplayOptions {
+        record: record.to_path_buf(),
+        set: set.iter().map(|s| s.to_string()).collect(),
+        from_s: 0.0,
+        to_s: f64::INFINITY,
+    }
+}
+
+fn the(files: &[String], ending: &str) -> PathBuf {
+    let file = files
+        .iter()
+        .find(|f| f.ends_with(ending) && !f.ends_with(".events.csv"));
+    PathBuf::from(file.unwrap_or_else(|| panic!("no {ending} in {files:?}")))
+}
+
+#[test]
+fn a_lockstep_run_with_an_estop_and_a_power_up_replays_to_the_same_outputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = format!("record.folder={}", dir.path().display());
+    let events = "3 estop_front, 4 estop_release, 5 power_up, 6 mode autonomous";
+    let settings = settings_with(events, &[&folder]);
+    let (tap, recorder) = record::start(&settings, None, Delivery::WaitForRoom).unwrap();
+    let mut sim = Lockstep::new(&settings, Mode::Autonomous);
+    sim.record_into(tap);
+    sim.run_for(8.0);
+    sim.stop_recording();
+    let files = recorder.finish().files;
+    for ending in [".csv", ".mcap"] {
+        let outcome = replay(&options(&the(&files, ending), &[])).unwrap();
+        assert_eq!(outcome.ticks, 800, "{ending}");
+        assert_eq!(outcome.first_difference, None, "{ending}");
+        // Power up and autonomous at the start, power up and autonomous again after
+        // the e-stop: each given at its tick, each answered as in the run.
+        assert!(outcome.requests >= 4, "{}", outcome.requests);
+        let words: Vec<&str> = outcome
+            .faults_replayed
+            .iter()
+            .map(|f| f.words.as_str())
+            .collect();
+        assert_eq!(
+            words,
+            ["front emergency stop pressed (or its wire is broken)"]
+        );
+        assert_eq!(
+            outcome.faults_replayed[0].tick,
+            outcome.faults_recorded[0].tick
+        );
+    }
+}
+
+/// A real-thread run of the program: autonomous, the battery sagging to 22 V at 3 s.
+fn real_run(dir: &Path) -> PathBuf {
+    let out = mechweed()
+        .args([
+            "run",
+            "--headless",
+            "--mode",
+            "autonomous",
+            "--duration",
+            "6",
+        ])
+        .args(["--set", "sim.events=3 battery 22"])
+        .args(test_run_settings(dir))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let csv = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| {
+            let name = p.to_string_lossy();
+            name.ends_with(".csv") && !name.ends_with(".events.csv")
+        });
+    csv.expect("the run left a record")
+}
+
+fn replay_command(args: &[&str]) -> (bool, String) {
+    let out = mechweed().arg("replay").args(args).output().unwrap();
+    let said = format!("{}{}", text(&out.stdout), text(&out.stderr));
+    (out.status.success(), said)
+}
+
+#[test]
+fn a_real_run_replays_exactly_a_changed_limit_shows_its_fault_and_edits_are_caught() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = real_run(dir.path());
+    let csv_text = std::fs::read_to_string(&csv).unwrap();
+    let name = csv.to_string_lossy().to_string();
+    let mcap = name.replace(".csv", ".mcap");
+
+    // The code in hand is the code that drove: every output again, from either file.
+    for file in [&name, &mcap] {
+        let (ok, said) = replay_command(&[file]);
+        assert!(ok && said.contains("ticks, outputs identical"), "{said}");
+    }
+
+    // With the battery limit at 23 V the sag to 22 V at 3 s trips "battery low" after
+    // [faults] battery_low_s (1 s): at the tick 1 s after the first tick below 23 V.
+    let json = dir.path().join("whatif.json");
+    let json_arg = json.to_string_lossy().to_string();
+    let (ok, said) = replay_command(&[
+        &name,
+        "--set",
+        "faults.battery_min_v=23",
+        "--json",
+        &json_arg,
+    ]);
+    assert!(ok, "{said}");
+    let lines: Vec<&str> = csv_text.lines().collect();
+    let header: Vec<&str> = lines[0].split(',').collect();
+    let col = |n: &str| header.iter().position(|h| *h == n).unwrap();
+    let (t_col, battery_col) = (col("t_s"), col("battery_v"));
+    let low_s: f64 = (lines[1..].iter())
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .find(|f| f[battery_col].parse::<f64>().unwrap() < 23.0)
+        .map(|f| f[t_col].parse().unwrap())
+        .expect("the battery sagged");
+    let outcome: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let fault = &outcome["faults_replayed"][0];
+    assert!(
+        fault["fault"].as_str().unwrap().starts_with("battery low"),
+        "{said}"
+    );
+    let t_fault = fault["t_s"].as_f64().unwrap();
+    assert!(
+        (t_fault - (low_s + 1.0)).abs() <= 0.015,
+        "fault at {t_fault} s, low from {low_s} s\n{said}"
+    );
+    assert_eq!(
+        outcome["faults_recorded"].as_array().unwrap().len(),
+        0,
+        "{said}"
+    );
+    assert!(
+        said.contains("the run: no fault") && said.contains("the what-if: fault at"),
+        "{said}"
+    );
+    assert!(
+        outcome["first_difference"]["tick"].as_u64().is_some(),
+        "{said}"
+    );
+    let whatif = name.replace(".csv", "-whatif.csv");
+    let (ok, said) = replay_command(&[&whatif]);
+    assert!(
+        ok && said.contains("outputs identical"),
+        "the what-if's own record replays: {said}"
+    );
+
+    edits_are_caught(dir.path(), &csv, &csv_text);
+}
+
+/// Copies of the record, each damaged one way.
+fn edits_are_caught(dir: &Path, csv: &Path, csv_text: &str) {
+    let stem = csv.file_stem().unwrap().to_string_lossy().to_string();
+    let copy = |name: &str, ticks: &str| {
+        let to = dir.join(format!("{name}.csv"));
+        std::fs::write(&to, ticks).unwrap();
+        for ending in [".events.csv", ".run.json"] {
+            let from = dir.join(format!("{stem}{ending}"));
+            std::fs::copy(from, dir.join(format!("{name}{ending}"))).unwrap();
+        }
+        to.to_string_lossy().to_string()
+    };
+    let lines: Vec<&str> = csv_text.lines().collect();
+    let header: Vec<&str> = lines[0].split(',').collect();
+    let amp = header.iter().position(|h| *h == "amp_left_v").unwrap();
+
+    // Cut in the middle of a line: the ticks it has replay, and it says where it ends.
+    let cut = &csv_text[..csv_text.len() / 2];
+    let (ok, said) = replay_command(&[&copy("cut", cut)]);
+    assert!(
+        ok && said.contains("is incomplete") && said.contains("outputs identical"),
+        "{said}"
+    );
+
+    // A tick taken out: refused, naming the gap.
+    let mut gap: Vec<&str> = lines.clone();
+    gap.remove(100);
+    let (ok, said) = replay_command(&[&copy("gap", &(gap.join("\n") + "\n"))]);
+    assert!(!ok && said.contains("tick 101 follows tick 99"), "{said}");
+
+    // An output changed by hand: the replay names the tick and both values.
+    let mut edited: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+    let mut fields: Vec<String> = edited[300].split(',').map(String::from).collect();
+    let was = fields[amp].clone();
+    fields[amp] = "9.5".into();
+    edited[300] = fields.join(",");
+    let (ok, said) = replay_command(&[&copy("edited", &(edited.join("\n") + "\n"))]);
+    assert!(!ok, "{said}");
+    assert!(
+        said.contains("first difference at tick 300")
+            && said.contains("amp_left_v: recorded 9.5, replayed"),
+        "{said}"
+    );
+    assert!(
+        said.contains(&format!("replayed {}", was.trim())) || was.is_empty(),
+        "{said}"
+    );
+
+    // A cell that is not a number: refused with its line and column.
+    fields[amp] = "lots".into();
+    edited[300] = fields.join(",");
+    let (ok, said) = replay_command(&[&copy("garbled", &(edited.join("\n") + "\n"))]);
+    assert!(
+        !ok && said.contains("line 301") && said.contains("amp_left_v = 'lots'"),
+        "{said}"
+    );
+
+    // Without the settings beside it: refused, saying what is missing.
+    let lone = copy("lone", csv_text);
+    std::fs::remove_file(dir.join("lone.run.json")).unwrap();
+    let (ok, said) = replay_command(&[&lone]);
+    assert!(!ok && said.contains("lone.run.json beside it"), "{said}");
+
+    // A request in the events that is not one: refused with its line.
+    let bad_events = dir.join("badreq.events.csv");
+    let ticks = copy("badreq", csv_text);
+    let events = std::fs::read_to_string(&bad_events)
+        .unwrap()
+        .replace("power_up =>", "jump =>");
+    std::fs::write(&bad_events, events).unwrap();
+    let (ok, said) = replay_command(&[&ticks]);
+    assert!(
+        !ok && said.contains("'jump' is not a request") && said.contains("line 2"),
+        "{said}"
+    );
+}
