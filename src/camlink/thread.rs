@@ -238,11 +238,14 @@ impl LinkThread {
                 Err(e) => return Some(LinkProblem::Vanished(e.kind())),
             };
             let now_s = self.now_s();
-            if self.core.receive(&buf[..n], now_s) {
+            let usable = self.core.receive(&buf[..n], now_s);
+            self.core.beat(now_s);
+            // Published before the steer thread is woken: it runs at a higher priority
+            // and reads the estimate from this status at once.
+            self.status.publish(self.core.status());
+            if usable {
                 let _ = self.new_estimate.try_send(());
             }
-            self.core.beat(now_s);
-            self.status.publish(self.core.status());
         }
         None
     }
