@@ -4,7 +4,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Args;
-use mechweed::replay::{Fault, Outcome, ReplayOptions, replay as run_replay};
+use mechweed::replay::{
+    ANGLE_TOLERANCE_DEG, Fault, Outcome, ReplayOptions, SPEED_TOLERANCE_MPS, replay as run_replay,
+};
 
 use crate::{load_settings, print_errors};
 
@@ -144,6 +146,26 @@ pub fn words(o: &Outcome, whatif: bool) -> String {
             }
         }
     }
+    let st = &o.steer;
+    if whatif {
+        out += &format!(
+            "steering law: {} commands of the what-if's law on the run's estimates, up to {:.3} deg and {:.4} m/s from the run's\n",
+            st.commands, st.max_angle_diff_deg, st.max_speed_diff_mps
+        );
+    } else {
+        out += &format!(
+            "steering law: {} commands made again from the recorded estimates, within {:.3} deg and {:.4} m/s of the recorded (tolerance {ANGLE_TOLERANCE_DEG} deg, {SPEED_TOLERANCE_MPS} m/s: the record keeps the last steer command of each supervisor tick, not every one)\n",
+            st.commands, st.max_angle_diff_deg, st.max_speed_diff_mps
+        );
+    }
+    if let Some((t_s, recorded, again)) = st.first_beyond {
+        out += &format!(
+            "steering law: {} commands beyond {ANGLE_TOLERANCE_DEG} deg or {SPEED_TOLERANCE_MPS} m/s, the first at {t_s:.3} s: {} {recorded:.3} deg, {} {again:.3} deg\n",
+            st.beyond,
+            if whatif { "the run" } else { "recorded" },
+            if whatif { "the what-if" } else { "made again" },
+        );
+    }
     if !o.written.is_empty() {
         out += &format!("the what-if's record: {}\n", o.written.join(", "));
     }
@@ -169,6 +191,14 @@ fn json(o: &Outcome, record: &std::path::Path, set: &[String]) -> serde_json::Va
         "first_difference": difference,
         "faults_recorded": faults(&o.faults_recorded),
         "faults_replayed": faults(&o.faults_replayed),
+        "steer": {
+            "commands": o.steer.commands,
+            "max_angle_diff_deg": o.steer.max_angle_diff_deg,
+            "max_speed_diff_mps": o.steer.max_speed_diff_mps,
+            "beyond_tolerance": o.steer.beyond,
+            "tolerance_deg": ANGLE_TOLERANCE_DEG,
+            "tolerance_mps": SPEED_TOLERANCE_MPS,
+        },
         "written": o.written,
         "notes": o.notes,
     })

@@ -11,6 +11,7 @@
 //! remember everything before.
 
 mod recorded;
+mod steer;
 
 use std::path::{Path, PathBuf};
 
@@ -23,6 +24,8 @@ use crate::record::request_text::{answer_text, request_text};
 use crate::record::{self, Delivery, RecordTap};
 use crate::supervisor::Supervisor;
 pub use recorded::{Recorded, RecordedTick, read_for_replay};
+use steer::SteerReplay;
+pub use steer::{ANGLE_TOLERANCE_DEG, SPEED_TOLERANCE_MPS, SteerFigures};
 
 pub struct ReplayOptions {
     pub record: PathBuf,
@@ -57,6 +60,8 @@ pub struct Outcome {
     pub first_difference: Option<Difference>,
     pub faults_recorded: Vec<Fault>,
     pub faults_replayed: Vec<Fault>,
+    /// The steering law replayed from the recorded estimates.
+    pub steer: SteerFigures,
     /// The what-if's record (with --set).
     pub written: Vec<String>,
     pub notes: Vec<String>,
@@ -86,6 +91,7 @@ pub fn replay(opts: &ReplayOptions) -> Result<Outcome, String> {
     };
     let in_window = |t_s: f64| t_s >= opts.from_s && t_s <= opts.to_s;
     let mut sup = Supervisor::new(&settings);
+    let mut steer = SteerReplay::new(&settings);
     let mut first: Option<Difference> = None;
     let mut compared = 0;
     let mut requests = 0;
@@ -93,7 +99,9 @@ pub fn replay(opts: &ReplayOptions) -> Result<Outcome, String> {
         for r in rec.requests.get(&t.tick).into_iter().flatten() {
             requests += 1;
             let answer = sup.handle(r.request);
-            let _ = sup.take_steer_settings();
+            if let Some(law) = sup.take_steer_settings() {
+                steer.settings(&law);
+            }
             if let Some((tap, _)) = whatif.as_mut() {
                 tap.requested(t.t_s, t.tick, r.request, answer);
             }
@@ -108,6 +116,7 @@ pub fn replay(opts: &ReplayOptions) -> Result<Outcome, String> {
                 });
             }
         }
+        steer.before_tick(&t.steer, &t.link, in_window(t.t_s));
         match t.given.hw_failed {
             Some(f) if f.during == "read" => {
                 sup.hardware_failed(t.t_s, f.card);
@@ -120,6 +129,7 @@ pub fn replay(opts: &ReplayOptions) -> Result<Outcome, String> {
             }
         }
         let status = sup.status();
+        steer.after_tick(status, &t.link);
         if in_window(t.t_s) {
             compared += 1;
             if first.is_none() {
@@ -165,6 +175,7 @@ pub fn replay(opts: &ReplayOptions) -> Result<Outcome, String> {
         first_difference: first,
         faults_recorded,
         faults_replayed,
+        steer: steer.figures,
         written,
         notes,
     })
