@@ -150,11 +150,12 @@ pub fn read_for_replay(file: &Path) -> Result<Recorded, String> {
     })?;
     let mut ticks = Vec::with_capacity(record.ticks.rows.len());
     for row in 0..record.ticks.rows.len() {
-        let tick = Row {
+        let tick = (Row {
             table: &record.ticks,
             row,
-        }
-        .tick()?;
+        })
+        .tick()
+        .map_err(|e| format!("{}: {e}", record.file.display()))?;
         let expected = ticks.last().map_or(1, |t: &RecordedTick| t.tick + 1);
         if tick.tick != expected {
             return Err(format!(
@@ -189,7 +190,8 @@ fn events_of(events: &Table, file: &Path) -> Result<(Requests, Vec<(u64, String)
     let (kind, text, tick) = (2, 3, 1);
     for row in 0..events.rows.len() {
         let at = || format!("{} (events, {})", file.display(), events.places[row]);
-        let n = events.number(row, tick).map_err(|e| format!("{e}"))?;
+        let n =
+            (events.number(row, tick)).map_err(|e| format!("{} (events): {e}", file.display()))?;
         let n = n.ok_or_else(|| format!("{}: no tick", at()))? as u64;
         match events.text(row, kind).as_str() {
             "request" => {
