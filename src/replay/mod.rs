@@ -11,6 +11,7 @@
 //! remember everything before.
 
 mod recorded;
+mod row;
 mod steer;
 
 use std::path::{Path, PathBuf};

@@ -1,0 +1,265 @@
+//! One row of a record's tick table read back, column by column, as what the
+//! supervisor tick was given and what it wrote; every cell that is not what its column
+//! holds is named with its line.
+
+use mechweed_hw::camproto::RowEstimate;
+use mechweed_hw::{Inputs, Outputs, Side, das08, dda06, quad04};
+
+use super::recorded::RecordedTick;
+use crate::camlink::LinkStatus;
+use crate::health::{ThreadHealth, ThreadName};
+use crate::modes::Mode;
+use crate::record::read::Table;
+use crate::record::{Given, HwFailure, Place};
+use crate::steer::law::LawOutput;
+use crate::steer::{EndSwitchState, SteerCommand};
+
+/// Every column a replay reads.
+pub const WANTED: &[&str] = &[
+    "t_s",
+    "tick",
+    "mode",
+    "pot_v",
+    "joystick_steer_v",
+    "joystick_speed_v",
+    "battery_v",
+    "estop_front_released",
+    "estop_back_released",
+    "motor_power_present",
+    "end_switch_left",
+    "end_switch_right",
+    "joystick_enable",
+    "enc_left_counts",
+    "enc_right_counts",
+    "enc_steer_counts",
+    "amp_left_v",
+    "amp_right_v",
+    "amp_steer_v",
+    "main_power_on",
+    "brake_release_left",
+    "brake_release_right",
+    "tool_on",
+    "steer_speed_mps",
+    "steer_wheel_angle_rad",
+    "steer_t_s",
+    "steer_mode",
+    "steer_endswitch",
+    "steer_endswitch_since_s",
+    "steer_endswitch_done",
+    "steer_endswitch_last",
+    "link_last_row_s",
+    "link_last_usable_s",
+    "link_beat_s",
+    "gui_beat_s",
+    "thread_panicked",
+    "supervisor_overruns",
+    "hw_failed",
+    "hw_failed_card",
+    // Not given to the supervisor, but kept in a what-if's record.
+    "law_lookahead_offset_m",
+    "law_tool_offset_m",
+    "law_row_curvature_per_m",
+    "law_integral_per_m",
+    "cam_offset_m",
+    "cam_angle_rad",
+    "cam_quality",
+    "cam_seq",
+    "cam_frames_ok",
+    "cam_crc_errors",
+    "cam_seq_gaps",
+    "cam_duplicates",
+    "cam_connected",
+];
+
+/// One row of the tick table, read column by column.
+pub struct Row<'a> {
+    pub table: &'a Table,
+    pub row: usize,
+}
+
+impl Row<'_> {
+    fn place(&self) -> &Place {
+        &self.table.places[self.row]
+    }
+
+    fn col(&self, name: &str) -> usize {
+        self.table.column(name).expect("asked for in WANTED")
+    }
+
+    /// A number; None for an empty cell.
+    fn maybe(&self, name: &str) -> Result<Option<f64>, String> {
+        self.table
+            .number(self.row, self.col(name))
+            .map_err(|e| format!("{e}"))
+    }
+
+    fn num_or_nan(&self, name: &str) -> Result<f64, String> {
+        Ok(self.maybe(name)?.unwrap_or(f64::NAN))
+    }
+
+    fn num(&self, name: &str) -> Result<f64, String> {
+        self.maybe(name)?
+            .ok_or_else(|| format!("{}: {name} is empty", self.place()))
+    }
+
+    /// A time that may not have happened yet: empty is "never" (minus infinity).
+    fn time_or_never(&self, name: &str) -> Result<f64, String> {
+        Ok(self.maybe(name)?.unwrap_or(f64::NEG_INFINITY))
+    }
+
+    fn whole(&self, name: &str) -> Result<i64, String> {
+        let x = self.num(name)?;
+        if x.fract() != 0.0 || x.abs() > 9.0e15 {
+            return Err(format!(
+                "{}: {name} = {x} is not a whole number",
+                self.place()
+            ));
+        }
+        Ok(x as i64)
+    }
+
+    fn flag(&self, name: &str) -> Result<bool, String> {
+        match self.whole(name)? {
+            0 => Ok(false),
+            1 => Ok(true),
+            other => Err(format!(
+                "{}: {name} = {other} is neither 0 nor 1",
+                self.place()
+            )),
+        }
+    }
+
+    fn text(&self, name: &str) -> String {
+        self.table.text(self.row, self.col(name))
+    }
+
+    fn word<T>(
+        &self,
+        name: &str,
+        read: impl Fn(&str) -> Option<T>,
+        what: &str,
+    ) -> Result<T, String> {
+        let text = self.text(name);
+        read(&text).ok_or_else(|| format!("{}: {name} = '{text}' is not {what}", self.place()))
+    }
+
+    pub fn tick(&self) -> Result<RecordedTick, String> {
+        let side = |t: &str| match t {
+            "" => Some(None),
+            "left" => Some(Some(Side::Left)),
+            "right" => Some(Some(Side::Right)),
+            _ => None,
+        };
+        let inputs = Inputs {
+            pot_v: self.num("pot_v")?,
+            joystick_steer_v: self.num("joystick_steer_v")?,
+            joystick_speed_v: self.num("joystick_speed_v")?,
+            battery_v: self.num("battery_v")?,
+            estop_front_released: self.flag("estop_front_released")?,
+            estop_back_released: self.flag("estop_back_released")?,
+            motor_power_present: self.flag("motor_power_present")?,
+            end_switch_left: self.flag("end_switch_left")?,
+            end_switch_right: self.flag("end_switch_right")?,
+            joystick_enable: self.flag("joystick_enable")?,
+            enc_left_counts: self.whole("enc_left_counts")?,
+            enc_right_counts: self.whole("enc_right_counts")?,
+            enc_steer_counts: self.whole("enc_steer_counts")?,
+        };
+        let endswitch = match self.word("steer_endswitch", side, "left, right or empty")? {
+            None => EndSwitchState::Idle,
+            Some(side) => EndSwitchState::Active {
+                side,
+                since_s: self.num("steer_endswitch_since_s")?,
+            },
+        };
+        let steer = SteerCommand {
+            t_s: self.num("steer_t_s")?,
+            mode: self.word("steer_mode", Mode::from_name, "a mode")?,
+            speed_mps: self.num("steer_speed_mps")?,
+            wheel_angle_rad: self.num("steer_wheel_angle_rad")?,
+            endswitch,
+            endswitch_done_count: self.whole("steer_endswitch_done")? as u32,
+            endswitch_last_side: self.word("steer_endswitch_last", side, "left, right or empty")?,
+            law: LawOutput {
+                wheel_angle_rad: f64::NAN,
+                lookahead_offset_m: self.num_or_nan("law_lookahead_offset_m")?,
+                tool_offset_m: self.num_or_nan("law_tool_offset_m")?,
+                row_curvature_per_m: self.num_or_nan("law_row_curvature_per_m")?,
+                integral_per_m: self.num_or_nan("law_integral_per_m")?,
+            },
+            ..SteerCommand::default()
+        };
+        let mut link = LinkStatus {
+            last_row_s: self.time_or_never("link_last_row_s")?,
+            last_usable_s: self.time_or_never("link_last_usable_s")?,
+            beat_s: self.num("link_beat_s")?,
+            last_usable: RowEstimate {
+                seq: self.whole("cam_seq")? as u8,
+                angle_rad: self.num_or_nan("cam_angle_rad")?,
+                offset_m: self.num_or_nan("cam_offset_m")?,
+                quality: self.whole("cam_quality")? as u8,
+            },
+            connected: self.flag("cam_connected")?,
+            ..LinkStatus::default()
+        };
+        let c = &mut link.counters;
+        c.frames_ok = self.whole("cam_frames_ok")? as u64;
+        c.crc_errors = self.whole("cam_crc_errors")? as u64;
+        c.seq_gaps = self.whole("cam_seq_gaps")? as u64;
+        c.duplicates = self.whole("cam_duplicates")? as u64;
+        let panicked = |t: &str| {
+            if t.is_empty() {
+                Some(None)
+            } else {
+                ThreadName::from_label(t).map(Some)
+            }
+        };
+        let health = ThreadHealth {
+            gui_beat_s: self.maybe("gui_beat_s")?,
+            panicked: self.word("thread_panicked", panicked, "a thread's name")?,
+            supervisor_overruns: self.whole("supervisor_overruns")? as u64,
+        };
+        let card = |t: &str| {
+            [das08::NAME, dda06::NAME, quad04::NAME]
+                .into_iter()
+                .find(|c| *c == t)
+        };
+        let hw_failed = match self.text("hw_failed").as_str() {
+            "" => None,
+            "read" => Some(HwFailure {
+                during: "read",
+                card: self.word("hw_failed_card", card, "a card")?,
+            }),
+            "write" => Some(HwFailure {
+                during: "write",
+                card: self.word("hw_failed_card", card, "a card")?,
+            }),
+            other => {
+                return Err(format!(
+                    "{}: hw_failed = '{other}' is not read, write or empty",
+                    self.place()
+                ));
+            }
+        };
+        let outputs = Outputs {
+            amp_left_v: self.num("amp_left_v")?,
+            amp_right_v: self.num("amp_right_v")?,
+            amp_steer_v: self.num("amp_steer_v")?,
+            main_power_on: self.flag("main_power_on")?,
+            brake_release_left: self.flag("brake_release_left")?,
+            brake_release_right: self.flag("brake_release_right")?,
+            tool_on: self.flag("tool_on")?,
+        };
+        Ok(RecordedTick {
+            tick: self.whole("tick")? as u64,
+            t_s: self.num("t_s")?,
+            inputs,
+            steer,
+            link,
+            given: Given { health, hw_failed },
+            outputs,
+            mode: self.word("mode", Mode::from_name, "a mode")?,
+            place: self.place().clone(),
+        })
+    }
+}
