@@ -133,7 +133,11 @@ fn events_of(events: &Table, file: &Path) -> Result<(Requests, Vec<(u64, String)
         let at = || format!("{} (events, {})", file.display(), events.places[row]);
         let n =
             (events.number(row, tick)).map_err(|e| format!("{} (events): {e}", file.display()))?;
-        let n = n.ok_or_else(|| format!("{}: no tick", at()))? as u64;
+        let n = n.ok_or_else(|| format!("{}: no tick", at()))?;
+        if n < 1.0 || n.fract() != 0.0 || n > 1e15 {
+            return Err(format!("{}: tick {n} is not a tick number", at()));
+        }
+        let n = n as u64;
         match events.text(row, kind).as_str() {
             "request" => {
                 let (request, answer) = parse_event_text(&events.text(row, text))

@@ -118,6 +118,12 @@ impl Row<'_> {
         Ok(x as i64)
     }
 
+    /// A whole number that fits its kind (a count, a sequence number, a quality).
+    fn count<T: TryFrom<i64>>(&self, name: &str) -> Result<T, String> {
+        let x = self.whole(name)?;
+        T::try_from(x).map_err(|_| format!("{}: {name} = {x} is out of its range", self.place()))
+    }
+
     fn flag(&self, name: &str) -> Result<bool, String> {
         match self.whole(name)? {
             0 => Ok(false),
@@ -178,7 +184,7 @@ impl Row<'_> {
             speed_mps: self.num("steer_speed_mps")?,
             wheel_angle_rad: self.num("steer_wheel_angle_rad")?,
             endswitch,
-            endswitch_done_count: self.whole("steer_endswitch_done")? as u32,
+            endswitch_done_count: self.count("steer_endswitch_done")?,
             endswitch_last_side: self.word("steer_endswitch_last", side, "left, right or empty")?,
             law: LawOutput {
                 wheel_angle_rad: f64::NAN,
@@ -194,19 +200,19 @@ impl Row<'_> {
             last_usable_s: self.time_or_never("link_last_usable_s")?,
             beat_s: self.num("link_beat_s")?,
             last_usable: RowEstimate {
-                seq: self.whole("cam_seq")? as u8,
+                seq: self.count("cam_seq")?,
                 angle_rad: self.num_or_nan("cam_angle_rad")?,
                 offset_m: self.num_or_nan("cam_offset_m")?,
-                quality: self.whole("cam_quality")? as u8,
+                quality: self.count("cam_quality")?,
             },
             connected: self.flag("cam_connected")?,
             ..LinkStatus::default()
         };
         let c = &mut link.counters;
-        c.frames_ok = self.whole("cam_frames_ok")? as u64;
-        c.crc_errors = self.whole("cam_crc_errors")? as u64;
-        c.seq_gaps = self.whole("cam_seq_gaps")? as u64;
-        c.duplicates = self.whole("cam_duplicates")? as u64;
+        c.frames_ok = self.count("cam_frames_ok")?;
+        c.crc_errors = self.count("cam_crc_errors")?;
+        c.seq_gaps = self.count("cam_seq_gaps")?;
+        c.duplicates = self.count("cam_duplicates")?;
         let panicked = |t: &str| {
             if t.is_empty() {
                 Some(None)
@@ -217,7 +223,7 @@ impl Row<'_> {
         let health = ThreadHealth {
             gui_beat_s: self.maybe("gui_beat_s")?,
             panicked: self.word("thread_panicked", panicked, "a thread's name")?,
-            supervisor_overruns: self.whole("supervisor_overruns")? as u64,
+            supervisor_overruns: self.count("supervisor_overruns")?,
         };
         let card = |t: &str| {
             [das08::NAME, dda06::NAME, quad04::NAME]
@@ -251,7 +257,7 @@ impl Row<'_> {
             tool_on: self.flag("tool_on")?,
         };
         Ok(RecordedTick {
-            tick: self.whole("tick")? as u64,
+            tick: self.count("tick")?,
             t_s: self.num("t_s")?,
             inputs,
             steer,
