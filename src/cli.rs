@@ -303,10 +303,20 @@ pub enum BenchCommand {
         /// Seed of the simulation.
         #[arg(long, default_value_t = 1)]
         seed: u64,
+        /// The field: clean (0.3, 0.5, 1.0 m/s) or realistic (what real fields add, [sim]
+        /// field_*; 0.5, 1.0, 2.0 m/s).
+        #[arg(long, value_enum, default_value_t = BenchField::Clean)]
+        field: BenchField,
         /// Also write the results as JSON to this file.
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
     },
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum BenchField {
+    Clean,
+    Realistic,
 }
 
 #[derive(Subcommand)]

@@ -20,6 +20,7 @@ use mechweed::console::run;
 use mechweed::modes::Mode;
 use mechweed::report::Report;
 use mechweed::run::RunOptions;
+use mechweed_hw::sim::FieldKind;
 
 use cli::{BenchCommand, Cli, Command, RunArgs, StartMode};
 
@@ -217,13 +218,14 @@ fn write_json(path: Option<PathBuf>, value: &impl serde::Serialize) -> ExitCode 
 }
 
 fn bench(command: BenchCommand) -> ExitCode {
-    let (config, set, seed, json) = match command {
+    let (config, set, seed, field, json) = match command {
         BenchCommand::Rows {
             config,
             set,
             seed,
+            field,
             json,
-        } => (config, set, seed, json),
+        } => (config, set, seed, field, json),
         BenchCommand::Loop {
             rate,
             seconds,
@@ -252,14 +254,24 @@ fn bench(command: BenchCommand) -> ExitCode {
         ),
         None => println!("settings: the built-in robot.ini ([sim] is the benchmark's own)"),
     }
+    let field = match field {
+        cli::BenchField::Clean => FieldKind::Clean,
+        cli::BenchField::Realistic => {
+            println!(
+                "field: realistic ([sim] field_*); the drive geared for 2 m/s ({} m/s per V), the speed regulators' gains scaled to match",
+                bench_rows::REALISTIC_MOTOR_GAIN_MPS_PER_V
+            );
+            FieldKind::Realistic
+        }
+    };
     let mut runs = Vec::new();
     for row in bench_rows::ROWS {
-        for speed in bench_rows::SPEEDS_MPS {
+        for speed in bench_rows::speeds_mps(field) {
             eprintln!(
                 "running {} row at {speed} m/s ...",
                 bench_rows::row_name(row)
             );
-            runs.push(bench_rows::run_row(&settings, row, speed, seed));
+            runs.push(bench_rows::run_row(&settings, field, row, speed, seed));
         }
     }
     print!("{}", bench_rows::table(&runs));

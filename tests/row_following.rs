@@ -7,7 +7,7 @@ use common::settings_with;
 use mechweed::bench_rows::run_row;
 use mechweed::lockstep::Lockstep;
 use mechweed::modes::Mode;
-use mechweed_hw::sim::{RowShape, SimParams};
+use mechweed_hw::sim::{FieldKind, RowShape, SimParams};
 
 /// Settings for one row with chosen disturbances (noise-free unless asked).
 fn quiet_row(row: RowShape, side_slip_deg: f64) -> mechweed::config::Settings {
@@ -87,9 +87,9 @@ fn holds_a_side_slope_without_steady_state_error() {
 #[test]
 fn same_seed_gives_the_same_run_and_another_seed_does_not() {
     let s = settings_with("", &[]);
-    let a = run_row(&s, RowShape::SCurve, 1.0, 11);
-    let b = run_row(&s, RowShape::SCurve, 1.0, 11);
-    let c = run_row(&s, RowShape::SCurve, 1.0, 12);
+    let a = run_row(&s, FieldKind::Clean, RowShape::SCurve, 1.0, 11);
+    let b = run_row(&s, FieldKind::Clean, RowShape::SCurve, 1.0, 11);
+    let c = run_row(&s, FieldKind::Clean, RowShape::SCurve, 1.0, 12);
     assert_eq!(a.cross_track_cm, b.cross_track_cm);
     assert_ne!(a.cross_track_cm, c.cross_track_cm);
 }
@@ -98,7 +98,13 @@ fn same_seed_gives_the_same_run_and_another_seed_does_not() {
 fn benchmark_scurve_at_half_a_metre_per_second_stays_on_the_row() {
     // Every disturbance of the simulated plant on. The aim is an s.d. of 1 cm; this test guards
     // against a controller that loses the row, with room for noise between seeds.
-    let run = run_row(&settings_with("", &[]), RowShape::SCurve, 0.5, 1);
+    let run = run_row(
+        &settings_with("", &[]),
+        FieldKind::Clean,
+        RowShape::SCurve,
+        0.5,
+        1,
+    );
     assert!(run.faults.is_empty(), "{:?}", run.faults);
     assert!(
         run.cross_track_cm.distance_m > 50.0,

@@ -1,7 +1,9 @@
 //! The [sim] section: the simulated robot, field and camera computer.
 //! These are the plant's true values; the controller's own model is in [robot].
 
-use mechweed_hw::sim::{CROSS_TRACK_FROM_M, RowShape, SimParams, parse_events};
+use mechweed_hw::sim::{
+    CROSS_TRACK_FROM_M, FieldKind, FieldTierParams, RowShape, SimParams, parse_events,
+};
 
 use super::reader::Reader;
 
@@ -35,6 +37,9 @@ pub(super) fn load(r: &mut Reader) -> SimParams {
         side_slip_deg: r.f64(s, "side_slip_deg", -20.0, 20.0),
         battery_v: r.f64(s, "battery_v", 0.0, 60.0),
         initial_wheel_angle_deg: r.f64(s, "initial_wheel_angle_deg", -30.0, 30.0),
+        field: [FieldKind::Clean, FieldKind::Realistic]
+            [r.choice(s, "field", &["clean", "realistic"])],
+        tier: field_tier(r),
         row: ROWS[r.choice(s, "row", &names)].1,
         row_length_m: r.f64(s, "row_length_m", 1.0, 10000.0),
         start_offset_m: r.f64(s, "start_offset_m", -0.5, 0.5),
@@ -56,4 +61,52 @@ pub(super) fn load(r: &mut Reader) -> SimParams {
         // Not a setting: the simulated plant's rule, which `run --from-m` changes for one run.
         cross_track_from_m: CROSS_TRACK_FROM_M,
     }
+}
+
+/// [sim] field_*: what the realistic field adds (read whichever field is chosen, so
+/// that a mistake shows before someone switches to it).
+fn field_tier(r: &mut Reader) -> FieldTierParams {
+    let s = "sim";
+    let t = FieldTierParams {
+        camera_bias_sd_m: r.f64(s, "field_camera_bias_sd_m", 0.0, 0.5),
+        camera_bias_length_m: r.f64(s, "field_camera_bias_length_m", 0.01, 1000.0),
+        gap_every_m: r.f64(s, "field_gap_every_m", 0.1, 10000.0),
+        gap_min_m: r.f64(s, "field_gap_min_m", 0.0, 100.0),
+        gap_max_m: r.f64(s, "field_gap_max_m", 0.0, 100.0),
+        gap_quality: r.u64(s, "field_gap_quality", 0, 100) as u8,
+        weed_every_m: r.f64(s, "field_weed_every_m", 0.1, 10000.0),
+        weed_length_m: r.f64(s, "field_weed_length_m", 0.0, 100.0),
+        weed_offset_min_m: r.f64(s, "field_weed_offset_min_m", 0.0, 1.0),
+        weed_offset_max_m: r.f64(s, "field_weed_offset_max_m", 0.0, 1.0),
+        slope_max_deg: r.f64(s, "field_slope_max_deg", -20.0, 20.0),
+        slope_length_m: r.f64(s, "field_slope_length_m", 0.1, 10000.0),
+        bump_every_m: r.f64(s, "field_bump_every_m", 0.01, 10000.0),
+        bump_heading_sd_deg: r.f64(s, "field_bump_heading_sd_deg", 0.0, 10.0),
+        bump_side_sd_m: r.f64(s, "field_bump_side_sd_m", 0.0, 0.5),
+        wheel_slip_max: r.f64(s, "field_wheel_slip_max", 0.0, 0.5),
+        wheel_slip_length_m: r.f64(s, "field_wheel_slip_length_m", 0.1, 10000.0),
+    };
+    for (low, high, lo_v, hi_v) in [
+        (
+            "field_gap_min_m",
+            "field_gap_max_m",
+            t.gap_min_m,
+            t.gap_max_m,
+        ),
+        (
+            "field_weed_offset_min_m",
+            "field_weed_offset_max_m",
+            t.weed_offset_min_m,
+            t.weed_offset_max_m,
+        ),
+    ] {
+        let keys = [(s, low), (s, high)];
+        if lo_v > hi_v && r.all_read(&keys) {
+            r.cross_error(
+                &keys,
+                format!("[sim] {low} = {lo_v} is larger than {high} = {hi_v}"),
+            );
+        }
+    }
+    t
 }

@@ -41,6 +41,16 @@ impl Pose {
     }
 }
 
+impl Pose {
+    /// A bump: the heading turns by `heading_rad` and the body moves `side_m` to its
+    /// left at once.
+    pub fn kick(&mut self, heading_rad: f64, side_m: f64) {
+        self.x_m -= side_m * self.heading_rad.sin();
+        self.y_m += side_m * self.heading_rad.cos();
+        self.heading_rad += heading_rad;
+    }
+}
+
 /// Angle wrapped to [-pi, pi).
 pub(crate) fn wrap_rad(angle_rad: f64) -> f64 {
     use std::f64::consts::{PI, TAU};

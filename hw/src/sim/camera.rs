@@ -8,6 +8,11 @@
 //! still used) but still hears commands. A reboot forgets everything, ignores the line
 //! for `camera_reboot_s`, and then waits for START. Frames waiting for their send time
 //! sit in a fixed ring, so running the camera never allocates.
+//!
+//! In the realistic field (field_tier.rs) the offset also carries an error correlated
+//! over distance, a weed patch pulls it aside, and in a gap of the row the camera
+//! repeats its last estimate at the tier's low quality, as vision systems that hold the
+//! row through a gap do.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -15,7 +20,9 @@ use rand_distr::StandardNormal;
 
 use super::body::Pose;
 use super::field::Field;
-use super::params::SimParams;
+use super::field_tier::FieldTier;
+use super::gauss_markov::GaussMarkov;
+use super::params::{FieldKind, SimParams};
 use super::pipe::PipeEnd;
 use super::sight::row_at_lookahead;
 use crate::camproto::{CMD_PING, CMD_START, CMD_STOP, RowEstimate, encode_pong, encode_row};
@@ -80,12 +87,27 @@ pub struct CameraComputer {
     timing_rng: ChaCha8Rng,
     corrupt_rng: ChaCha8Rng,
     counters: CameraCounters,
+    /// The realistic field's correlated offset error over distance, from a stream of
+    /// its own, and the distance it was last stepped to, m.
+    bias: GaussMarkov,
+    bias_at_m: f64,
+    bias_rng: ChaCha8Rng,
+    gap_quality: u8,
+    /// The last estimate of a row seen, repeated in a gap: offset m, angle rad.
+    last_seen: Option<(f64, f64)>,
 }
 
 impl CameraComputer {
     /// `params` must be sanitized.
     pub(crate) fn new(params: &SimParams, pipe: PipeEnd) -> CameraComputer {
         let seed = params.seed;
+        let mut bias_rng = ChaCha8Rng::seed_from_u64(seed.wrapping_add(super::SEED_CAMERA_BIAS));
+        let bias_sd_m = match params.field {
+            FieldKind::Clean => 0.0,
+            FieldKind::Realistic => params.tier.camera_bias_sd_m,
+        };
+        let unit: f64 = bias_rng.sample(StandardNormal);
+        let bias = GaussMarkov::new(bias_sd_m, params.tier.camera_bias_length_m, unit);
         CameraComputer {
             pipe,
             lookahead_m: params.camera_lookahead_m,
@@ -111,6 +133,11 @@ impl CameraComputer {
             timing_rng: ChaCha8Rng::seed_from_u64(seed.wrapping_add(super::SEED_CAMERA_TIMING)),
             corrupt_rng: ChaCha8Rng::seed_from_u64(seed.wrapping_add(super::SEED_CAMERA_CORRUPT)),
             counters: CameraCounters::default(),
+            bias,
+            bias_at_m: 0.0,
+            bias_rng,
+            gap_quality: params.tier.gap_quality,
+            last_seen: None,
         }
     }
 
@@ -122,11 +149,19 @@ impl CameraComputer {
         self.counters
     }
 
-    /// One integration step at time t: hear commands, capture if due, send what is due.
-    pub(crate) fn tick(&mut self, t_s: f64, pose: &Pose, field: &Field) {
+    /// One integration step at time t, the robot having driven `distance_m`: hear
+    /// commands, capture if due, send what is due.
+    pub(crate) fn tick(
+        &mut self,
+        t_s: f64,
+        pose: &Pose,
+        field: &Field,
+        tier: &FieldTier,
+        distance_m: f64,
+    ) {
         self.read_commands(t_s);
         if self.streaming && t_s >= self.next_capture_t_s {
-            self.capture(t_s, pose, field);
+            self.capture(t_s, pose, field, tier, distance_m);
             self.next_capture_t_s += self.period_s;
             if self.next_capture_t_s <= t_s {
                 // Fell behind (a long step): skip, never burst.
@@ -155,6 +190,7 @@ impl CameraComputer {
         self.waiting = 0;
         self.seq = 0;
         self.pong_due = false;
+        self.last_seen = None;
         self.booting_until_t_s = t_s + self.reboot_s;
     }
 
@@ -182,7 +218,7 @@ impl CameraComputer {
         }
     }
 
-    fn capture(&mut self, t_s: f64, pose: &Pose, field: &Field) {
+    fn capture(&mut self, t_s: f64, pose: &Pose, field: &Field, tier: &FieldTier, distance_m: f64) {
         self.counters.captures += 1;
         // Draw every number every time, so that what the camera sees does not shift the
         // noise of later frames.
@@ -191,14 +227,30 @@ impl CameraComputer {
         let latency_s =
             self.latency_s + self.jitter_s * (2.0 * self.timing_rng.random::<f64>() - 1.0);
         let dropped = self.timing_rng.random::<f64>() < self.drop_probability;
+        let unit: f64 = self.bias_rng.sample(StandardNormal);
+        let bias_m = self.bias.step(distance_m - self.bias_at_m, unit);
+        self.bias_at_m = self.bias_at_m.max(distance_m);
 
         let (offset_m, angle_rad, quality) =
             match row_at_lookahead(field, pose, self.lookahead_m, &mut self.hint) {
-                Some(view) if view.s_m <= field.planted_length_m() => (
-                    view.offset_m + offset_noise * self.noise_offset_m,
-                    view.angle_rad + angle_noise * self.noise_angle_rad,
-                    QUALITY_SEEN,
-                ),
+                Some(view) if view.s_m <= field.planted_length_m() => {
+                    let at = tier.row_at(view.s_m);
+                    match self.last_seen {
+                        Some((offset_m, angle_rad)) if at.gap => {
+                            (offset_m, angle_rad, self.gap_quality)
+                        }
+                        None if at.gap => (0.0, 0.0, 0), // no row seen yet
+                        _ => {
+                            let offset_m = view.offset_m
+                                + offset_noise * self.noise_offset_m
+                                + bias_m
+                                + at.weed_offset_m;
+                            let angle_rad = view.angle_rad + angle_noise * self.noise_angle_rad;
+                            self.last_seen = Some((offset_m, angle_rad));
+                            (offset_m, angle_rad, QUALITY_SEEN)
+                        }
+                    }
+                }
                 _ => (0.0, 0.0, 0), // past the row's end: no row in the image
             };
         if self.waiting == RING {

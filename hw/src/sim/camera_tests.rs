@@ -12,6 +12,7 @@ struct Rig {
     camera: CameraComputer,
     robot_end: PipeEnd,
     field: Field,
+    tier: FieldTier,
     pose: Pose,
     steps: u64,
 }
@@ -24,6 +25,7 @@ impl Rig {
             camera: CameraComputer::new(&params, camera_end),
             robot_end,
             field: Field::new(&params),
+            tier: FieldTier::new(&params, params.row_length_m),
             // 5 cm left of the row, 10 m along it.
             pose: Pose {
                 x_m: 10.0,
@@ -55,7 +57,10 @@ impl Rig {
         for _ in 0..(duration_s / STEP_S).round() as usize {
             self.steps += 1;
             let t_s = self.t_s();
-            self.camera.tick(t_s, &self.pose, &self.field);
+            // The robot stands: it has driven as far as it is along the row.
+            let distance_m = self.pose.x_m;
+            let (pose, field, tier) = (&self.pose, &self.field, &self.tier);
+            self.camera.tick(t_s, pose, field, tier, distance_m);
             let mut buf = [0u8; 64];
             let n = self.robot_end.try_read(&mut buf);
             out.extend(buf[..n].iter().map(|&b| (t_s, b)));
@@ -268,4 +273,59 @@ fn same_seed_same_bytes() {
     let a = run(5);
     assert_eq!(a, run(5));
     assert_ne!(a, run(6));
+}
+
+/// Where along the row (arclength, m) the first stretch that `is` picks starts.
+fn first_stretch(rig: &Rig, is: impl Fn(crate::sim::field_tier::RowAt) -> bool) -> f64 {
+    (0..6000)
+        .map(|k| k as f64 * 0.01)
+        .find(|&s_m| is(rig.tier.row_at(s_m)))
+        .expect("the realistic 60 m row has one")
+}
+
+#[test]
+fn in_a_realistic_field_a_gap_repeats_the_last_row_seen_and_a_weed_patch_pulls_it_aside() {
+    let mut rig = Rig::new(SimParams {
+        row: RowShape::Straight,
+        field: crate::sim::FieldKind::Realistic,
+        tier: crate::sim::FieldTierParams {
+            camera_bias_sd_m: 0.0,
+            ..Default::default()
+        },
+        camera_drop: 0.0,
+        camera_noise_offset_m: 0.0,
+        camera_noise_angle_deg: 0.0,
+        ..SimParams::default()
+    });
+    let lookahead_m = SimParams::default().camera_lookahead_m;
+    let gap_s_m = first_stretch(&rig, |at| at.gap);
+    rig.command(CMD_START);
+    // The look-ahead line 10 cm before the gap: the row, 5 cm to the right.
+    rig.pose.x_m = gap_s_m - 0.1 - lookahead_m;
+    let mut decoder = Decoder::new();
+    let before = rows(&decode(&rig.run(1.0), &mut decoder));
+    assert!(
+        before
+            .iter()
+            .all(|e| e.quality == 90 && (e.offset_m + 0.05).abs() < 1e-4)
+    );
+    // Inside the gap, 20 cm further and a little closer to the row: the last row again.
+    rig.pose.x_m += 0.2;
+    rig.pose.y_m = 0.02;
+    let inside = rows(&decode(&rig.run(1.0), &mut decoder));
+    assert!(inside.len() >= 8);
+    for e in &inside[1..] {
+        assert_eq!(
+            (e.quality, e.offset_m),
+            (40, before.last().unwrap().offset_m)
+        );
+    }
+
+    let weed_s_m = first_stretch(&rig, |at| at.weed_offset_m != 0.0);
+    let weed_m = rig.tier.row_at(weed_s_m + 0.5).weed_offset_m;
+    rig.pose.x_m = weed_s_m + 0.5 - lookahead_m;
+    let weeds = rows(&decode(&rig.run(0.5), &mut decoder));
+    let last = weeds.last().unwrap();
+    assert!((0.05..=0.10).contains(&weed_m.abs()));
+    assert!((last.offset_m - (-0.02 + weed_m)).abs() < 1e-4, "{last:?}");
 }

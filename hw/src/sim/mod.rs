@@ -8,12 +8,14 @@
 //! wheel and its sensors), `body` (the bicycle model), `field` (the row), `tool` (the
 //! tool's path along the row), `sight` (what the camera sees), `camera` (the camera
 //! computer), `robot` (all of it together), `realtime` (on the wall clock), plus
-//! `params`, `events`, `pipe` and `crosstrack`.
+//! `params`, `events`, `pipe` and `crosstrack`; `field_tier` adds what real fields add.
 
 pub mod camera;
 pub mod crosstrack;
 pub mod events;
 pub mod field;
+pub mod field_tier;
+pub mod gauss_markov;
 pub mod params;
 pub mod pipe;
 
@@ -30,7 +32,7 @@ pub(crate) mod alloc_tests;
 
 pub use crosstrack::{CrossTrackStats, CrossTrackSummary};
 pub use events::{ActionHelp, EventAction, OperatorMode, SimEvent, action_list, parse_events};
-pub use params::{CROSS_TRACK_FROM_M, RowShape, SimParams};
+pub use params::{CROSS_TRACK_FROM_M, FieldKind, FieldTierParams, RowShape, SimParams};
 pub use pipe::{PipeEnd, byte_pipe};
 pub use realtime::{SimControl, SimHw, TruthHandle};
 pub use robot::SimRobot;
@@ -42,6 +44,8 @@ const SEED_POT: u64 = 2;
 const SEED_CAMERA_NOISE: u64 = 3;
 const SEED_CAMERA_TIMING: u64 = 4;
 const SEED_CAMERA_CORRUPT: u64 = 5;
+const SEED_FIELD: u64 = 6;
+const SEED_CAMERA_BIAS: u64 = 7;
 
 /// Ground truth for tests, reports and the GUI.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

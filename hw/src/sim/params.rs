@@ -17,6 +17,103 @@ pub enum RowShape {
     Arc,
 }
 
+/// Which field the robot drives in: the clean benchmark's, or one with what real fields
+/// add (field_tier.rs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FieldKind {
+    Clean,
+    Realistic,
+}
+
+/// The field tier's disturbances ([sim] field_*), used when the field is realistic.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FieldTierParams {
+    /// The camera's correlated offset error (Gauss-Markov over distance): s.d., m.
+    pub camera_bias_sd_m: f64,
+    /// ... and its correlation length, m.
+    pub camera_bias_length_m: f64,
+    /// Mean distance between gaps in the row, m.
+    pub gap_every_m: f64,
+    pub gap_min_m: f64,
+    pub gap_max_m: f64,
+    /// In a gap the camera repeats its last estimate with this quality (0..100).
+    pub gap_quality: u8,
+    /// Mean distance between weed patches, m.
+    pub weed_every_m: f64,
+    pub weed_length_m: f64,
+    /// The camera's offset in a weed patch is off by this much, either side, m.
+    pub weed_offset_min_m: f64,
+    pub weed_offset_max_m: f64,
+    /// The side slope's slip varies between 0 and this (positive = slides left), deg ...
+    pub slope_max_deg: f64,
+    /// ... taking a new level every this far, m.
+    pub slope_length_m: f64,
+    /// Mean distance between bumps, m.
+    pub bump_every_m: f64,
+    /// A bump kicks the heading by this s.d., deg ...
+    pub bump_heading_sd_deg: f64,
+    /// ... and the body sideways by this s.d., m.
+    pub bump_side_sd_m: f64,
+    /// The drive wheels slip between 0 and this share (0.05 = 5 %) ...
+    pub wheel_slip_max: f64,
+    /// ... taking a new level every this far, m.
+    pub wheel_slip_length_m: f64,
+}
+
+impl Default for FieldTierParams {
+    fn default() -> Self {
+        FieldTierParams {
+            camera_bias_sd_m: 0.015,
+            camera_bias_length_m: 3.0,
+            gap_every_m: 15.0,
+            gap_min_m: 0.5,
+            gap_max_m: 2.0,
+            gap_quality: 40,
+            weed_every_m: 25.0,
+            weed_length_m: 1.0,
+            weed_offset_min_m: 0.05,
+            weed_offset_max_m: 0.10,
+            slope_max_deg: 3.0,
+            slope_length_m: 10.0,
+            bump_every_m: 2.0,
+            bump_heading_sd_deg: 0.5,
+            bump_side_sd_m: 0.005,
+            wheel_slip_max: 0.05,
+            wheel_slip_length_m: 10.0,
+        }
+    }
+}
+
+impl FieldTierParams {
+    fn sanitized(&self) -> FieldTierParams {
+        let d = FieldTierParams::default();
+        let gap_min_m = non_negative_or(self.gap_min_m, d.gap_min_m);
+        let weed_offset_min_m = non_negative_or(self.weed_offset_min_m, d.weed_offset_min_m);
+        FieldTierParams {
+            camera_bias_sd_m: non_negative_or(self.camera_bias_sd_m, d.camera_bias_sd_m),
+            camera_bias_length_m: positive_or(self.camera_bias_length_m, d.camera_bias_length_m),
+            // Closer than every 10 cm would only fill memory.
+            gap_every_m: positive_or(self.gap_every_m, d.gap_every_m).max(0.1),
+            gap_min_m,
+            gap_max_m: non_negative_or(self.gap_max_m, d.gap_max_m).max(gap_min_m),
+            gap_quality: self.gap_quality.min(100),
+            weed_every_m: positive_or(self.weed_every_m, d.weed_every_m).max(0.1),
+            weed_length_m: non_negative_or(self.weed_length_m, d.weed_length_m),
+            weed_offset_min_m,
+            weed_offset_max_m: non_negative_or(self.weed_offset_max_m, d.weed_offset_max_m)
+                .max(weed_offset_min_m),
+            slope_max_deg: finite_or(self.slope_max_deg, d.slope_max_deg).clamp(-89.0, 89.0),
+            slope_length_m: positive_or(self.slope_length_m, d.slope_length_m).max(0.1),
+            bump_every_m: positive_or(self.bump_every_m, d.bump_every_m).max(0.01),
+            bump_heading_sd_deg: non_negative_or(self.bump_heading_sd_deg, d.bump_heading_sd_deg),
+            bump_side_sd_m: non_negative_or(self.bump_side_sd_m, d.bump_side_sd_m),
+            wheel_slip_max: non_negative_or(self.wheel_slip_max, d.wheel_slip_max).min(0.9),
+            wheel_slip_length_m: positive_or(self.wheel_slip_length_m, d.wheel_slip_length_m)
+                .max(0.1),
+        }
+    }
+}
+
 /// Parameters of the simulated robot, field and camera computer.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimParams {
@@ -51,6 +148,9 @@ pub struct SimParams {
     /// Wheel angle at start; the steering encoder reads 0 here (it is relative).
     pub initial_wheel_angle_deg: f64,
     // --- the field ---
+    /// Clean, or with what real fields add (`tier`).
+    pub field: FieldKind,
+    pub tier: FieldTierParams,
     pub row: RowShape,
     pub row_length_m: f64,
     /// The robot starts this far to the LEFT of the row, heading along it.
@@ -108,6 +208,8 @@ impl Default for SimParams {
             side_slip_deg: 1.0,
             battery_v: 25.0,
             initial_wheel_angle_deg: 0.0,
+            field: FieldKind::Clean,
+            tier: FieldTierParams::default(),
             row: RowShape::SCurve,
             row_length_m: 60.0,
             start_offset_m: 0.0,
@@ -180,6 +282,8 @@ impl SimParams {
             battery_v: non_negative_or(self.battery_v, d.battery_v),
             initial_wheel_angle_deg: finite_or(self.initial_wheel_angle_deg, 0.0)
                 .clamp(-limit_deg, limit_deg),
+            field: self.field,
+            tier: self.tier.sanitized(),
             row: self.row,
             row_length_m: positive_or(self.row_length_m, d.row_length_m).clamp(0.1, 5000.0),
             start_offset_m: finite_or(self.start_offset_m, 0.0),

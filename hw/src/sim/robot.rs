@@ -16,6 +16,7 @@ use super::crosstrack::CrossTrackStats;
 use super::drive::DriveWheel;
 use super::events::{EventAction, SimEvent};
 use super::field::Field;
+use super::field_tier::FieldTier;
 use super::params::SimParams;
 use super::pipe::PipeEnd;
 use super::steering::Steering;
@@ -38,6 +39,8 @@ struct Joystick {
 pub struct SimRobot {
     p: SimParams,
     field: Field,
+    /// What a real field adds; nothing in the clean field.
+    tier: FieldTier,
     camera: CameraComputer,
     left: DriveWheel,
     right: DriveWheel,
@@ -111,6 +114,8 @@ impl SimRobot {
             events,
             next_event: 0,
             tool: ToolTrack::new(p.tool_offset_m, p.cross_track_from_m),
+            // The robot drives a little past the row's line, so lay the field out beyond it.
+            tier: FieldTier::new(&p, field.length_m() + 10.0),
             field,
             p,
         };
@@ -146,9 +151,11 @@ impl SimRobot {
         self.right
             .step(self.amp_v(o.amp_right_v), !o.brake_release_right, dt_s);
         self.steering.step(self.amp_v(o.amp_steer_v), dt_s);
-        // The body moves at the step's mean speed, as the encoders count it.
-        let v_mps = 0.5 * (v_before + self.speed_mps());
-        let slip_rad = self.p.side_slip_deg.to_radians();
+        // The body moves at the step's mean wheel speed, as the encoders count it, less
+        // what the wheels slip on loose soil (then the encoders over-read).
+        let rim_mps = 0.5 * (v_before + self.speed_mps());
+        let v_mps = rim_mps * (1.0 - self.tier.wheel_slip(self.distance_m));
+        let slip_rad = self.tier.side_slip_rad(self.distance_m);
         self.pose.step(
             v_mps,
             self.steering.angle_rad(),
@@ -157,10 +164,19 @@ impl SimRobot {
             dt_s,
         );
         self.distance_m += v_mps.abs() * dt_s;
+        while let Some(bump) = self.tier.bump_reached(self.distance_m) {
+            self.pose.kick(bump.heading_rad, bump.side_m);
+        }
         self.steps += 1;
         self.draw_pot_noise();
         self.tool.measure(&self.field, &self.pose, self.distance_m);
-        self.camera.tick(self.time_s(), &self.pose, &self.field);
+        self.camera.tick(
+            self.time_s(),
+            &self.pose,
+            &self.field,
+            &self.tier,
+            self.distance_m,
+        );
         self.apply_due_events();
     }
 

@@ -279,3 +279,29 @@ fn same_seed_same_run() {
     assert_eq!(a, run(11));
     assert_ne!(a.0, run(12).0);
 }
+
+#[test]
+fn in_a_realistic_field_the_encoders_over_read_and_bumps_push_the_robot_off_its_line() {
+    let realistic = SimParams {
+        field: crate::sim::FieldKind::Realistic,
+        ..quiet_params()
+    };
+    let (mut clean, _) = robot(&quiet_params());
+    let (mut field, _) = robot(&realistic);
+    for r in [&mut clean, &mut field] {
+        r.set_outputs(&drive(5.0));
+        r.advance_to(60.0);
+    }
+    let counted_m = |r: &SimRobot| {
+        let i = r.inputs();
+        0.5 * (i.enc_left_counts + i.enc_right_counts) as f64 / 10_000.0
+    };
+    let over = counted_m(&field) / field.truth().distance_m - 1.0;
+    assert!((0.0..=0.05).contains(&over), "odometry over-reads {over}");
+    assert!(over > 0.003, "loose soil slips: {over}");
+    assert!((counted_m(&clean) / clean.truth().distance_m - 1.0).abs() < 1e-3);
+    // Driven straight with no steering, the clean robot stays on its line; bumps and
+    // the changing slope take the realistic one away from it.
+    assert!((clean.truth().tool_cross_track_m - 0.05).abs() < 1e-9);
+    assert!((field.truth().tool_cross_track_m - 0.05).abs() > 0.05);
+}
