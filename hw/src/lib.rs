@@ -12,6 +12,8 @@ pub mod cards;
 pub mod das08;
 pub mod dda06;
 pub mod emulated;
+pub mod geo;
+pub mod nmea;
 pub mod pci;
 pub mod port;
 pub mod quad04;

@@ -16,6 +16,7 @@ pub mod events;
 pub mod field;
 pub mod field_tier;
 pub mod gauss_markov;
+pub mod gnss_model;
 pub mod params;
 pub mod pipe;
 
