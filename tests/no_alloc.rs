@@ -1,7 +1,7 @@
 //! The supervisor tick does no heap allocation after start: a counting allocator
 //! watches this thread while the simulated robot drives along the row, the camera
 //! link decodes and the steer thread's tick runs, and sees none; nor when a card's
-//! read fails.
+//! read fails; nor the row filter's predict and updates.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -167,4 +167,25 @@ fn no_allocation_per_tick_while_recording() {
         outcome.ticks_recorded + outcome.ticks_dropped >= 2100,
         "{outcome:?}"
     );
+}
+
+#[test]
+fn the_row_filter_predicts_and_updates_without_allocating() {
+    use mechweed::steer::filter::{FilterSettings, RowFilter, Travel};
+    let mut f = RowFilter::new(FilterSettings::default());
+    let since = Travel {
+        travelled_m: 0.05,
+        turned_rad: 0.001,
+    };
+    // Used, rejected and reset updates, and refused input, each take their own path.
+    let allocations = allocations_in(|| {
+        for k in 0..1000 {
+            f.predict(0.01, 0.0002);
+            f.update_camera(0.01 * (k % 7) as f64, 0.001, 0.8, 0.01, 0.01, since);
+            f.update_gnss(if k % 50 < 25 { 0.0 } else { 0.6 }, 0.01);
+            f.update_gnss(f64::NAN, 0.01);
+        }
+    });
+    assert_eq!(allocations, 0);
+    assert!(f.counters().gnss_resets > 0 && f.counters().gnss_rejected > 0);
 }

@@ -4,6 +4,7 @@
 //! procedure. It runs at [steer] rate_hz and on every new camera estimate.
 
 pub mod endswitch;
+pub mod filter;
 pub mod joystick;
 pub mod law;
 

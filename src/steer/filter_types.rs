@@ -1,0 +1,180 @@
+//! The row filter's settings, its state as named quantities, and what it reports.
+
+use super::{CURVATURE, HEADING, MAP_BIAS, OFFSET, SLIP, Vector};
+
+/// Probability that a good measurement passes the gate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum GateProbability {
+    P0_99,
+    #[default]
+    P0_999,
+    P0_9999,
+}
+
+impl GateProbability {
+    /// Chi-square quantiles: 1 dof (Φ⁻¹((1+p)/2))², 2 dof exactly -2 ln(1-p). Values of
+    /// the NIST/SEMATECH e-Handbook of Statistical Methods, 1.3.6.7.4 (0.99, 0.999), and
+    /// from the same formulas for 0.9999.
+    pub(super) fn threshold(self, dof: usize) -> f64 {
+        match (self, dof) {
+            (GateProbability::P0_99, 1) => 6.635,
+            (GateProbability::P0_99, _) => 9.210,
+            (GateProbability::P0_999, 1) => 10.828,
+            (GateProbability::P0_999, _) => 13.816,
+            (GateProbability::P0_9999, 1) => 15.137,
+            (GateProbability::P0_9999, _) => 18.421,
+        }
+    }
+}
+
+/// The row as the filter sees it, or (from `sd`) each part's standard deviation.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RowState {
+    pub offset_m: f64,
+    pub heading_rad: f64,
+    pub curvature_per_m: f64,
+    pub map_bias_m: f64,
+    pub slip_rad: f64,
+}
+
+impl RowState {
+    pub(super) fn to_vector(self) -> Vector {
+        Vector::new(
+            self.offset_m,
+            self.heading_rad,
+            self.curvature_per_m,
+            self.map_bias_m,
+            self.slip_rad,
+        )
+    }
+
+    pub(super) fn from_vector(v: &Vector) -> RowState {
+        RowState {
+            offset_m: v[OFFSET],
+            heading_rad: v[HEADING],
+            curvature_per_m: v[CURVATURE],
+            map_bias_m: v[MAP_BIAS],
+            slip_rad: v[SLIP],
+        }
+    }
+}
+
+/// The robot's travel and turn over an interval, from odometry and steering.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Travel {
+    pub travelled_m: f64,
+    pub turned_rad: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FilterSettings {
+    /// Side slip and bumps that odometry does not see, m per √m travelled.
+    pub offset_sd_per_sqrt_m: f64,
+    /// The row's wiggle and odometry's turn error, rad per √m.
+    pub heading_sd_per_sqrt_m: f64,
+    /// Change of the row's curvature, 1/m per √m.
+    pub curvature_sd_per_sqrt_m: f64,
+    /// Drift of the map's error and the live receiver's slow error along the row, m per √m.
+    pub map_bias_sd_per_sqrt_m: f64,
+    /// Change of the crab angle as the slope changes, rad per √m.
+    pub slip_sd_per_sqrt_m: f64,
+    /// S.d. at start, and the scale of a reset's widening.
+    pub initial_sd: RowState,
+    pub gate: GateProbability,
+    /// Rejections in a row after which that sensor's part is reset (0 acts as 1,
+    /// u32::MAX never resets).
+    pub camera_rejections_to_reset: u32,
+    pub gnss_rejections_to_reset: u32,
+}
+
+impl Default for FilterSettings {
+    fn default() -> FilterSettings {
+        FilterSettings {
+            offset_sd_per_sqrt_m: 0.003,
+            heading_sd_per_sqrt_m: 0.005,
+            curvature_sd_per_sqrt_m: 0.01,
+            map_bias_sd_per_sqrt_m: 0.002,
+            slip_sd_per_sqrt_m: 0.003,
+            initial_sd: RowState {
+                offset_m: 0.05,
+                heading_rad: 0.05,
+                curvature_per_m: 0.02,
+                map_bias_m: 0.03,
+                slip_rad: 0.03,
+            },
+            gate: GateProbability::P0_999,
+            camera_rejections_to_reset: 10,
+            gnss_rejections_to_reset: 20,
+        }
+    }
+}
+
+/// What became of one call.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    Used,
+    /// Outside the gate; state unchanged.
+    Rejected,
+    /// The last of a run of rejections: that sensor's part was reset, then the measurement used.
+    Reset,
+    /// Bad input or a singular S; state unchanged.
+    Refused,
+}
+
+/// Counts since construction. `*_rejected` counts every gate failure, `*_resets` those
+/// that ended a run and reset; `*_used` counts updates that passed the gate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct FilterCounters {
+    pub camera_used: u64,
+    pub camera_rejected: u64,
+    pub camera_resets: u64,
+    pub gnss_used: u64,
+    pub gnss_rejected: u64,
+    pub gnss_resets: u64,
+    pub refused_bad_input: u64,
+    pub refused_singular: u64,
+}
+
+impl FilterCounters {
+    /// Counts `outcome` of an update and passes it on.
+    pub(super) fn count(&mut self, sensor: Sensor, outcome: Outcome) -> Outcome {
+        let (used, rejected, resets) = match sensor {
+            Sensor::Camera => (
+                &mut self.camera_used,
+                &mut self.camera_rejected,
+                &mut self.camera_resets,
+            ),
+            Sensor::Gnss => (
+                &mut self.gnss_used,
+                &mut self.gnss_rejected,
+                &mut self.gnss_resets,
+            ),
+        };
+        match outcome {
+            Outcome::Used => *used += 1,
+            Outcome::Rejected => *rejected += 1,
+            Outcome::Reset => {
+                *rejected += 1;
+                *resets += 1;
+            }
+            Outcome::Refused => {}
+        }
+        outcome
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Sensor {
+    Camera = 0,
+    Gnss = 1,
+}
+
+impl Sensor {
+    /// The part of the state a run of this sensor's rejections resets.
+    pub(super) fn part(self) -> &'static [usize] {
+        match self {
+            Sensor::Camera => &[OFFSET, HEADING],
+            Sensor::Gnss => &[MAP_BIAS],
+        }
+    }
+}
