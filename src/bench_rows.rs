@@ -9,7 +9,7 @@
 use mechweed_hw::sim::{CrossTrackSummary, FieldKind, RowShape, SimParams};
 use serde::Serialize;
 
-use crate::config::Settings;
+use crate::config::{CameraPort, GnssPort, Settings, SteerSource};
 use crate::lockstep::Lockstep;
 use crate::modes::Mode;
 
@@ -34,9 +34,19 @@ pub fn field_name(field: FieldKind) -> &'static str {
     }
 }
 
+pub fn source_name(source: SteerSource) -> &'static str {
+    match source {
+        SteerSource::Camera => "camera",
+        SteerSource::Gnss => "gnss",
+        SteerSource::Fused => "fused",
+    }
+}
+
 #[derive(Debug, Clone, Serialize)]
 pub struct RowRun {
     pub field: String,
+    /// Which sensors steered ([steer] source).
+    pub source: String,
     pub row: String,
     pub speed_mps: f64,
     pub cross_track_cm: CrossTrackSummary,
@@ -58,11 +68,17 @@ pub fn row_name(row: RowShape) -> &'static str {
 pub fn run_row(
     settings: &Settings,
     field: FieldKind,
+    source: SteerSource,
     row: RowShape,
     speed_mps: f64,
     seed: u64,
 ) -> RowRun {
     let mut s = settings.clone();
+    s.sources.source = source;
+    if source != SteerSource::Camera {
+        // The simulated robot's receiver, on the simulated field's map.
+        s.gnss.port = GnssPort::Link(CameraPort::Sim);
+    }
     s.sim = SimParams {
         field,
         tier: settings.sim.tier,
@@ -87,6 +103,7 @@ pub fn run_row(
     }
     RowRun {
         field: field_name(field).to_string(),
+        source: source_name(source).to_string(),
         row: row_name(row).to_string(),
         speed_mps,
         cross_track_cm: sim.robot.cross_track().summary(),
@@ -117,13 +134,15 @@ fn gear_for_the_field(s: &mut Settings) {
 
 /// The table `mechweed bench rows` prints.
 pub fn table(runs: &[RowRun]) -> String {
-    let mut out =
-        String::from("row       speed   mean    s.d.    RMS     p95     max    >2cm  faults\n");
-    out += "          m/s     cm      cm      cm      cm      cm     %\n";
+    let mut out = String::from(
+        "source  row       speed   mean    s.d.    RMS     p95     max    >2cm  faults\n",
+    );
+    out += "                  m/s     cm      cm      cm      cm      cm     %\n";
     for r in runs {
         let c = &r.cross_track_cm;
         out += &format!(
-            "{:<9} {:4.1} {:7.2} {:7.2} {:7.2} {:7.2} {:7.2} {:6.1}  {}\n",
+            "{:<7} {:<9} {:4.1} {:7.2} {:7.2} {:7.2} {:7.2} {:7.2} {:6.1}  {}\n",
+            r.source,
             r.row,
             r.speed_mps,
             c.mean_cm,

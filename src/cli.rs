@@ -307,10 +307,21 @@ pub enum BenchCommand {
         /// field_*; 0.5, 1.0, 2.0 m/s).
         #[arg(long, value_enum, default_value_t = BenchField::Clean)]
         field: BenchField,
+        /// Which sensors steer, each over every row and speed, side by side: camera, gnss,
+        /// fused (comma-separated; the simulated robot's GNSS receiver on its field's map).
+        #[arg(long, value_enum, value_delimiter = ',', default_value = "camera")]
+        sources: Vec<BenchSource>,
         /// Also write the results as JSON to this file.
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
     },
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum BenchSource {
+    Camera,
+    Gnss,
+    Fused,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]

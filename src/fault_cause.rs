@@ -36,6 +36,11 @@ pub enum FaultCause {
     CameraSeesNoRow {
         for_s: f64,
     },
+    /// [steer] source = gnss or fused: neither sensor gives a row to steer by.
+    NoRowSource {
+        camera_s: f64,
+        gnss_s: f64,
+    },
     ThreadStopped {
         thread: ThreadName,
         for_s: f64,
@@ -140,6 +145,10 @@ impl fmt::Display for FaultCause {
             FaultCause::CameraSeesNoRow { for_s } => {
                 write!(f, "camera sees no row: no usable estimate for {for_s:.2} s")
             }
+            FaultCause::NoRowSource { camera_s, gnss_s } => write!(
+                f,
+                "no row to steer by: the camera has given no usable row for {camera_s:.2} s and GNSS no trusted fix for {gnss_s:.2} s"
+            ),
             FaultCause::ThreadStopped { thread, for_s } => {
                 write!(
                     f,

@@ -16,7 +16,9 @@ use mechweed_hw::sim::{PipeEnd, SimRobot, byte_pipe};
 use mechweed_hw::{Hw, HwError, Outputs};
 
 use crate::camlink::LinkCore;
-use crate::config::Settings;
+use crate::config::{CameraPort, GnssPort, Settings};
+use crate::gnss::GnssCore;
+use crate::gnss::place::RowPlace;
 use crate::health::ThreadHealth;
 use crate::modes::{Mode, Refusal, Request};
 use crate::operator::OperatorScript;
@@ -51,6 +53,9 @@ pub struct Lockstep {
     pub steer: SteerCore,
     pub link: LinkCore,
     pub steer_command: SteerCommand,
+    /// The simulated GNSS receiver's line and its decoder, with [gnss] port = sim.
+    gnss_pipe: Option<PipeEnd>,
+    pub gnss: GnssCore,
     operator: OperatorScript,
     t_us: u64,
     supervisor_period_us: u64,
@@ -70,14 +75,29 @@ impl Lockstep {
     }
 
     /// The same, with the supervisor reaching the plant through `io`.
+    /// With [gnss] port = sim the robot carries its GNSS receiver, and GNSS steers by
+    /// the simulated field's own map (whatever [gnss] map says: this is the field).
     pub fn with_io(settings: &Settings, start_mode: Mode, io: Io) -> Lockstep {
         let (camera_end, robot_end) = byte_pipe(4096);
+        let mut robot = SimRobot::new(&settings.sim, camera_end);
+        let (mut gnss_pipe, mut place) = (None, None);
+        if settings.gnss.port == GnssPort::Link(CameraPort::Sim) {
+            let (receiver_end, program_end) = byte_pipe(8192);
+            robot.attach_gnss(receiver_end);
+            gnss_pipe = Some(program_end);
+            let g = &settings.gnss;
+            place =
+                RowPlace::from_points(&robot.planted_map(), g.antenna_ahead_m, g.antenna_left_m)
+                    .ok();
+        }
         Lockstep {
-            robot: SimRobot::new(&settings.sim, camera_end),
+            robot,
             io,
             pipe: robot_end,
             supervisor: Supervisor::new(settings),
-            steer: SteerCore::new(settings),
+            steer: SteerCore::with_map(settings, place),
+            gnss_pipe,
+            gnss: GnssCore::new(),
             link: LinkCore::new(&settings.camera),
             steer_command: SteerCommand::default(),
             operator: OperatorScript::new(&settings.sim.events, start_mode),
@@ -118,9 +138,12 @@ impl Lockstep {
 
     fn steer_tick(&mut self) {
         let now = self.now_s();
-        self.steer_command = self
-            .steer
-            .tick(now, self.supervisor.status(), self.link.status());
+        self.steer_command = self.steer.tick(
+            now,
+            self.supervisor.status(),
+            self.link.status(),
+            self.gnss.status(),
+        );
         self.steer_ticks += 1;
     }
 
@@ -143,6 +166,11 @@ impl Lockstep {
             let n = self.pipe.try_read(&mut self.buf);
             let new_estimate = self.link.receive(&self.buf[..n], now);
             self.link.beat(now);
+            if let Some(pipe) = &mut self.gnss_pipe {
+                let n = pipe.try_read(&mut self.buf);
+                self.gnss.receive(&self.buf[..n], now);
+                self.gnss.beat(now);
+            }
             if new_estimate || self.t_us >= self.next_steer_us {
                 if self.t_us >= self.next_steer_us {
                     self.next_steer_us += self.steer_period_us;

@@ -15,7 +15,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use clap::Parser;
 
 use mechweed::bench_rows;
-use mechweed::config::{Backend, ConfigError, DEFAULT_INI, Settings};
+use mechweed::config::{Backend, ConfigError, DEFAULT_INI, Settings, SteerSource};
 use mechweed::console::run;
 use mechweed::modes::Mode;
 use mechweed::report::Report;
@@ -218,14 +218,15 @@ fn write_json(path: Option<PathBuf>, value: &impl serde::Serialize) -> ExitCode 
 }
 
 fn bench(command: BenchCommand) -> ExitCode {
-    let (config, set, seed, field, json) = match command {
+    let (config, set, seed, (field, sources), json) = match command {
         BenchCommand::Rows {
             config,
             set,
             seed,
             field,
+            sources,
             json,
-        } => (config, set, seed, field, json),
+        } => (config, set, seed, (field, sources), json),
         BenchCommand::Loop {
             rate,
             seconds,
@@ -265,13 +266,23 @@ fn bench(command: BenchCommand) -> ExitCode {
         }
     };
     let mut runs = Vec::new();
-    for row in bench_rows::ROWS {
-        for speed in bench_rows::speeds_mps(field) {
-            eprintln!(
-                "running {} row at {speed} m/s ...",
-                bench_rows::row_name(row)
-            );
-            runs.push(bench_rows::run_row(&settings, field, row, speed, seed));
+    for source in sources {
+        let source = match source {
+            cli::BenchSource::Camera => SteerSource::Camera,
+            cli::BenchSource::Gnss => SteerSource::Gnss,
+            cli::BenchSource::Fused => SteerSource::Fused,
+        };
+        for row in bench_rows::ROWS {
+            for speed in bench_rows::speeds_mps(field) {
+                eprintln!(
+                    "running {} row at {speed} m/s, steering by {} ...",
+                    bench_rows::row_name(row),
+                    bench_rows::source_name(source)
+                );
+                runs.push(bench_rows::run_row(
+                    &settings, field, source, row, speed, seed,
+                ));
+            }
         }
     }
     print!("{}", bench_rows::table(&runs));

@@ -11,6 +11,7 @@ use mechweed_hw::{Hw, Outputs};
 
 use crate::camlink::LinkStatus;
 use crate::config::SteerSettings;
+use crate::gnss::GnssStatus;
 use crate::health::{self, PanicFlag, ThreadHealth, ThreadName};
 use crate::inject::{Fail, Injection};
 use crate::modes::{Gains, Request};
@@ -238,6 +239,7 @@ pub(crate) struct SteerWires {
     pub(crate) command: Writer<SteerCommand>,
     pub(crate) status: Reader<Status>,
     pub(crate) link: Reader<LinkStatus>,
+    pub(crate) gnss: Reader<GnssStatus>,
     pub(crate) figures: Writer<LoopSummary>,
     /// New steering-law parameters, accepted by the supervisor in Halt.
     pub(crate) new_settings: Receiver<SteerSettings>,
@@ -314,6 +316,7 @@ impl SteerThread {
                 now_s,
                 &self.wires.status.snapshot(),
                 &self.wires.link.snapshot(),
+                &self.wires.gnss.snapshot(),
             );
             self.wires.command.publish(&command);
             if scheduled {

@@ -238,3 +238,43 @@ fn a_check_across_settings_is_placed_at_the_set_that_broke_it() {
     // A value that is wrong on its own is not also reported by the checks across.
     assert_eq!(errors(SHIPPED, &["steer.speed_mps=fast"]).len(), 1);
 }
+
+#[test]
+fn gnss_settings_that_cannot_work_are_named() {
+    let (text, line) = with_line("trust = rtk_fixed, rtk_float", "trust = rtk_fixed, rtk");
+    let got = errors(&text, &[]);
+    assert_eq!(got.len(), 1, "{got:?}");
+    assert!(
+        got[0].starts_with(&format!("robot.ini line {line}: [gnss] trust"))
+            && got[0].contains(
+                "'rtk' is not a fix quality (one or more of rtk_fixed, rtk_float, dgps, gps"
+            ),
+        "{got:?}"
+    );
+    let got = errors(SHIPPED, &["gnss.port=bus"]);
+    assert!(
+        got[0].contains("the bus carries no GNSS positions"),
+        "{got:?}"
+    );
+    // Steering by GNSS without a receiver.
+    let got = errors(SHIPPED, &["steer.source=fused"]);
+    assert_eq!(got.len(), 1, "{got:?}");
+    assert!(
+        got[0].contains("[steer] source = fused steers by GNSS, but [gnss] port = none"),
+        "{got:?}"
+    );
+    assert_eq!(
+        errors(SHIPPED, &["steer.source=fused", "gnss.port=sim"]),
+        Vec::<String>::new()
+    );
+}
+
+#[test]
+fn the_realistic_fields_ranges_must_not_cross() {
+    let got = errors(SHIPPED, &["sim.field_gap_min_m=3"]);
+    assert_eq!(got.len(), 1, "{got:?}");
+    assert!(
+        got[0].contains("[sim] field_gap_min_m = 3 is larger than field_gap_max_m = 2"),
+        "{got:?}"
+    );
+}

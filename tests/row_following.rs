@@ -5,6 +5,7 @@ mod common;
 
 use common::settings_with;
 use mechweed::bench_rows::run_row;
+use mechweed::config::SteerSource;
 use mechweed::lockstep::Lockstep;
 use mechweed::modes::Mode;
 use mechweed_hw::sim::{FieldKind, RowShape, SimParams};
@@ -87,9 +88,30 @@ fn holds_a_side_slope_without_steady_state_error() {
 #[test]
 fn same_seed_gives_the_same_run_and_another_seed_does_not() {
     let s = settings_with("", &[]);
-    let a = run_row(&s, FieldKind::Clean, RowShape::SCurve, 1.0, 11);
-    let b = run_row(&s, FieldKind::Clean, RowShape::SCurve, 1.0, 11);
-    let c = run_row(&s, FieldKind::Clean, RowShape::SCurve, 1.0, 12);
+    let a = run_row(
+        &s,
+        FieldKind::Clean,
+        SteerSource::Camera,
+        RowShape::SCurve,
+        1.0,
+        11,
+    );
+    let b = run_row(
+        &s,
+        FieldKind::Clean,
+        SteerSource::Camera,
+        RowShape::SCurve,
+        1.0,
+        11,
+    );
+    let c = run_row(
+        &s,
+        FieldKind::Clean,
+        SteerSource::Camera,
+        RowShape::SCurve,
+        1.0,
+        12,
+    );
     assert_eq!(a.cross_track_cm, b.cross_track_cm);
     assert_ne!(a.cross_track_cm, c.cross_track_cm);
 }
@@ -101,6 +123,7 @@ fn benchmark_scurve_at_half_a_metre_per_second_stays_on_the_row() {
     let run = run_row(
         &settings_with("", &[]),
         FieldKind::Clean,
+        SteerSource::Camera,
         RowShape::SCurve,
         0.5,
         1,

@@ -5,6 +5,8 @@
 mod bus;
 mod camera_port;
 mod checks;
+mod filter;
+mod gnss;
 mod io;
 mod joystick;
 mod lines;
@@ -17,6 +19,8 @@ use std::path::Path;
 
 pub use bus::{AcceptRequests, BusSettings, parse_endpoints, parse_prefix};
 pub use camera_port::{BAUD_RATES, CameraPort};
+pub use filter::FilterConfig;
+pub use gnss::{GnssPort, GnssSettings, MapSource, SourceSettings, SteerSource};
 pub use joystick::{GamepadDevice, GamepadSettings, JoystickSettings, JoystickSource};
 pub use lines::read_text;
 pub use reader::{ConfigError, Place, Reader};
@@ -44,6 +48,8 @@ const SECTIONS: &[&str] = &[
     "sim",
     "record",
     "bus",
+    "gnss",
+    "filter",
 ];
 
 /// The controller's model of the robot (the simulated plant has its own, in [sim]).
@@ -167,6 +173,10 @@ pub struct Settings {
     pub pid_right: PiSettings,
     pub pid_steer: PdSettings,
     pub steer: SteerSettings,
+    /// Which sensors steer ([steer] source and its fallbacks).
+    pub sources: SourceSettings,
+    /// The row filter ([filter]).
+    pub filter: FilterConfig,
     pub joystick: JoystickSettings,
     /// The gamepad's device, buttons and axes ([joystick] gamepad_*).
     pub gamepad: GamepadSettings,
@@ -184,6 +194,8 @@ pub struct Settings {
     pub record: RecordSettings,
     /// The data flows to and from other programs ([bus]).
     pub bus: BusSettings,
+    /// The RTK GNSS receiver and the row map ([gnss]).
+    pub gnss: GnssSettings,
     /// The text these settings were read from, for the bus's configuration ports.
     pub source: SettingsSource,
 }
@@ -217,6 +229,8 @@ impl Settings {
             pid_right: pi(&mut r, "pid.right"),
             pid_steer: pd(&mut r, "pid.steer"),
             steer: steer(&mut r),
+            sources: gnss::sources(&mut r),
+            filter: filter::load(&mut r),
             joystick: joystick::load(&mut r),
             gamepad: joystick::gamepad(&mut r),
             camera: camera(&mut r),
@@ -228,6 +242,7 @@ impl Settings {
             sim: sim::load(&mut r),
             record: record::load(&mut r),
             bus: bus::load(&mut r),
+            gnss: gnss::load(&mut r),
             source: SettingsSource {
                 label: file.to_string(),
                 text: text.to_string(),
@@ -235,6 +250,7 @@ impl Settings {
             },
         };
         checks::across(&settings, &mut r);
+        gnss::check(&settings, &mut r);
         let errors = r.finish(SECTIONS);
         if errors.is_empty() {
             Ok(settings)

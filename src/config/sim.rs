@@ -1,6 +1,7 @@
 //! The [sim] section: the simulated robot, field and camera computer.
 //! These are the plant's true values; the controller's own model is in [robot].
 
+use mechweed_hw::sim::gnss::SimGnssParams;
 use mechweed_hw::sim::{
     CROSS_TRACK_FROM_M, FieldKind, FieldTierParams, RowShape, SimParams, parse_events,
 };
@@ -57,6 +58,7 @@ pub(super) fn load(r: &mut Reader) -> SimParams {
         camera_drop: r.f64(s, "camera_drop", 0.0, 1.0),
         camera_corrupt: r.f64(s, "camera_corrupt", 0.0, 1.0),
         camera_reboot_s: r.f64(s, "camera_reboot_s", 0.0, 600.0),
+        gnss: gnss(r),
         events: r.parsed(s, "events", parse_events).unwrap_or_default(),
         // Not a setting: the simulated plant's rule, which `run --from-m` changes for one run.
         cross_track_from_m: CROSS_TRACK_FROM_M,
@@ -109,4 +111,21 @@ fn field_tier(r: &mut Reader) -> FieldTierParams {
         }
     }
     t
+}
+
+/// [sim] gnss_*: the simulated receiver, the field's place on the earth and its map.
+fn gnss(r: &mut Reader) -> SimGnssParams {
+    let s = "sim";
+    SimGnssParams {
+        rate_hz: r.f64(s, "gnss_rate_hz", 0.1, 100.0),
+        latency_s: r.f64(s, "gnss_latency_s", 0.0, 1.0),
+        antenna_ahead_m: r.f64(s, "gnss_antenna_ahead_m", -5.0, 5.0),
+        antenna_left_m: r.f64(s, "gnss_antenna_left_m", -5.0, 5.0),
+        origin_lat_deg: r.f64(s, "gnss_origin_lat_deg", -85.0, 85.0),
+        origin_lon_deg: r.f64(s, "gnss_origin_lon_deg", -180.0, 180.0),
+        float_every_m: r.f64(s, "field_gnss_float_every_m", 1.0, 1e7),
+        float_s: r.f64(s, "field_gnss_float_s", 0.1, 1e5),
+        map_error_sd_m: r.f64(s, "gnss_map_error_sd_m", 0.0, 1.0),
+        map_error_length_m: r.f64(s, "gnss_map_error_length_m", 0.01, 1e5),
+    }
 }

@@ -8,13 +8,13 @@
 use mechweed_hw::{EncoderId, Inputs, Side};
 
 use crate::camlink::LinkStatus;
-use crate::config::{CameraSettings, FaultSettings, RtSettings, Settings};
+use crate::config::{CameraSettings, FaultSettings, RtSettings, Settings, SteerSource};
 use crate::fault_cause::{FaultCause, JoystickAxis};
 use crate::health::{ThreadHealth, ThreadName};
 use crate::measure::Measured;
 use crate::modes::Mode;
 use crate::status::PowerState;
-use crate::steer::{EndSwitchState, SteerCommand};
+use crate::steer::{EndSwitchState, SteerCommand, Steering};
 
 /// What the checks look at, gathered by the supervisor each tick.
 pub struct CheckContext<'a> {
@@ -47,6 +47,9 @@ pub struct CheckContext<'a> {
 pub struct FaultChecks {
     s: FaultSettings,
     camera: CameraSettings,
+    source: SteerSource,
+    /// Since when the steer thread has had nothing to steer by (gnss or fused).
+    no_row_since_s: Option<f64>,
     rt: RtSettings,
     power_up_timeout_s: f64,
     period_s: f64,
@@ -90,6 +93,8 @@ impl FaultChecks {
         FaultChecks {
             s: settings.faults.clone(),
             camera: settings.camera,
+            source: settings.sources.source,
+            no_row_since_s: None,
             rt,
             power_up_timeout_s: settings.supervisor.power_up_timeout_s,
             period_s: 1.0 / settings.supervisor.rate_hz,
@@ -256,8 +261,22 @@ impl FaultChecks {
             }
         }
 
-        // Autonomous driving needs the camera: frames, and frames that see the row.
-        if c.mode == Mode::Autonomous {
+        // Autonomous driving by GNSS or the fused row needs one of them: the steer
+        // thread says which steers, and since when each has been lost.
+        let nothing = c.mode == Mode::Autonomous
+            && c.steer.mode == Mode::Autonomous
+            && c.steer.sources.steering == Steering::Nothing;
+        let nothing_s = held_for(&mut self.no_row_since_s, nothing, now);
+        if self.source != SteerSource::Camera && nothing_s > self.camera.link_timeout_s {
+            let lost_s = |t: f64| now - t.max(c.mode_since_s);
+            report(FaultCause::NoRowSource {
+                camera_s: lost_s(c.steer.sources.camera_good_s),
+                gnss_s: lost_s(c.steer.sources.gnss_good_s),
+            });
+        }
+
+        // Autonomous driving by the camera needs it: frames, and frames that see the row.
+        if c.mode == Mode::Autonomous && self.source == SteerSource::Camera {
             let since = |t: f64| now - t.max(c.mode_since_s);
             let silent_s = since(c.link.last_row_s);
             let blind_s = since(c.link.last_usable_s);

@@ -13,6 +13,7 @@
 
 use crate::camlink::LinkStatus;
 use crate::config::{Settings, SteerSettings};
+use crate::gnss::GnssStatus;
 use crate::status::Status;
 use crate::steer::{SteerCommand, SteerCore};
 
@@ -71,7 +72,10 @@ impl SteerReplay {
         } else {
             &self.link_before
         };
-        let again = self.core.tick(t_s, &self.published, link);
+        // Records hold no GNSS fixes yet: the camera's steering is replayed.
+        let again = self
+            .core
+            .tick(t_s, &self.published, link, &GnssStatus::default());
         if !in_window {
             return;
         }

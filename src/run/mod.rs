@@ -19,9 +19,10 @@ use crate::bus::rows::{BusRows, RowCounts};
 use crate::bus::thread::BusWires;
 use crate::camlink::thread::{LinkThread, LinkWires, READ_TIMEOUT};
 use crate::camlink::{LinkCore, LinkStatus, simwire};
-use crate::config::CameraPort;
 use crate::config::{Backend, JoystickSource, Settings};
+use crate::config::{CameraPort, GnssPort};
 use crate::gamepad::{self, PadHw};
+use crate::gnss::GnssStatus;
 use crate::health::{self, PanicFlag, ThreadName};
 use crate::modes::Gains;
 use crate::record::{self, RecordTap, Recorder};
@@ -70,6 +71,9 @@ pub struct Running {
 /// interface (console or GUI) and calls `Running::finish` at the end.
 pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Running), RunError> {
     let s = &opts.settings;
+    if s.gnss.port != GnssPort::None {
+        return Err(RunError::GnssNotInRealTime);
+    }
     let (camera_end, robot_end) = byte_pipe(4096);
     let (hw, truth, sim_control): (Box<dyn Hw>, TruthHandle, Option<SimControl>) = match s.backend {
         Backend::Sim => {
@@ -108,6 +112,9 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
     let (status_w, status_r) = shared(Status::default());
     let (steer_w, steer_r) = shared(SteerCommand::default());
     let (link_w, link_r) = shared(LinkStatus::default());
+    // No GNSS link thread in the real-time run yet (start refuses [gnss] port): the
+    // steer thread reads a receiver that never sends.
+    let (_gnss_w, gnss_r) = shared(GnssStatus::default());
     let (gui_beat_w, gui_beat_r) = shared(f64::NAN);
     let (steer_settings_w, steer_settings_r) = shared(s.steer);
     let (tuning_w, tuning_r) = shared((Gains::from_settings(s), s.steer));
@@ -147,6 +154,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         command: steer_w,
         status: status_r.clone(),
         link: link_r.clone(),
+        gnss: gnss_r,
         figures: steer_figures_w,
         new_settings: new_steer_settings_rx,
         settings: steer_settings_w,

@@ -75,6 +75,10 @@ pub enum RunError {
     Bus(crate::bus::BusError),
     #[error("cannot subscribe to the row estimates on the bus: {0}")]
     BusRows(String),
+    #[error(
+        "[gnss] port: the GNSS receiver steers in the lockstep simulation (mechweed bench rows --sources, the tests) but not yet in a real-time run: set [gnss] port = none and [steer] source = camera"
+    )]
+    GnssNotInRealTime,
 }
 
 /// What a run leaves behind for the report.

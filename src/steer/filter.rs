@@ -14,6 +14,11 @@
 //! - `slip_rad`: the crab angle, direction of travel minus the robot's heading (positive:
 //!   the robot slides left, as on a slope falling to the left). It earns its place: without
 //!   it a crab of 1, 2, 3° raised the offset's RMS error from 2.0 to 6.5, 12.9, 19.3 mm.
+//! - `camera_bias_m`: how far the camera misreads the row's offset now. A camera misreads a
+//!   stretch of row the same way (light, leaves, soil): an error that lasts a few metres,
+//!   modelled as a first-order Gauss-Markov process over distance (s.d. and length in
+//!   `FilterSettings`; s.d. 0 leaves it out). With GNSS beside the camera its short
+//!   lasting error can be told from the map's long one.
 //!
 //! # Predict (ds travelled, dθ turned; products of two small quantities dropped)
 //! Along an arc turned by dθ the rear axle ends ds forward and ds (dθ/2 + slip) to the
@@ -21,7 +26,8 @@
 //! x = ds, seen from a point that moved left and a frame that turned left:
 //!     offset'    = offset + heading ds + curvature ds²/2 - slip ds - dθ ds/2
 //!     heading'   = heading + curvature ds - dθ
-//!     curvature' = curvature,  map_bias' = map_bias,  slip' = slip
+//!     curvature' = curvature,  map_bias' = map_bias,  slip' = slip,
+//!     camera_bias' = exp(-ds/L) camera_bias, gaining sd² (1 - exp(-2|ds|/L)) of variance
 //! that is x' = F(ds) x + u, u = (-dθ ds/2, -dθ, 0, 0, 0). F(ds) = exp(A ds) with A the
 //! nilpotent matrix of the row's shape, so F(-ds) is its exact inverse. The covariance
 //! grows as P' = F P Fᵀ + Q |ds|, Q = diag(sd_per_sqrt_m²) of `FilterSettings`: the row,
@@ -36,7 +42,7 @@
 //! at capture is the present one run backwards by the exact inverse of predict, less the
 //! process noise w that came after it: x_cap = F(-s) (x - u(s, t) - w), so
 //!     z = H' (x - u(s, t)) + v - H' w,   H' = H(x_c) F(-s),
-//!     H(x_c) = [1 x_c x_c²/2 0 0; 0 1 x_c 0 0],
+//!     H(x_c) = [1 x_c x_c²/2 0 0 1; 0 1 x_c 0 0 0] (the camera's bias on its offset),
 //! which works out to the present row at x_c - s plus the turn and the slide:
 //!     offset: offset + (x_c-s) heading + (x_c-s)²/2 curvature + s slip + t (x_c - s/2)
 //!     angle:  heading + (x_c-s) curvature + t.
@@ -58,10 +64,15 @@
 //! # Update, gate and lock-out
 //! y = z - h(x), S = H P Hᵀ + R' + H C + Cᵀ Hᵀ (for GNSS C = 0, R' = R), NIS = yᵀ S⁻¹ y.
 //! If NIS exceeds the chi-square quantile of the gate probability for the measurement's
-//! dimension, the update is rejected: state and covariance are left as they were. Otherwise
+//! dimension, or one number's own y_i²/S_ii exceeds the quantile for one (a weed patch
+//! moves the camera's offset and not its angle), the update is rejected: state and
+//! covariance are left as they were. Otherwise
 //! K = (P Hᵀ + C) S⁻¹, x⁺ = x + K y and, in Joseph's form widened for C (it keeps P
 //! symmetric and positive where P - K S Kᵀ can lose it to rounding),
 //!     P⁺ = (I - K H) P (I - K H)ᵀ + K R' Kᵀ - (I - K H) C Kᵀ - K Cᵀ (I - K H)ᵀ.
+//! A sensor rejected three times in a row is suspect, and its measurements are used
+//! again from the third in a row that passes the gate (the two before are counted as
+//! rejected): a weed patch's frames that happen to fall near the row do not let it in.
 //! After `*_rejections_to_reset` consecutive rejections of one sensor the filter resets the
 //! part that sensor speaks for, widening it to ten times its initial s.d. with no
 //! correlation to the rest, and applies the measurement: the camera's offset and heading
@@ -69,20 +80,23 @@
 //! RTK jump or a map error must not move the row). Resetting rather than only reporting
 //! keeps the truth from being locked out; the counters tell the supervisor it happened.
 //!
-//! Bad input (not finite, a s.d. not above zero or too large to square, a step beyond
-//! what the linear model covers) and an update whose S is not positive definite are refused and counted, the
-//! state unchanged; every result is checked finite before it is kept.
+//! Bad input (not finite, a s.d. not above zero or too large to square, a step beyond the
+//! linear model) and an S not positive definite are refused and counted, the state kept.
 
 use nalgebra::{SMatrix, SVector};
 
+#[path = "filter_measurement.rs"]
+mod measurement;
 #[path = "filter_types.rs"]
 mod types;
+use measurement::Measurement;
 use types::Sensor;
 pub use types::{FilterCounters, FilterSettings, GateProbability, Outcome, RowState, Travel};
 
-const N: usize = 5;
+const N: usize = 6;
 type Vector = SVector<f64, N>;
-/// The state's covariance, in the order offset, heading, curvature, map_bias, slip.
+/// The state's covariance, in the order offset, heading, curvature, map_bias, slip,
+/// camera_bias.
 pub type Covariance = SMatrix<f64, N, N>;
 
 const OFFSET: usize = 0;
@@ -90,11 +104,18 @@ const HEADING: usize = 1;
 const CURVATURE: usize = 2;
 const MAP_BIAS: usize = 3;
 const SLIP: usize = 4;
+const CAMERA_BIAS: usize = 5;
 
 /// Longest step predict and latency compensation take: the parabola and small angles
 /// hold over about a metre; a longer step is a missed call or a wrong input.
 const MAX_STEP_M: f64 = 1.0;
 const MAX_TURN_RAD: f64 = 0.5;
+/// A sensor rejected this many times in a row is suspect: it is trusted again only
+/// after `TRUSTED_AGAIN_AFTER` measurements in a row pass the gate. A weed patch's
+/// frames are 5 to 10 cm off with 1 cm of noise: now and then one comes close enough to
+/// pass, and taken alone it would pull the row towards the weeds and let the next in.
+const SUSPECT_AFTER: u32 = 3;
+const TRUSTED_AGAIN_AFTER: u32 = 3;
 /// A reset widens a part to this many times its initial s.d.: wide enough that the
 /// measurement alone sets it, narrow enough to keep S well conditioned.
 const RESET_WIDEN: f64 = 10.0;
@@ -109,21 +130,27 @@ pub struct RowFilter {
     /// Per `Sensor`: the last NIS, and how many rejections in a row.
     last_nis: [Option<f64>; 2],
     streak: [u32; 2],
+    /// Per `Sensor`: while suspect, how many measurements in a row passed the gate.
+    agreed: [u32; 2],
 }
 
-/// F(ds) of the module doc.
-fn transition(ds: f64) -> Covariance {
+/// F(ds) of the module doc; the camera's bias keeps exp(-ds/L) of itself over ds
+/// (signed, so that F(-ds) stays F(ds)'s exact inverse for the capture pose).
+fn transition(ds: f64, camera_bias_length_m: f64) -> Covariance {
     let mut f = Covariance::identity();
     f[(OFFSET, HEADING)] = ds;
     f[(OFFSET, CURVATURE)] = ds * ds / 2.0;
     f[(OFFSET, SLIP)] = -ds;
     f[(HEADING, CURVATURE)] = ds;
+    if camera_bias_length_m.is_finite() && camera_bias_length_m > 0.0 {
+        f[(CAMERA_BIAS, CAMERA_BIAS)] = (-ds / camera_bias_length_m).exp();
+    }
     f
 }
 
 /// The mean's part of predict: F(ds) x + u.
-fn moved(x: &Vector, ds: f64, turned: f64) -> Vector {
-    let mut next = transition(ds) * x;
+fn moved(x: &Vector, ds: f64, turned: f64, camera_bias_length_m: f64) -> Vector {
+    let mut next = transition(ds, camera_bias_length_m) * x;
     next[OFFSET] -= turned * ds / 2.0;
     next[HEADING] -= turned;
     next
@@ -157,6 +184,7 @@ impl RowFilter {
             counters: FilterCounters::default(),
             last_nis: [None; 2],
             streak: [0; 2],
+            agreed: [0; 2],
         };
         filter.reset(RowState::default(), settings.initial_sd);
         filter
@@ -172,6 +200,7 @@ impl RowFilter {
         self.x = x;
         self.p = Covariance::from_diagonal(&sd.component_mul(&sd));
         self.streak = [0; 2];
+        self.agreed = [0; 2];
         Outcome::Used
     }
 
@@ -182,8 +211,9 @@ impl RowFilter {
             return self.refuse(false);
         }
         let q = self.process_noise(travelled_m);
-        let f = transition(travelled_m);
-        let x = moved(&self.x, travelled_m, turned_rad);
+        let length_m = self.settings.camera_bias_length_m;
+        let f = transition(travelled_m, length_m);
+        let x = moved(&self.x, travelled_m, turned_rad, length_m);
         let p = symmetric(&(f * self.p * f.transpose() + q));
         if !all_finite(&x) || !all_finite(&p) {
             return self.refuse(false);
@@ -193,7 +223,8 @@ impl RowFilter {
         Outcome::Used
     }
 
-    /// Q |ds| of the module doc.
+    /// Q |ds| of the module doc; the camera's bias gains what it forgets over |ds|,
+    /// sd² (1 - exp(-2|ds|/L)), so that its s.d. stays sd.
     fn process_noise(&self, travelled_m: f64) -> Covariance {
         let s = &self.settings;
         let per_m = Vector::new(
@@ -202,8 +233,15 @@ impl RowFilter {
             s.curvature_sd_per_sqrt_m,
             s.map_bias_sd_per_sqrt_m,
             s.slip_sd_per_sqrt_m,
+            0.0,
         );
-        Covariance::from_diagonal(&(per_m.component_mul(&per_m) * travelled_m.abs()))
+        let mut q = per_m.component_mul(&per_m) * travelled_m.abs();
+        let length_m = s.camera_bias_length_m;
+        if length_m.is_finite() && length_m > 0.0 {
+            let kept = (-2.0 * travelled_m.abs() / length_m).exp();
+            q[CAMERA_BIAS] = s.camera_bias_sd_m.powi(2) * (1.0 - kept);
+        }
+        Covariance::from_diagonal(&q)
     }
 
     /// The camera's row offset and angle at `camera_x_m`, as seen from the pose at capture;
@@ -228,10 +266,15 @@ impl RowFilter {
             return self.refuse(false);
         }
         let (x_c, half_sq) = (camera_x_m, camera_x_m * camera_x_m / 2.0);
-        let h_rows = [1.0, x_c, half_sq, 0.0, 0.0, 0.0, 1.0, x_c, 0.0, 0.0];
+        // The camera sees the row at x_c and its own lasting error on the offset.
+        let h_rows = [
+            1.0, x_c, half_sq, 0.0, 0.0, 1.0, //
+            0.0, 1.0, x_c, 0.0, 0.0, 0.0,
+        ];
         let h_capture = SMatrix::<f64, 2, N>::from_row_slice(&h_rows);
-        let h = h_capture * transition(-since_m);
-        let predicted = h_capture * moved(&self.x, -since_m, -since_rad);
+        let length_m = self.settings.camera_bias_length_m;
+        let h = h_capture * transition(-since_m, length_m);
+        let predicted = h_capture * moved(&self.x, -since_m, -since_rad, length_m);
         let z = SVector::<f64, 2>::new(offset_m, angle_rad);
         let variances = SVector::<f64, 2>::new(sd_offset_m.powi(2), sd_angle_rad.powi(2));
         let r = SMatrix::<f64, 2, 2>::from_diagonal(&variances);
@@ -271,14 +314,23 @@ impl RowFilter {
     }
 
     fn update<const M: usize>(&mut self, sensor: Sensor, m: Measurement<M>) -> Outcome {
-        let Some((nis, _)) = m.innovation(&self.p) else {
+        let (Some((nis, _)), Some(single)) = (m.innovation(&self.p), m.worst_single_nis(&self.p))
+        else {
             return self.refuse(true);
         };
         let (i, mut p) = (sensor as usize, self.p);
         self.last_nis[i] = Some(nis);
-        let outcome = if nis <= self.settings.gate.threshold(M) {
+        let gate = &self.settings.gate;
+        let outcome = if nis <= gate.threshold(M) && single <= gate.threshold(1) {
+            if self.streak[i] >= SUSPECT_AFTER {
+                self.agreed[i] += 1;
+                if self.agreed[i] < TRUSTED_AGAIN_AFTER {
+                    return self.counters.count(sensor, Outcome::Rejected);
+                }
+            }
             Outcome::Used
         } else {
+            self.agreed[i] = 0;
             self.streak[i] = self.streak[i].saturating_add(1);
             let limit = match sensor {
                 Sensor::Camera => self.settings.camera_rejections_to_reset,
@@ -296,6 +348,7 @@ impl RowFilter {
             Outcome::Reset
         };
         self.streak[i] = 0;
+        self.agreed[i] = 0;
         let Some((x, p)) = m.corrected(&self.x, &p) else {
             return self.refuse(true);
         };
@@ -339,53 +392,6 @@ impl RowFilter {
 
     pub fn settings(&self) -> &FilterSettings {
         &self.settings
-    }
-}
-
-/// One linear measurement: innovation y, model H, noise R, and Q_s, the process noise
-/// since it was taken (zero for one taken now).
-struct Measurement<const M: usize> {
-    y: SVector<f64, M>,
-    h: SMatrix<f64, M, N>,
-    r: SMatrix<f64, M, M>,
-    q_since: Covariance,
-}
-
-impl<const M: usize> Measurement<M> {
-    /// Its error relative to the present state, v - H w, has the variance R + H Q_s Hᵀ
-    /// and the covariance C = -Q_s Hᵀ with the state's error.
-    fn noise(&self) -> (SMatrix<f64, M, M>, SMatrix<f64, N, M>) {
-        let q_ht = self.q_since * self.h.transpose();
-        (self.r + self.h * q_ht, -q_ht)
-    }
-
-    /// (NIS, S⁻¹) with S = H P Hᵀ + R' + H C + Cᵀ Hᵀ, or None when S is not positive
-    /// definite or anything is not finite.
-    fn innovation(&self, p: &Covariance) -> Option<(f64, SMatrix<f64, M, M>)> {
-        let (r, c) = self.noise();
-        let h_c = self.h * c;
-        let s = self.h * p * self.h.transpose() + r + h_c + h_c.transpose();
-        if !all_finite(&s) || !all_finite(&self.y) {
-            return None;
-        }
-        let s_inv = s.cholesky()?.inverse();
-        let nis = (self.y.transpose() * s_inv * self.y)[0].max(0.0);
-        nis.is_finite().then_some((nis, s_inv))
-    }
-
-    /// K = (P Hᵀ + C) S⁻¹ and Joseph's form widened for C, or None when anything is not
-    /// finite or a variance came out negative.
-    fn corrected(&self, x: &Vector, p: &Covariance) -> Option<(Vector, Covariance)> {
-        let (_, s_inv) = self.innovation(p)?;
-        let (r, c) = self.noise();
-        let k = (p * self.h.transpose() + c) * s_inv;
-        let i_kh = Covariance::identity() - k * self.h;
-        let cross = i_kh * c * k.transpose();
-        let joseph = i_kh * p * i_kh.transpose() + k * r * k.transpose();
-        let p = symmetric(&(joseph - cross - cross.transpose()));
-        let x = x + k * self.y;
-        let variances_ok = p.diagonal().iter().all(|&v| v >= 0.0);
-        (all_finite(&x) && all_finite(&p) && variances_ok).then_some((x, p))
     }
 }
 

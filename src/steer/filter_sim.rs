@@ -65,6 +65,8 @@ impl Sim {
             curvature_per_m: t.curvature_per_m + self.gauss(n.curvature_sd_per_sqrt_m * root),
             map_bias_m: t.map_bias_m + self.gauss(n.map_bias_sd_per_sqrt_m * root),
             slip_rad: t.slip_rad + self.gauss(n.slip_sd_per_sqrt_m * root),
+            // The model simulated here has a camera with independent errors.
+            camera_bias_m: 0.0,
         };
         assert_eq!(f.predict(ds, turned_rad), Outcome::Used);
     }

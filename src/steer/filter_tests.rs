@@ -13,6 +13,7 @@ fn row(offset_m: f64, heading_rad: f64, curvature_per_m: f64, map_bias_m: f64) -
         curvature_per_m,
         map_bias_m,
         slip_rad,
+        camera_bias_m: 0.0,
     }
 }
 
@@ -131,6 +132,7 @@ fn consistent_on_its_own_model() {
         curvature_per_m: sim.gauss(sd.curvature_per_m),
         map_bias_m: sim.gauss(sd.map_bias_m),
         slip_rad: sim.gauss(sd.slip_rad),
+        camera_bias_m: 0.0,
     };
     let mut f = RowFilter::new(settings);
     let (mut camera, mut gnss, mut inside, steps) = (vec![], vec![], 0, 30_000);

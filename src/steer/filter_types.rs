@@ -1,6 +1,6 @@
 //! The row filter's settings, its state as named quantities, and what it reports.
 
-use super::{CURVATURE, HEADING, MAP_BIAS, OFFSET, SLIP, Vector};
+use super::{CAMERA_BIAS, CURVATURE, HEADING, MAP_BIAS, OFFSET, SLIP, Vector};
 
 /// Probability that a good measurement passes the gate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -35,6 +35,8 @@ pub struct RowState {
     pub curvature_per_m: f64,
     pub map_bias_m: f64,
     pub slip_rad: f64,
+    /// How far the camera misreads the row's offset now (its error that lasts).
+    pub camera_bias_m: f64,
 }
 
 impl RowState {
@@ -45,6 +47,7 @@ impl RowState {
             self.curvature_per_m,
             self.map_bias_m,
             self.slip_rad,
+            self.camera_bias_m,
         )
     }
 
@@ -55,6 +58,7 @@ impl RowState {
             curvature_per_m: v[CURVATURE],
             map_bias_m: v[MAP_BIAS],
             slip_rad: v[SLIP],
+            camera_bias_m: v[CAMERA_BIAS],
         }
     }
 }
@@ -78,6 +82,11 @@ pub struct FilterSettings {
     pub map_bias_sd_per_sqrt_m: f64,
     /// Change of the crab angle as the slope changes, rad per √m.
     pub slip_sd_per_sqrt_m: f64,
+    /// The camera's error that lasts (it misreads a stretch of row the same way): its
+    /// s.d., m (0: the camera's errors are independent from frame to frame) ...
+    pub camera_bias_sd_m: f64,
+    /// ... and the distance over which it forgets itself, m.
+    pub camera_bias_length_m: f64,
     /// S.d. at start, and the scale of a reset's widening.
     pub initial_sd: RowState,
     pub gate: GateProbability,
@@ -95,12 +104,17 @@ impl Default for FilterSettings {
             curvature_sd_per_sqrt_m: 0.01,
             map_bias_sd_per_sqrt_m: 0.002,
             slip_sd_per_sqrt_m: 0.003,
+            // Off unless the camera is known to misread stretches (the steer thread
+            // sets it for the fused row).
+            camera_bias_sd_m: 0.0,
+            camera_bias_length_m: 3.0,
             initial_sd: RowState {
                 offset_m: 0.05,
                 heading_rad: 0.05,
                 curvature_per_m: 0.02,
                 map_bias_m: 0.03,
                 slip_rad: 0.03,
+                camera_bias_m: 0.0,
             },
             gate: GateProbability::P0_999,
             camera_rejections_to_reset: 10,
@@ -119,6 +133,13 @@ pub enum Outcome {
     Reset,
     /// Bad input or a singular S; state unchanged.
     Refused,
+}
+
+impl Outcome {
+    /// The measurement moved the estimate (used, or used after a reset).
+    pub fn used(self) -> bool {
+        matches!(self, Outcome::Used | Outcome::Reset)
+    }
 }
 
 /// Counts since construction. `*_rejected` counts every gate failure, `*_resets` those
@@ -173,7 +194,7 @@ impl Sensor {
     /// The part of the state a run of this sensor's rejections resets.
     pub(super) fn part(self) -> &'static [usize] {
         match self {
-            Sensor::Camera => &[OFFSET, HEADING],
+            Sensor::Camera => &[OFFSET, HEADING, CAMERA_BIAS],
             Sensor::Gnss => &[MAP_BIAS],
         }
     }

@@ -84,6 +84,19 @@ impl RowFollower {
         now_s: f64,
         motion: &Motion,
     ) -> LawOutput {
+        let age_s = self.s.latency_s + (now_s - arrived_s).max(0.0);
+        self.update_aged(estimate, age_s, now_s, motion)
+    }
+
+    /// The wheel angle for `estimate` of an image taken `age_s` ago, at time `now_s`
+    /// (the row filter's estimate is of the row now: age 0).
+    pub fn update_aged(
+        &mut self,
+        estimate: &RowEstimate,
+        age_s: f64,
+        now_s: f64,
+        motion: &Motion,
+    ) -> LawOutput {
         let dt_s = self.last_t_s.map_or(0.0, |t| (now_s - t).max(0.0));
         self.last_t_s = Some(now_s);
         let travelled_m = motion.speed_mps.abs() * dt_s;
@@ -94,7 +107,6 @@ impl RowFollower {
         self.row_curvature_per_m += (robot_curvature - self.row_curvature_per_m) * blend;
 
         // 1. Move the row line seen in the image into the robot's frame now.
-        let age_s = self.s.latency_s + (now_s - arrived_s).max(0.0);
         let moved_m = motion.speed_mps * age_s;
         let turned_rad = motion.yaw_rate_rps * age_s;
         let (robot_x, robot_y) = (

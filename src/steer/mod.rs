@@ -7,16 +7,21 @@ pub mod endswitch;
 pub mod filter;
 pub mod joystick;
 pub mod law;
+pub mod sources;
 
 use mechweed_hw::Side;
 
 use crate::camlink::LinkStatus;
 use crate::config::{Settings, SteerSettings};
+use crate::gnss::GnssStatus;
+use crate::gnss::place::RowPlace;
 use crate::modes::Mode;
 use crate::status::Status;
 use endswitch::EndSwitchProcedure;
 pub use endswitch::EndSwitchState;
 use law::{LawOutput, Motion, RowFollower};
+use sources::RowSources;
+pub use sources::{SourceHealth, Steering};
 
 /// What the steer thread asks of the supervisor, published after every tick.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -35,20 +40,30 @@ pub struct SteerCommand {
     pub endswitch_last_side: Option<Side>,
     /// The steering law's workings, for plots (zero outside autonomous mode).
     pub law: LawOutput,
+    /// Which sensors steer (autonomous mode), and since when each has been lost.
+    pub sources: SourceHealth,
 }
 
 pub struct SteerCore {
     settings: Settings,
     law: RowFollower,
+    rows: RowSources,
     endswitch: EndSwitchProcedure,
     last_mode: Mode,
 }
 
 impl SteerCore {
+    /// Without a row map: the camera steers ([steer] source = camera).
     pub fn new(settings: &Settings) -> SteerCore {
+        SteerCore::with_map(settings, None)
+    }
+
+    /// With the row map seen from the robot, for GNSS ([steer] source = gnss or fused).
+    pub fn with_map(settings: &Settings, place: Option<RowPlace>) -> SteerCore {
         SteerCore {
             settings: settings.clone(),
             law: RowFollower::new(&settings.steer, &settings.robot),
+            rows: RowSources::new(settings, place),
             endswitch: EndSwitchProcedure::default(),
             last_mode: Mode::Halt,
         }
@@ -72,12 +87,25 @@ impl SteerCore {
         self.settings.steer
     }
 
-    /// One steer tick at `now_s`, from the supervisor's and the camera link's latest state.
-    pub fn tick(&mut self, now_s: f64, sup: &Status, link: &LinkStatus) -> SteerCommand {
+    /// The row filter and which sensors steer.
+    pub fn rows(&self) -> &RowSources {
+        &self.rows
+    }
+
+    /// One steer tick at `now_s`, from the supervisor's, the camera link's and the GNSS
+    /// link's latest state.
+    pub fn tick(
+        &mut self,
+        now_s: f64,
+        sup: &Status,
+        link: &LinkStatus,
+        gnss: &GnssStatus,
+    ) -> SteerCommand {
         let mode = sup.mode;
         if mode != self.last_mode {
             if mode == Mode::Autonomous {
                 self.law.reset();
+                self.rows.reset(now_s);
             }
             if !mode.drives() {
                 self.endswitch.cancel();
@@ -107,20 +135,27 @@ impl SteerCore {
             (None, Mode::Joystick) => {
                 joystick::command(&sup.inputs, &self.settings.joystick, m.wheel_angle_rad)
             }
-            (None, Mode::Autonomous) => match self.usable_estimate(now_s, link) {
-                Some((estimate, arrived_s)) => {
-                    let motion = Motion {
-                        speed_mps: m.speed_mps,
-                        yaw_rate_rps: m.yaw_rate_rps,
-                        wheel_angle_rad: m.wheel_angle_rad,
-                    };
-                    law_output = self.law.update(&estimate, arrived_s, now_s, &motion);
-                    (self.settings.steer.speed_mps, law_output.wheel_angle_rad)
+            (None, Mode::Autonomous) => {
+                match self
+                    .rows
+                    .tick(now_s, m, link, gnss, self.settings.steer.speed_mps)
+                {
+                    Some(row) => {
+                        let motion = Motion {
+                            speed_mps: m.speed_mps,
+                            yaw_rate_rps: m.yaw_rate_rps,
+                            wheel_angle_rad: m.wheel_angle_rad,
+                        };
+                        law_output = self
+                            .law
+                            .update_aged(&row.estimate, row.age_s, now_s, &motion);
+                        (row.speed_mps, law_output.wheel_angle_rad)
+                    }
+                    // No fresh estimate yet (or any more): do not drive blind. The
+                    // supervisor faults if this lasts beyond the camera's link time-out.
+                    None => (0.0, m.wheel_angle_rad),
                 }
-                // No fresh estimate yet (or any more): do not drive blind. The
-                // supervisor faults if this lasts beyond the camera's link time-out.
-                None => (0.0, m.wheel_angle_rad),
-            },
+            }
             (None, _) => (0.0, m.wheel_angle_rad),
         };
         SteerCommand {
@@ -133,15 +168,7 @@ impl SteerCore {
             endswitch_done_count: self.endswitch.done_count,
             endswitch_last_side: self.endswitch.last_side,
             law: law_output,
+            sources: self.rows.health(),
         }
-    }
-
-    fn usable_estimate(
-        &self,
-        now_s: f64,
-        link: &LinkStatus,
-    ) -> Option<(mechweed_hw::camproto::RowEstimate, f64)> {
-        let fresh = now_s - link.last_usable_s < self.settings.camera.link_timeout_s;
-        fresh.then_some((link.last_usable, link.last_usable_s))
     }
 }

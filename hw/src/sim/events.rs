@@ -7,7 +7,12 @@
 
 use std::fmt;
 
+use super::gnss_model::GnssState;
 use crate::{EncoderId, Side};
+
+#[path = "events_help.rs"]
+mod help;
+pub use help::{ActionHelp, action_list};
 
 /// One action at one time (seconds since the start of the run).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -64,6 +69,9 @@ pub enum EventAction {
     Joystick { steer_v: f64, speed_v: f64 },
     /// The operator holds (true) or lets go of (false) the joystick's dead-man button.
     Deadman(bool),
+    /// The GNSS receiver's solution becomes this: RTK fixed, RTK float, DGPS or none
+    /// (it stays so until the next GNSS event).
+    Gnss(GnssState),
 }
 
 impl EventAction {
@@ -71,90 +79,6 @@ impl EventAction {
     pub fn is_operator(&self) -> bool {
         matches!(self, EventAction::PowerUp | EventAction::Mode(_))
     }
-}
-
-impl EventAction {
-    /// What the action does, in a few words (for `mechweed run --list-events`).
-    pub fn describe(&self) -> &'static str {
-        match self {
-            EventAction::EstopFront => "press the front emergency stop (it stays pressed)",
-            EventAction::EstopBack => "press the back emergency stop (it stays pressed)",
-            EventAction::EstopRelease => "release both emergency stops (power stays off)",
-            EventAction::PowerUp => "operator: power the robot up",
-            EventAction::Mode(_) => "operator: ask for a mode",
-            EventAction::PowerLoss => "main power lost: contactor opens, battery reads 0 V",
-            EventAction::PowerRestore => "main power back",
-            EventAction::EncoderStuck(_) => "that encoder stops counting; the wheel still moves",
-            EventAction::LinkSilent(_) => "the camera link is silent this many seconds",
-            EventAction::CameraReboot => "the camera computer reboots, then waits for START",
-            EventAction::EndSwitch(_) => "a stone kicks the steered wheel past that end switch",
-            EventAction::Battery(_) => "the battery reads this many volts from now on",
-            EventAction::PotBroken => "the potentiometer's wire breaks: it reads 0 V",
-            EventAction::ContactorWelded => "the motor contactor welds shut",
-            EventAction::SteerSlip(_) => {
-                "the steering encoder's coupling slips this many degrees (+ = reads further left)"
-            }
-            EventAction::Joystick { .. } => {
-                "the joystick's axes move to these volts and stay (steer + = right, speed + = forward)"
-            }
-            EventAction::Deadman(_) => {
-                "the joystick's dead-man button is held (on) or let go (off)"
-            }
-        }
-    }
-}
-
-/// One action as `mechweed run --list-events` shows it.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ActionHelp {
-    pub name: &'static str,
-    /// What the argument must be (None: the action takes none).
-    pub argument: Option<String>,
-    /// A whole item, e.g. "4 link_silent 2".
-    pub example: String,
-    pub what: &'static str,
-}
-
-/// An argument that `parse_action` accepts, for the examples.
-fn example_argument(name: &str) -> Option<&'static str> {
-    match name {
-        "mode" => Some("autonomous"),
-        "encoder_stuck" | "endswitch" => Some("left"),
-        "link_silent" => Some("2"),
-        "battery" => Some("21.5"),
-        "steer_slip" => Some("-3"),
-        "joystick" => Some("0 2"),
-        "deadman" => Some("on"),
-        _ => None,
-    }
-}
-
-/// Every action with its argument and an example, read from the parser itself so that
-/// the list cannot drift from what [sim] events accepts.
-pub fn action_list() -> Vec<ActionHelp> {
-    ACTIONS
-        .iter()
-        .enumerate()
-        .map(|(k, &name)| {
-            let arg = example_argument(name);
-            let action = parse_action(name, arg).expect("every example parses");
-            let argument = takes_argument(name).then(|| {
-                let missing = parse_action(name, None).expect_err("its argument is required");
-                missing.trim_start_matches("missing argument: ").to_string()
-            });
-            // Spread the examples' times out, as a script would.
-            let example = match arg {
-                Some(arg) => format!("{} {name} {arg}", 2 * k + 2),
-                None => format!("{} {name}", 2 * k + 2),
-            };
-            ActionHelp {
-                name,
-                argument,
-                example,
-                what: action.describe(),
-            }
-        })
-        .collect()
 }
 
 /// Every action's name, in the order the error message lists them.
@@ -176,6 +100,10 @@ const ACTIONS: &[&str] = &[
     "steer_slip",
     "joystick",
     "deadman",
+    "gnss_fixed",
+    "gnss_float",
+    "gnss_dgps",
+    "gnss_lost",
 ];
 
 impl fmt::Display for EventAction {
@@ -199,6 +127,7 @@ impl fmt::Display for EventAction {
             EventAction::SteerSlip(deg) => write!(f, "steer_slip {deg}"),
             EventAction::Joystick { steer_v, speed_v } => write!(f, "joystick {steer_v} {speed_v}"),
             EventAction::Deadman(held) => write!(f, "deadman {}", if *held { "on" } else { "off" }),
+            EventAction::Gnss(state) => write!(f, "{}", gnss_name(*state)),
         }
     }
 }
@@ -206,6 +135,15 @@ impl fmt::Display for EventAction {
 impl fmt::Display for SimEvent {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{} {}", self.t_s, self.action)
+    }
+}
+
+fn gnss_name(state: GnssState) -> &'static str {
+    match state {
+        GnssState::Fixed => "gnss_fixed",
+        GnssState::Float => "gnss_float",
+        GnssState::Dgps => "gnss_dgps",
+        GnssState::Lost => "gnss_lost",
     }
 }
 
@@ -297,6 +235,10 @@ fn parse_action(name: &str, arg: Option<&str>) -> Result<EventAction, String> {
         "camera_reboot" => EventAction::CameraReboot,
         "pot_broken" => EventAction::PotBroken,
         "contactor_welded" => EventAction::ContactorWelded,
+        "gnss_fixed" => EventAction::Gnss(GnssState::Fixed),
+        "gnss_float" => EventAction::Gnss(GnssState::Float),
+        "gnss_dgps" => EventAction::Gnss(GnssState::Dgps),
+        "gnss_lost" => EventAction::Gnss(GnssState::Lost),
         "mode" => EventAction::Mode(
             match choice(arg, &["halt", "joystick", "autonomous", "test"])? {
                 "halt" => OperatorMode::Halt,

@@ -14,8 +14,10 @@ pub mod camera;
 pub mod crosstrack;
 pub mod events;
 pub mod field;
+pub mod field_map;
 pub mod field_tier;
 pub mod gauss_markov;
+pub mod gnss;
 pub mod gnss_model;
 pub mod params;
 pub mod pipe;
@@ -47,6 +49,7 @@ const SEED_CAMERA_TIMING: u64 = 4;
 const SEED_CAMERA_CORRUPT: u64 = 5;
 const SEED_FIELD: u64 = 6;
 const SEED_CAMERA_BIAS: u64 = 7;
+const SEED_MAP: u64 = 8;
 
 /// Ground truth for tests, reports and the GUI.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

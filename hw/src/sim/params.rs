@@ -5,6 +5,7 @@
 //! simulation panic or loop for ever.
 
 use super::events::SimEvent;
+use super::gnss::SimGnssParams;
 
 /// The shape of the crop row's centre line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -175,6 +176,8 @@ pub struct SimParams {
     pub camera_corrupt: f64,
     /// Silent this long after a reboot, then waits for START.
     pub camera_reboot_s: f64,
+    /// The GNSS receiver on the robot, and the field's place and map.
+    pub gnss: SimGnssParams,
     /// Scheduled plant and operator events.
     pub events: Vec<SimEvent>,
     /// The tool's cross-track figures leave out the travel before this distance, m
@@ -227,6 +230,7 @@ impl Default for SimParams {
             camera_drop: 0.02,
             camera_corrupt: 0.0,
             camera_reboot_s: 2.0,
+            gnss: SimGnssParams::default(),
             events: Vec::new(),
             cross_track_from_m: CROSS_TRACK_FROM_M,
         }
@@ -310,6 +314,7 @@ impl SimParams {
             camera_corrupt: non_negative_or(self.camera_corrupt, 0.0).min(1.0),
             camera_reboot_s: non_negative_or(self.camera_reboot_s, d.camera_reboot_s),
             cross_track_from_m: non_negative_or(self.cross_track_from_m, d.cross_track_from_m),
+            gnss: self.gnss.sanitized(),
             events: self
                 .events
                 .iter()

@@ -17,6 +17,7 @@ use super::drive::DriveWheel;
 use super::events::{EventAction, SimEvent};
 use super::field::Field;
 use super::field_tier::FieldTier;
+use super::gnss::SimReceiver;
 use super::params::SimParams;
 use super::pipe::PipeEnd;
 use super::steering::Steering;
@@ -42,6 +43,8 @@ pub struct SimRobot {
     /// What a real field adds; nothing in the clean field.
     tier: FieldTier,
     camera: CameraComputer,
+    /// The GNSS receiver, once a pipe is attached for it.
+    gnss: Option<SimReceiver>,
     left: DriveWheel,
     right: DriveWheel,
     steering: Steering,
@@ -87,6 +90,7 @@ impl SimRobot {
         events.sort_by(|a, b| a.t_s.total_cmp(&b.t_s));
         let mut robot = SimRobot {
             camera: CameraComputer::new(&p, camera),
+            gnss: None,
             left: wheel(gain(0.5)),
             right: wheel(gain(-0.5)),
             steering: Steering::new(
@@ -123,6 +127,11 @@ impl SimRobot {
         robot.tool.measure(&robot.field, &robot.pose, 0.0);
         robot.apply_due_events();
         robot
+    }
+
+    /// Carry a GNSS receiver that writes its NMEA lines into `pipe` (its end).
+    pub fn attach_gnss(&mut self, pipe: PipeEnd) {
+        self.gnss = Some(SimReceiver::new(&self.p, pipe));
     }
 
     /// Integrate up to `t_s` in whole steps; does nothing if `t_s` is not later than now.
@@ -177,6 +186,10 @@ impl SimRobot {
             &self.tier,
             self.distance_m,
         );
+        let now_s = self.time_s();
+        if let Some(gnss) = &mut self.gnss {
+            gnss.tick(now_s, &self.pose, v_mps, self.distance_m);
+        }
         self.apply_due_events();
     }
 
@@ -252,6 +265,11 @@ impl SimRobot {
                 }
             }
             EventAction::Deadman(held) => self.joystick.enable = held,
+            EventAction::Gnss(state) => {
+                if let Some(gnss) = &mut self.gnss {
+                    gnss.set_state(state, now_s);
+                }
+            }
             EventAction::SteerSlip(deg) => {
                 // `as` saturates, so no slip can make this panic.
                 self.steer_slip_counts += (deg * self.p.steer_counts_per_deg).round() as i64
@@ -340,6 +358,16 @@ impl SimRobot {
 
     pub fn field(&self) -> &Field {
         &self.field
+    }
+
+    /// The field's own row map, as its planting machine recorded it (field_map.rs).
+    pub fn planted_map(&self) -> Vec<crate::geo::Geodetic> {
+        super::field_map::planted_map(&self.field, &self.p)
+    }
+
+    /// The simulated GNSS receiver, if one is attached.
+    pub fn gnss(&self) -> Option<&SimReceiver> {
+        self.gnss.as_ref()
     }
 
     /// The simulated camera computer (its state and counters).

@@ -1,0 +1,364 @@
+//! Which sensors steer in autonomous mode, and the row filter that fuses them.
+//!
+//! [steer] source = camera: the camera's estimate goes to the steering law as it always
+//! did (the law moves it through the camera's latency). gnss or fused: the row filter
+//! (filter.rs) runs at every steer tick, predicted by the robot's odometry, updated by
+//! each new camera estimate at the pose where its image was taken and by each new
+//! trusted GNSS fix against the row map; the law steers by the filter's row now.
+//!
+//! Fused falls back as a controller manager's fallback controllers do:
+//! - no trusted fix for `gnss_fallback_s`: the filter goes on with the camera alone;
+//! - the camera sees no usable row for `camera_fallback_s`: the filter goes on with GNSS
+//!   alone, and the robot slows to `gnss_only_speed_mps`;
+//! - neither: nothing steers, the robot stops, and the supervisor faults with both
+//!   causes named once that lasts the camera's link time-out.
+//!
+//! The same file decides for source = gnss: GNSS alone, or nothing.
+
+use mechweed_hw::camproto::RowEstimate;
+use mechweed_hw::nmea::FixQuality;
+
+use super::filter::{FilterSettings, GateProbability, RowFilter, RowState, Travel};
+use crate::camlink::LinkStatus;
+use crate::config::{FilterConfig, GnssSettings, Settings, SourceSettings, SteerSource};
+use crate::gnss::GnssStatus;
+use crate::gnss::place::RowPlace;
+use crate::measure::Measured;
+
+/// Which sensors steer now.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Steering {
+    /// The camera's estimate, straight to the law ([steer] source = camera).
+    #[default]
+    Camera,
+    /// The row filter, fed by the camera and GNSS.
+    Fused,
+    /// The row filter, fed by the camera alone (GNSS lost).
+    FilterCamera,
+    /// The row filter, fed by GNSS alone (the camera lost), at reduced speed.
+    FilterGnss,
+    /// Nothing usable: the robot stops.
+    Nothing,
+}
+
+impl Steering {
+    /// In words, for the GUI, the console and the record.
+    pub fn words(self) -> &'static str {
+        match self {
+            Steering::Camera => "the camera",
+            Steering::Fused => "camera and GNSS, fused",
+            Steering::FilterCamera => "the camera alone (GNSS lost)",
+            Steering::FilterGnss => "GNSS alone (the camera lost)",
+            Steering::Nothing => "nothing: neither the camera nor GNSS",
+        }
+    }
+}
+
+/// Which sensors steer and how long each has been without a good measurement, for the
+/// supervisor's fault check and the GUI (in the steer command).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SourceHealth {
+    pub steering: Steering,
+    /// When the camera's link last had a usable row, and GNSS a trusted fix, s.
+    pub camera_good_s: f64,
+    pub gnss_good_s: f64,
+}
+
+/// The row to steer by, for the law.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RowChoice {
+    pub estimate: RowEstimate,
+    /// How old the estimate's image is, s (0 for the filter's row now).
+    pub age_s: f64,
+    pub speed_mps: f64,
+}
+
+/// How far back the odometry is kept, to place a camera image: ticks.
+const HISTORY: usize = 64;
+
+/// Odometry at one steer tick: time, distance driven, heading turned.
+#[derive(Debug, Clone, Copy, Default)]
+struct Odometry {
+    t_s: f64,
+    distance_m: f64,
+    heading_rad: f64,
+}
+
+pub struct RowSources {
+    s: SourceSettings,
+    gnss: GnssSettings,
+    latency_s: f64,
+    link_timeout_s: f64,
+    camera_x_m: f64,
+    filter: RowFilter,
+    camera_sd_offset_m: f64,
+    camera_sd_angle_rad: f64,
+    fuse_min_quality: u8,
+    place: Option<RowPlace>,
+    history: [Odometry; HISTORY],
+    newest: usize,
+    filled: usize,
+    used_camera_s: f64,
+    used_fix_s: f64,
+    /// The last time each sensor was good, s.
+    camera_good_s: f64,
+    gnss_good_s: f64,
+    steering: Steering,
+}
+
+impl RowSources {
+    /// `place` is the row map seen from the robot (None without a receiver or map).
+    pub fn new(settings: &Settings, place: Option<RowPlace>) -> RowSources {
+        RowSources {
+            s: settings.sources,
+            gnss: settings.gnss.clone(),
+            latency_s: settings.steer.latency_s,
+            link_timeout_s: settings.camera.link_timeout_s,
+            camera_x_m: settings.robot.camera_lookahead_m,
+            filter: RowFilter::new(filter_settings(&settings.filter, settings.sources.source)),
+            camera_sd_offset_m: settings.filter.camera_sd_offset_m,
+            camera_sd_angle_rad: settings.filter.camera_sd_angle_rad,
+            fuse_min_quality: settings.filter.fuse_min_quality,
+            place,
+            history: [Odometry::default(); HISTORY],
+            newest: 0,
+            filled: 0,
+            used_camera_s: f64::NEG_INFINITY,
+            used_fix_s: f64::NEG_INFINITY,
+            camera_good_s: f64::NEG_INFINITY,
+            gnss_good_s: f64::NEG_INFINITY,
+            steering: Steering::default(),
+        }
+    }
+
+    pub fn health(&self) -> SourceHealth {
+        SourceHealth {
+            steering: self.steering,
+            camera_good_s: self.camera_good_s,
+            gnss_good_s: self.gnss_good_s,
+        }
+    }
+
+    pub fn filter(&self) -> &RowFilter {
+        &self.filter
+    }
+
+    /// Start afresh (entering autonomous mode): the filter wide open, the row chosen
+    /// again at the next fix, both sensors judged from now.
+    pub fn reset(&mut self, now_s: f64) {
+        self.filter = RowFilter::new(*self.filter.settings());
+        if let Some(place) = &mut self.place {
+            place.choose_again();
+        }
+        self.filled = 0;
+        self.camera_good_s = now_s;
+        self.gnss_good_s = now_s;
+        self.steering = match self.s.source {
+            SteerSource::Camera => Steering::Camera,
+            _ => Steering::Fused,
+        };
+    }
+
+    /// One steer tick in autonomous mode at `now_s`: the row to steer by, or None.
+    pub fn tick(
+        &mut self,
+        now_s: f64,
+        m: &Measured,
+        link: &LinkStatus,
+        gnss: &GnssStatus,
+        cruise_mps: f64,
+    ) -> Option<RowChoice> {
+        let camera_fresh = now_s - link.last_usable_s < self.link_timeout_s;
+        if self.s.source == SteerSource::Camera {
+            self.steering = Steering::Camera;
+            return camera_fresh.then_some(RowChoice {
+                estimate: link.last_usable,
+                age_s: self.latency_s + (now_s - link.last_usable_s).max(0.0),
+                speed_mps: cruise_mps,
+            });
+        }
+        self.predict(now_s, m);
+        if self.s.source == SteerSource::Fused {
+            // The camera is there while its link has a usable row, whether or not the
+            // filter takes it (a weed patch, a gap held at low quality).
+            self.camera_good_s = self.camera_good_s.max(link.last_usable_s);
+            self.fuse_camera(link);
+        }
+        self.fuse_gnss(gnss);
+        self.steering = self.choose(now_s);
+        let speed_mps = match self.steering {
+            Steering::Nothing => return None,
+            Steering::FilterGnss => cruise_mps.min(self.s.gnss_only_speed_mps),
+            _ => cruise_mps,
+        };
+        let (offset_m, angle_rad) = self.filter.row_at(self.camera_x_m);
+        Some(RowChoice {
+            estimate: RowEstimate {
+                seq: 0,
+                angle_rad,
+                offset_m,
+                quality: 100,
+            },
+            age_s: 0.0,
+            speed_mps,
+        })
+    }
+
+    /// Which sensors steer, from how long each has been without a good measurement.
+    fn choose(&self, now_s: f64) -> Steering {
+        let camera_ok = now_s - self.camera_good_s <= self.s.camera_fallback_s;
+        let gnss_ok = now_s - self.gnss_good_s <= self.s.gnss_fallback_s;
+        match (self.s.source, camera_ok, gnss_ok) {
+            (SteerSource::Gnss, _, true) => Steering::FilterGnss,
+            (SteerSource::Fused, true, true) => Steering::Fused,
+            (SteerSource::Fused, true, false) => Steering::FilterCamera,
+            (SteerSource::Fused, false, true) => Steering::FilterGnss,
+            _ => Steering::Nothing,
+        }
+    }
+
+    /// Move the filter with the odometry since the last tick, and keep it for placing
+    /// camera images.
+    fn predict(&mut self, now_s: f64, m: &Measured) {
+        let last = self.history[self.newest];
+        let (dt_s, travelled_m) = match self.filled {
+            0 => (0.0, 0.0),
+            _ => ((now_s - last.t_s).max(0.0), m.distance_m - last.distance_m),
+        };
+        let now = Odometry {
+            t_s: now_s,
+            distance_m: m.distance_m,
+            heading_rad: last.heading_rad + m.yaw_rate_rps * dt_s,
+        };
+        if self.filled > 0 {
+            self.filter
+                .predict(travelled_m, now.heading_rad - last.heading_rad);
+        }
+        self.newest = (self.newest + 1) % HISTORY;
+        self.history[self.newest] = now;
+        self.filled = (self.filled + 1).min(HISTORY);
+    }
+
+    /// Odometry at `t_s`, between the kept ticks (the oldest if it is older).
+    fn odometry_at(&self, t_s: f64) -> Odometry {
+        let mut later = self.history[self.newest];
+        for back in 1..self.filled {
+            let earlier = self.history[(self.newest + HISTORY - back) % HISTORY];
+            if earlier.t_s <= t_s {
+                let span_s = later.t_s - earlier.t_s;
+                let k = if span_s > 0.0 {
+                    (t_s - earlier.t_s) / span_s
+                } else {
+                    0.0
+                };
+                return Odometry {
+                    t_s,
+                    distance_m: earlier.distance_m + k * (later.distance_m - earlier.distance_m),
+                    heading_rad: earlier.heading_rad
+                        + k * (later.heading_rad - earlier.heading_rad),
+                };
+            }
+            later = earlier;
+        }
+        later
+    }
+
+    /// A new usable camera estimate into the filter, at its capture pose.
+    fn fuse_camera(&mut self, link: &LinkStatus) -> bool {
+        if link.last_usable_s <= self.used_camera_s {
+            return false;
+        }
+        self.used_camera_s = link.last_usable_s;
+        let estimate = link.last_usable;
+        if estimate.quality < self.fuse_min_quality {
+            return false;
+        }
+        let now = self.history[self.newest];
+        let then = self.odometry_at(link.last_usable_s - self.latency_s);
+        let since = Travel {
+            travelled_m: now.distance_m - then.distance_m,
+            turned_rad: now.heading_rad - then.heading_rad,
+        };
+        let outcome = self.filter.update_camera(
+            estimate.offset_m,
+            estimate.angle_rad,
+            self.camera_x_m,
+            self.camera_sd_offset_m,
+            self.camera_sd_angle_rad,
+            since,
+        );
+        outcome.used()
+    }
+
+    /// A new trusted fix into the filter, against the row map.
+    fn fuse_gnss(&mut self, gnss: &GnssStatus) -> bool {
+        let (Some(fix), Some(place)) = (gnss.last_fix, &mut self.place) else {
+            return false;
+        };
+        if gnss.last_fix_s <= self.used_fix_s {
+            return false;
+        }
+        self.used_fix_s = gnss.last_fix_s;
+        if !self.gnss.trusts(fix.quality) {
+            return false;
+        }
+        // GNSS is there while trusted fixes come, whether or not the gate takes them.
+        self.gnss_good_s = gnss.last_fix_s;
+        let row: RowState = self.filter.state();
+        let Some(view) = place.locate(&fix, row.heading_rad) else {
+            return false;
+        };
+        let sd_m = match (fix.sd_east_m, fix.sd_north_m) {
+            (Some(east), Some(north)) => east.max(north),
+            _ => typical_sd_m(fix.quality),
+        };
+        self.filter
+            .update_gnss(view.offset_m, sd_m.max(0.005))
+            .used()
+    }
+}
+
+/// The filter's settings from [filter], for a source. GNSS alone has nothing to tell
+/// the map's error from the robot's offset by: the map is taken as the row (its bias
+/// known to be 0), or the filter would split each GNSS offset between the two and steer
+/// by a part of it. The camera's lasting error is told from the map's only with both.
+fn filter_settings(c: &FilterConfig, source: SteerSource) -> FilterSettings {
+    let mut f = FilterSettings {
+        offset_sd_per_sqrt_m: c.offset_sd_per_sqrt_m,
+        heading_sd_per_sqrt_m: c.heading_sd_per_sqrt_m,
+        curvature_sd_per_sqrt_m: c.curvature_sd_per_sqrt_m,
+        map_bias_sd_per_sqrt_m: c.map_bias_sd_per_sqrt_m,
+        slip_sd_per_sqrt_m: c.slip_sd_per_sqrt_m,
+        camera_bias_length_m: c.camera_bias_length_m,
+        gate: match c.gate {
+            g if g < 0.995 => GateProbability::P0_99,
+            g if g < 0.9995 => GateProbability::P0_999,
+            _ => GateProbability::P0_9999,
+        },
+        camera_rejections_to_reset: c.camera_rejections_to_reset,
+        gnss_rejections_to_reset: c.gnss_rejections_to_reset,
+        ..FilterSettings::default()
+    };
+    match source {
+        SteerSource::Gnss => {
+            f.map_bias_sd_per_sqrt_m = 0.0;
+            f.initial_sd.map_bias_m = 0.0;
+        }
+        SteerSource::Fused => {
+            f.camera_bias_sd_m = c.camera_bias_sd_m;
+            f.initial_sd.camera_bias_m = c.camera_bias_sd_m;
+        }
+        SteerSource::Camera => {}
+    }
+    f
+}
+
+/// A receiver's usual error for its fix, when it sends no GST, m.
+fn typical_sd_m(quality: FixQuality) -> f64 {
+    match quality {
+        FixQuality::RtkFixed => 0.02,
+        FixQuality::RtkFloat => 0.2,
+        FixQuality::Dgps => 0.5,
+        _ => 3.0,
+    }
+}

@@ -1,0 +1,211 @@
+//! Steering by GNSS and by the fused row, in lockstep on the simulated robot with its
+//! receiver: the fallbacks when one sensor is lost, the fault when both are, and the
+//! gate that keeps a weed patch from pulling the robot off the row.
+
+mod common;
+
+use common::settings_with;
+use mechweed::config::{CameraPort, GnssPort, Settings, SteerSource};
+use mechweed::lockstep::Lockstep;
+use mechweed::modes::Mode;
+use mechweed::steer::Steering;
+use mechweed_hw::sim::{FieldKind, RowShape, SimParams, parse_events};
+
+/// The benchmark's straight row at `speed_mps`, steered by `source`, with `events`.
+fn settings(source: SteerSource, field: FieldKind, speed_mps: f64, events: &str) -> Settings {
+    let mut s = settings_with("", &[]);
+    s.sim = SimParams {
+        field,
+        events: parse_events(events).unwrap(),
+        ..SimParams::benchmark(RowShape::Straight, 1)
+    };
+    s.sources.source = source;
+    s.gnss.port = GnssPort::Link(CameraPort::Sim);
+    s.steer.speed_mps = speed_mps;
+    s
+}
+
+/// Which sensors steered at each whole second, and the tool's cross-track error (m)
+/// at each supervisor tick after 5 m, until the row's end or `limit_s`.
+struct Run {
+    sim: Lockstep,
+    steering_at_s: Vec<Steering>,
+    /// (time s, error m) after the first 5 m.
+    errors_m: Vec<(f64, f64)>,
+}
+
+fn drive(s: &Settings, limit_s: f64) -> Run {
+    let mut sim = Lockstep::new(s, Mode::Autonomous);
+    let (mut steering_at_s, mut errors_m) = (Vec::new(), Vec::new());
+    while !sim.robot.truth().row_done && sim.now_s() < limit_s {
+        sim.tick();
+        let truth = sim.robot.truth();
+        if truth.distance_m > 5.0 && sim.supervisor.mode() == Mode::Autonomous {
+            errors_m.push((sim.now_s(), truth.tool_cross_track_m));
+        }
+        if (sim.now_s() - sim.now_s().round()).abs() < 1e-6 {
+            steering_at_s.push(sim.steer_command.sources.steering);
+        }
+    }
+    Run {
+        sim,
+        steering_at_s,
+        errors_m,
+    }
+}
+
+fn sd_cm(errors_m: &[(f64, f64)]) -> f64 {
+    let n = errors_m.len() as f64;
+    let mean = errors_m.iter().map(|e| e.1).sum::<f64>() / n;
+    100.0 * (errors_m.iter().map(|e| (e.1 - mean).powi(2)).sum::<f64>() / n).sqrt()
+}
+
+/// The largest error between two times, cm.
+fn worst_cm(errors_m: &[(f64, f64)], from_s: f64, to_s: f64) -> f64 {
+    let within = errors_m.iter().filter(|e| (from_s..to_s).contains(&e.0));
+    100.0 * within.fold(0.0f64, |m, e| m.max(e.1.abs()))
+}
+
+#[test]
+fn rtk_lost_for_30_s_keeps_the_fused_robot_on_the_row_by_the_camera() {
+    let lost = settings(
+        SteerSource::Fused,
+        FieldKind::Realistic,
+        1.0,
+        "10 gnss_dgps, 40 gnss_fixed",
+    );
+    let run = drive(&lost, 120.0);
+    assert!(
+        run.sim.supervisor.faults().is_empty(),
+        "{:?}",
+        run.sim.supervisor.faults()
+    );
+    assert!(
+        run.sim.robot.truth().distance_m > 55.0,
+        "the robot drove the row"
+    );
+    assert_eq!(
+        run.steering_at_s[25],
+        Steering::FilterCamera,
+        "{:?}",
+        run.steering_at_s
+    );
+    assert_eq!(run.steering_at_s[50], Steering::Fused);
+    // Within what the camera alone does on the same row.
+    let camera = drive(
+        &settings(SteerSource::Camera, FieldKind::Realistic, 1.0, ""),
+        120.0,
+    );
+    let (with_outage, alone) = (sd_cm(&run.errors_m), sd_cm(&camera.errors_m));
+    assert!(
+        with_outage <= alone,
+        "{with_outage:.2} cm with RTK lost for 30 s, {alone:.2} cm by the camera alone"
+    );
+}
+
+#[test]
+fn the_camera_silent_for_5_s_leaves_the_fused_robot_on_the_row_by_rtk_at_reduced_speed() {
+    let s = settings(
+        SteerSource::Fused,
+        FieldKind::Clean,
+        1.0,
+        "20 link_silent 5",
+    );
+    let run = drive(&s, 120.0);
+    assert!(
+        run.sim.supervisor.faults().is_empty(),
+        "{:?}",
+        run.sim.supervisor.faults()
+    );
+    assert_eq!(
+        run.steering_at_s[22],
+        Steering::FilterGnss,
+        "{:?}",
+        run.steering_at_s
+    );
+    assert_eq!(run.steering_at_s[30], Steering::Fused);
+    let (before, during) = (
+        worst_cm(&run.errors_m, 0.0, 20.0),
+        worst_cm(&run.errors_m, 20.0, 27.0),
+    );
+    eprintln!(
+        "before {before:.2} during {during:.2} all {:.2}",
+        worst_cm(&run.errors_m, 0.0, 1e9)
+    );
+    assert!(during < 3.0, "the tool {during:.2} cm off the row");
+    assert!(run.sim.robot.truth().row_done);
+}
+
+#[test]
+fn losing_both_the_camera_and_rtk_halts_the_robot_naming_both() {
+    let s = settings(
+        SteerSource::Fused,
+        FieldKind::Clean,
+        0.5,
+        "15 gnss_lost, 18 link_silent 30",
+    );
+    let run = drive(&s, 30.0);
+    let faults = run.sim.supervisor.faults();
+    assert_eq!(faults.len(), 1, "{faults:?}");
+    let text = faults[0].cause.to_string();
+    assert!(
+        text.starts_with("no row to steer by: the camera has given no usable row for"),
+        "{text}"
+    );
+    assert!(text.contains("and GNSS no trusted fix for"), "{text}");
+    // GNSS went first, then the camera: the robot steered by the camera alone between.
+    assert_eq!(
+        run.steering_at_s[17],
+        Steering::FilterCamera,
+        "{:?}",
+        run.steering_at_s
+    );
+    assert!(
+        (18.0..20.0).contains(&faults[0].t_s),
+        "fault at {} s",
+        faults[0].t_s
+    );
+    assert!(run.sim.robot.outputs().is_safe());
+}
+
+#[test]
+fn weed_patches_are_rejected_by_the_gate_and_the_fused_tool_stays_within_2_cm_of_the_row() {
+    // The realistic field's weed patches and nothing else, and another seed's field.
+    let mut s = settings(SteerSource::Fused, FieldKind::Realistic, 0.5, "");
+    s.sim.tier = mechweed_hw::sim::FieldTierParams {
+        camera_bias_sd_m: 0.0,
+        gap_every_m: 1e4,
+        slope_max_deg: 0.0,
+        bump_heading_sd_deg: 0.0,
+        bump_side_sd_m: 0.0,
+        wheel_slip_max: 0.0,
+        weed_every_m: 10.0,
+        ..s.sim.tier
+    };
+    // A camera whose errors do not last, and the filter told so: a weed patch's 5 to
+    // 10 cm then stand out of its 1 cm noise.
+    s.filter.camera_bias_sd_m = 0.0;
+    // On the row from the start, so that only the weeds pull the tool aside.
+    s.sim.start_offset_m = 0.0;
+    let run = drive(&s, 200.0);
+    assert!(run.sim.supervisor.faults().is_empty());
+    let counters = run.sim.steer.rows().filter().counters();
+    let worst = worst_cm(&run.errors_m, 0.0, f64::INFINITY);
+    let at = run
+        .errors_m
+        .iter()
+        .find(|e| (100.0 * e.1.abs() - worst).abs() < 1e-9);
+    assert!(
+        worst <= 2.0,
+        "the tool {worst:.2} cm off the row at {at:?}; {counters:?}"
+    );
+    assert!(counters.camera_rejected >= 20, "{counters:?}");
+    // The camera alone follows the weeds.
+    s.sources.source = SteerSource::Camera;
+    let camera = drive(&s, 200.0);
+    let camera_worst_cm = worst_cm(&camera.errors_m, 0.0, f64::INFINITY);
+    assert!(
+        camera_worst_cm > 3.0,
+        "the camera alone {camera_worst_cm:.2} cm off"
+    );
+}
