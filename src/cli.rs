@@ -38,6 +38,9 @@ pub enum Command {
     Bench(BenchCommand),
     /// A stand-alone simulated camera computer, for bench tests of a link.
     Camsim(mechweed::camsim_main::CamsimArgs),
+    /// A stand-alone simulated RTK GNSS receiver (NMEA on a serial device or TCP), for
+    /// bench tests of the GNSS link.
+    Gnsssim(mechweed::gnsssim::GnssSimArgs),
     /// List the gamepads; find the I/O cards and read every input once (writes nothing
     /// but safe outputs).
     Probe {

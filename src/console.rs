@@ -115,6 +115,20 @@ pub fn operate(
                 status.measured.wheel_angle_rad.to_degrees(),
                 t.tool_cross_track_m * 100.0,
             );
+            let steer = handles.steer.snapshot();
+            let r = &steer.row;
+            if let Some(f) = &r.filter {
+                println!(
+                    "           steering by {}; GNSS {}, {} satellites; row filter {:+.1} +- {:.1} cm, gate rejected {} camera rows, {} fixes",
+                    steer.sources.steering.words(),
+                    mechweed_hw::nmea::FixQuality::from_code(r.gnss_quality).words(),
+                    r.gnss_satellites,
+                    f.offset_m * 100.0,
+                    f.offset_sd_m * 100.0,
+                    f.camera_rejected,
+                    f.gnss_rejected
+                );
+            }
             let [supervisor_loop, steer_loop] = loops.each_ref().map(Reader::snapshot);
             let check = liu_layland(&[supervisor_loop, steer_loop]);
             println!(

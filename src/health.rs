@@ -21,6 +21,8 @@ pub enum ThreadName {
     Bus = 6,
     /// The gamepad thread ([joystick] source = gamepad).
     Gamepad = 7,
+    /// The GNSS link thread ([gnss] port).
+    Gnss = 8,
 }
 
 impl ThreadName {
@@ -33,12 +35,13 @@ impl ThreadName {
             ThreadName::Console => "console",
             ThreadName::Bus => "bus",
             ThreadName::Gamepad => "gamepad",
+            ThreadName::Gnss => "GNSS link",
         }
     }
 
     /// The thread of this `label` (as a record writes it), or None.
     pub fn from_label(label: &str) -> Option<ThreadName> {
-        (1..=7)
+        (1..=8)
             .filter_map(ThreadName::from_code)
             .find(|t| t.label() == label)
     }
@@ -52,6 +55,7 @@ impl ThreadName {
             ThreadName::Console,
             ThreadName::Bus,
             ThreadName::Gamepad,
+            ThreadName::Gnss,
         ]
         .into_iter()
         .find(|t| *t as u8 == code)

@@ -353,6 +353,13 @@ fn main() -> ExitCode {
         Some(Command::Run(args)) => run_command(args),
         Some(Command::CheckConfig { file }) => check_config(file),
         Some(Command::Bench(b)) => bench(b),
+        Some(Command::Gnsssim(args)) => match mechweed::gnsssim::run(args) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(why) => {
+                eprintln!("{why}");
+                ExitCode::FAILURE
+            }
+        },
         Some(Command::Camsim(args)) => match mechweed::camsim_main::run(args) {
             Ok(()) => ExitCode::SUCCESS,
             Err(why) => {

@@ -101,6 +101,34 @@ pub struct Report {
     pub bus: BusFigures,
     /// Where the bus listened and connected.
     pub bus_endpoints: String,
+    /// The GNSS receiver's link (null without a receiver).
+    pub gnss: Option<GnssReport>,
+    /// The row filter (null when the camera steered alone).
+    pub filter: Option<FilterReport>,
+}
+
+/// What came from the GNSS receiver.
+#[derive(Debug, Serialize)]
+pub struct GnssReport {
+    /// Epochs with a position, and without.
+    pub fixes: u64,
+    pub no_fix_epochs: u64,
+    /// Every line by its kind, and every line skipped by why.
+    pub sentences: mechweed_hw::nmea::NmeaCounters,
+    /// The last fix's quality in words (null: none came).
+    pub last_quality: Option<&'static str>,
+}
+
+/// What the row filter did.
+#[derive(Debug, Serialize)]
+pub struct FilterReport {
+    /// Which sensors steered at the end.
+    pub steering: &'static str,
+    /// Measurements its gate rejected (a weed patch, an RTK jump).
+    pub camera_rejected: u64,
+    pub gnss_rejected: u64,
+    /// Its estimate's s.d. at the end, cm.
+    pub offset_sd_cm: f64,
 }
 
 /// Said at the start and in the summary of a simulated run with an outside camera.
@@ -169,6 +197,18 @@ impl Report {
             record: run.record.clone(),
             bus: run.bus,
             bus_endpoints: run.bus_endpoints.clone(),
+            gnss: run.gnss.map(|g| GnssReport {
+                fixes: g.fixes,
+                no_fix_epochs: g.no_fix_epochs,
+                sentences: g.sentences,
+                last_quality: g.last_fix.map(|f| f.quality.words()),
+            }),
+            filter: run.steer.row.filter.map(|f| FilterReport {
+                steering: run.steer.sources.steering.name(),
+                camera_rejected: f.camera_rejected,
+                gnss_rejected: f.gnss_rejected,
+                offset_sd_cm: f.offset_sd_m * 100.0,
+            }),
         }
     }
 
@@ -228,6 +268,25 @@ impl Report {
                 .ping_rtt_ms
                 .map_or("-".to_string(), |ms| format!("{ms:.1} ms")),
         );
+        if let Some(g) = &self.gnss {
+            let k = &g.sentences;
+            out += &format!(
+                "GNSS: {} fixes (last {}), {} epochs without one; {} checksum errors, {} unknown kinds, {} malformed, {} overlong lines\n",
+                g.fixes,
+                g.last_quality.unwrap_or("none"),
+                g.no_fix_epochs,
+                k.checksum_errors,
+                k.unknown_kinds,
+                k.malformed,
+                k.overlong
+            );
+        }
+        if let Some(f) = &self.filter {
+            out += &format!(
+                "row filter: steering by {} at the end; gate rejected {} camera rows and {} GNSS fixes; row s.d. {:.2} cm\n",
+                f.steering, f.camera_rejected, f.gnss_rejected, f.offset_sd_cm
+            );
+        }
         out += &self.bus.line();
         if self.bus.state != crate::bus::BusState::Off {
             out += &format!(" ({})", self.bus_endpoints);

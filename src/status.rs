@@ -6,6 +6,7 @@ use mechweed_hw::{Inputs, Outputs, Side};
 use crate::fault_cause::FaultCause;
 use crate::measure::Measured;
 use crate::modes::Mode;
+use crate::steering::Steering;
 
 /// The motor contactor as the supervisor commands it.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -37,13 +38,17 @@ pub enum Notice {
     /// The tool passed the end of the row: the robot stopped in Halt. Driven in
     /// Autonomous along this row, m.
     RowEnded { driven_m: f64, t_s: f64 },
+    /// Autonomous by GNSS or the fused row: these sensors steer from now on.
+    Steering { steering: Steering, t_s: f64 },
 }
 
 impl Notice {
     /// When it happened, s since the start of the run.
     pub fn t_s(&self) -> f64 {
         match self {
-            Notice::EndSwitchRecovered { t_s, .. } | Notice::RowEnded { t_s, .. } => *t_s,
+            Notice::EndSwitchRecovered { t_s, .. }
+            | Notice::RowEnded { t_s, .. }
+            | Notice::Steering { t_s, .. } => *t_s,
         }
     }
 }
@@ -65,6 +70,9 @@ impl std::fmt::Display for Notice {
                 f,
                 "end of row after {driven_m:.1} m: the tool passed the row's end, robot stopped, now in halt"
             ),
+            Notice::Steering { steering, .. } => {
+                write!(f, "steering by {}", steering.words())
+            }
         }
     }
 }

@@ -1,4 +1,4 @@
-//! The serial cable of the simulated robot. The simulated camera computer lives inside
+//! The serial cables of the simulated robot. The simulated camera computer lives inside
 //! the simulated plant and talks through an in-memory pipe; this thread carries its
 //! bytes to and from one end of a pseudo-terminal, so that the program opens the other
 //! end with the same serial code it uses for /dev/ttyS0 on the robot.
@@ -13,9 +13,16 @@ use mechweed_hw::sim::PipeEnd;
 use serialport::{SerialPort, TTYPort};
 
 /// Start the cable; returns the pseudo-terminal path for the program to open.
-pub fn start(
+pub fn start(pipe: PipeEnd, stop: Arc<AtomicBool>) -> std::io::Result<(String, JoinHandle<()>)> {
+    start_named(pipe, stop, "camera-cable")
+}
+
+/// The same for another simulated device's line (the GNSS receiver's), its thread named
+/// `name`.
+pub fn start_named(
     mut pipe: PipeEnd,
     stop: Arc<AtomicBool>,
+    name: &str,
 ) -> std::io::Result<(String, JoinHandle<()>)> {
     let (mut master, slave) = TTYPort::pair()?;
     let path = slave
@@ -23,7 +30,7 @@ pub fn start(
         .ok_or_else(|| std::io::Error::other("the pseudo-terminal has no name"))?;
     master.set_timeout(Duration::from_millis(2))?;
     let handle = std::thread::Builder::new()
-        .name("camera-cable".into())
+        .name(name.into())
         .spawn(move || {
             // Keep our handle on the terminal's far end open, so that the link may close and
             // reopen it (as after a USB adapter comes back) without the terminal vanishing.

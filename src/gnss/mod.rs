@@ -1,10 +1,12 @@
 //! The GNSS receiver's link, as plain functions: bytes in, fixes out, and a status the
-//! steer thread, the GUI and the record read. The thread around it (like the camera
-//! link's) reads the port; lockstep calls it directly.
+//! steer thread, the GUI and the record read. The thread around it (`thread.rs`, like
+//! the camera link's) reads the port; lockstep calls it directly.
 //!
 //! `place.rs` turns a fix into where the row map's line lies from the robot.
 
 pub mod place;
+pub mod run;
+pub mod thread;
 
 use mechweed_hw::nmea::{Epoch, Fix, FixAssembler, FixCounters, NmeaCounters, NmeaDecoder};
 

@@ -26,6 +26,11 @@ pub struct Sample {
     pub wheel_ref_deg: f64,
     pub row_offset_cm: f64,
     pub row_angle_deg: f64,
+    /// The row filter's offset at the rear axle and one s.d. either side (NaN when the
+    /// camera steers alone).
+    pub filter_offset_cm: f64,
+    pub filter_low_cm: f64,
+    pub filter_high_cm: f64,
     pub cross_track_cm: f64,
     pub amp_left_v: f64,
     pub amp_right_v: f64,
@@ -36,6 +41,7 @@ impl Sample {
     pub fn of(view: &View) -> Sample {
         let st = &view.status;
         let o = &st.outputs;
+        let filter = view.steer.row.filter;
         Sample {
             t_s: view.now_s,
             v_left_mps: st.measured.v_left_mps,
@@ -46,6 +52,9 @@ impl Sample {
             wheel_ref_deg: st.wheel_angle_ref_rad.to_degrees(),
             row_offset_cm: view.link.last_row.offset_m * 100.0,
             row_angle_deg: view.link.last_row.angle_rad.to_degrees(),
+            filter_offset_cm: filter.map_or(f64::NAN, |f| f.offset_m * 100.0),
+            filter_low_cm: filter.map_or(f64::NAN, |f| (f.offset_m - f.offset_sd_m) * 100.0),
+            filter_high_cm: filter.map_or(f64::NAN, |f| (f.offset_m + f.offset_sd_m) * 100.0),
             cross_track_cm: view.truth.tool_cross_track_m * 100.0,
             amp_left_v: o.amp_left_v,
             amp_right_v: o.amp_right_v,

@@ -1,6 +1,6 @@
 //! Live plots of the last 60 s: wheel speeds and their references, the wheel angle and
-//! its reference, the row's offset and angle from the camera, the cross-track error of
-//! the simulated robot, and the motor voltages.
+//! its reference, the row's offset and angle from the camera and the row filter's
+//! estimate, the cross-track error of the simulated robot, and the motor voltages.
 //!
 //! Drawing is what costs a software renderer: each frame takes the samples' lock only
 //! to thin every line to the plot's pixel columns into buffers kept from frame to
@@ -50,11 +50,14 @@ const CHARTS: [Chart; 5] = [
     },
     Chart {
         id: "row",
-        title: "Row from the camera",
+        title: "Row from the camera, and the row filter's (GNSS or fused: offset at the rear axle, +- 1 s.d.)",
         unit: "cm / deg",
         lines: &[
             ("offset cm", |s| s.row_offset_cm),
             ("angle deg", |s| s.row_angle_deg),
+            ("filter offset cm", |s| s.filter_offset_cm),
+            ("filter -1 s.d.", |s| s.filter_low_cm),
+            ("filter +1 s.d.", |s| s.filter_high_cm),
         ],
         simulated_only: false,
     },

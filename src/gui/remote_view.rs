@@ -12,6 +12,8 @@ use super::view::View;
 use crate::modes::Mode;
 use crate::rt::LoopSummary;
 use crate::status::PowerState;
+use crate::steer::{FilterFigures, RowFigures};
+use crate::steering::Steering;
 
 fn num(json: &Value, key: &str) -> f64 {
     json[key].as_f64().unwrap_or(f64::NAN)
@@ -144,6 +146,24 @@ pub fn fill_from_tick(view: &mut View, tick: &Value) {
     steer.law.tool_offset_m = num(tick, "law_tool_offset_m");
     steer.law.row_curvature_per_m = num(tick, "law_row_curvature_per_m");
     steer.law.integral_per_m = num(tick, "law_integral_per_m");
+    if let Some(steering) = tick["steering"].as_str().and_then(Steering::from_name) {
+        steer.sources.steering = steering;
+    }
+    steer.row = RowFigures {
+        gnss_quality: int(tick, "gnss_quality").clamp(0, 255) as u8,
+        gnss_satellites: int(tick, "gnss_satellites").clamp(0, 255) as u8,
+        gnss_sd_m: tick["gnss_sd_m"].as_f64(),
+        // The filter's columns are numbers only where it runs.
+        filter: tick["filter_offset_m"].is_number().then(|| FilterFigures {
+            offset_m: num(tick, "filter_offset_m"),
+            offset_sd_m: num(tick, "filter_offset_sd_m"),
+            heading_rad: num(tick, "filter_heading_rad"),
+            curvature_per_m: num(tick, "filter_curvature_per_m"),
+            map_bias_m: num(tick, "filter_map_bias_m"),
+            camera_rejected: int(tick, "filter_camera_rejected").max(0) as u64,
+            gnss_rejected: int(tick, "filter_gnss_rejected").max(0) as u64,
+        }),
+    };
     view.link.last_usable = RowEstimate {
         seq: int(tick, "cam_seq").clamp(0, 255) as u8,
         ..view.link.last_usable

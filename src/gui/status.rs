@@ -1,5 +1,6 @@
-//! Status: every input live, every output as commanded, the camera link, and each
-//! loop's timing with the Liu-Layland check from measured execution times.
+//! Status: every input live, every output as commanded, the camera link, GNSS and the
+//! row filter, and each loop's timing with the Liu-Layland check from measured
+//! execution times.
 
 use eframe::egui::{self, RichText};
 
@@ -205,6 +206,53 @@ fn loops_grid(ui: &mut egui::Ui, view: &View) {
     ));
 }
 
+/// Which sensors steer, the GNSS fix and the row filter ([steer] source gnss or fused).
+pub fn sources_grid(ui: &mut egui::Ui, view: &View) {
+    let (sources, r) = (&view.steer.sources, &view.steer.row);
+    let autonomous = view.status.mode == crate::modes::Mode::Autonomous;
+    egui::Grid::new("sources").striped(true).show(ui, |ui| {
+        let steering = if autonomous {
+            sources.steering.words().to_string()
+        } else {
+            format!("{} (in autonomous mode)", sources.steering.words())
+        };
+        row(ui, "Steering by", steering);
+        let quality = mechweed_hw::nmea::FixQuality::from_code(r.gnss_quality);
+        let fix = if r.gnss_quality == 0 && r.gnss_satellites == 0 {
+            "no fix received".to_string()
+        } else {
+            let sd = r
+                .gnss_sd_m
+                .map_or("no s.d. sent".to_string(), |m| format!("s.d. {:.1} cm", m * 100.0));
+            format!(
+                "{}  {} satellites  {sd}",
+                quality.words(),
+                r.gnss_satellites
+            )
+        };
+        row(ui, "GNSS", fix);
+        let filter = match &r.filter {
+            Some(f) => format!(
+                "row {:+.1} cm +- {:.1} cm at the rear axle  heading {:+.2} deg  curvature {:+.4} 1/m  map bias {:+.1} cm",
+                f.offset_m * 100.0,
+                f.offset_sd_m * 100.0,
+                f.heading_rad.to_degrees(),
+                f.curvature_per_m,
+                f.map_bias_m * 100.0
+            ),
+            None => "not running ([steer] source = camera)".to_string(),
+        };
+        row(ui, "Row filter", filter);
+        if let Some(f) = &r.filter {
+            row(
+                ui,
+                "Gate rejections",
+                format!("camera {}  GNSS {}", f.camera_rejected, f.gnss_rejected),
+            );
+        }
+    });
+}
+
 pub fn show(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
     ui.columns(2, |cols| {
         cols[0].heading("Inputs");
@@ -215,6 +263,9 @@ pub fn show(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
     ui.separator();
     ui.heading("Camera link");
     link_grid(ui, view, requests);
+    ui.separator();
+    ui.heading("GNSS and the row filter");
+    sources_grid(ui, view);
     ui.separator();
     ui.heading("Loops");
     loops_grid(ui, view);

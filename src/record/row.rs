@@ -80,6 +80,11 @@ fn num(x: f64) -> Value {
     Value::Num(x)
 }
 
+/// One of the row filter's figures; empty when the camera steered alone.
+fn filter(r: &TickSample, figure: fn(&crate::steer::FilterFigures) -> f64) -> Value {
+    num(r.steer.row.filter.as_ref().map_or(f64::NAN, figure))
+}
+
 /// On/off signals as 0 and 1, which every plotting tool draws.
 fn flag(on: bool) -> Value {
     Value::Int(on as i64)
@@ -170,6 +175,21 @@ pub const COLUMNS: &[Column] = &[
     col("law_tool_offset_m", "m", "row offset at the tool, as the law sees it", |r| num(r.steer.law.tool_offset_m)),
     col("law_row_curvature_per_m", "1/m", "row curvature used, + = left", |r| num(r.steer.law.row_curvature_per_m)),
     col("law_integral_per_m", "1/m", "curvature added by the tool integral", |r| num(r.steer.law.integral_per_m)),
+    // The GNSS fix and the row filter (source gnss or fused; empty otherwise).
+    col("gnss_quality", "code", "the last fix's GGA quality: 0 none, 1 GPS, 2 DGPS, 4 RTK fixed, 5 RTK float",
+        |r| Value::Int(r.steer.row.gnss_quality as i64)),
+    col("gnss_satellites", "count", "satellites in the last fix", |r| Value::Int(r.steer.row.gnss_satellites as i64)),
+    col("gnss_sd_m", "m", "the receiver's own s.d. of that position (GST)",
+        |r| num(r.steer.row.gnss_sd_m.unwrap_or(f64::NAN))),
+    col("filter_offset_m", "m", "the row filter's row offset at the rear axle, + = left", |r| filter(r, |f| f.offset_m)),
+    col("filter_offset_sd_m", "m", "its s.d.", |r| filter(r, |f| f.offset_sd_m)),
+    col("filter_heading_rad", "rad", "the row's heading relative to the robot, + = left", |r| filter(r, |f| f.heading_rad)),
+    col("filter_curvature_per_m", "1/m", "the row's curvature, + = left", |r| filter(r, |f| f.curvature_per_m)),
+    col("filter_map_bias_m", "m", "how far the map's line lies left of the row", |r| filter(r, |f| f.map_bias_m)),
+    col("filter_camera_rejected", "count", "camera rows the filter's gate rejected so far",
+        |r| Value::Int(r.steer.row.filter.map_or(0, |f| f.camera_rejected) as i64)),
+    col("filter_gnss_rejected", "count", "GNSS fixes the filter's gate rejected so far",
+        |r| Value::Int(r.steer.row.filter.map_or(0, |f| f.gnss_rejected) as i64)),
     // The camera estimate in use (the last usable one) and the link's counters.
     col("cam_offset_m", "m", "row offset at the camera point, + = left", |r| num(r.link.last_usable.offset_m)),
     col("cam_angle_rad", "rad", "row angle, + = row turns left", |r| num(r.link.last_usable.angle_rad)),
@@ -195,6 +215,12 @@ pub const COLUMNS: &[Column] = &[
     col("steer_endswitch_done", "count", "end-switch procedures finished so far",
         |r| Value::Int(r.steer.endswitch_done_count as i64)),
     col("steer_endswitch_last", "text", "side of the last one finished", |r| side(r.steer.endswitch_last_side)),
+    col("steering", "text", "which sensors steer: camera, fused, camera_alone, gnss_alone or nothing",
+        |r| Value::Text(r.steer.sources.steering.name())),
+    col("steer_camera_good_s", "s", "when the camera last had a usable row, as the steer thread saw it",
+        |r| num(r.steer.sources.camera_good_s)),
+    col("steer_gnss_good_s", "s", "when the last trusted GNSS fix came, as the steer thread saw it",
+        |r| num(r.steer.sources.gnss_good_s)),
     col("link_last_row_s", "s", "when the last valid row frame came (empty: none yet)", |r| num(r.link.last_row_s)),
     col("link_last_usable_s", "s", "when the last usable estimate came (empty: none yet)",
         |r| num(r.link.last_usable_s)),

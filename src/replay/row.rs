@@ -12,7 +12,8 @@ use crate::modes::Mode;
 use crate::record::read::Table;
 use crate::record::{Given, HwFailure, Place};
 use crate::steer::law::LawOutput;
-use crate::steer::{EndSwitchState, SteerCommand};
+use crate::steer::{EndSwitchState, SourceHealth, SteerCommand};
+use crate::steering::Steering;
 
 /// Every column a replay reads.
 pub const WANTED: &[&str] = &[
@@ -47,6 +48,9 @@ pub const WANTED: &[&str] = &[
     "steer_endswitch_since_s",
     "steer_endswitch_done",
     "steer_endswitch_last",
+    "steering",
+    "steer_camera_good_s",
+    "steer_gnss_good_s",
     "link_last_row_s",
     "link_last_usable_s",
     "link_beat_s",
@@ -186,6 +190,15 @@ impl Row<'_> {
             endswitch,
             endswitch_done_count: self.count("steer_endswitch_done")?,
             endswitch_last_side: self.word("steer_endswitch_last", side, "left, right or empty")?,
+            sources: SourceHealth {
+                steering: self.word(
+                    "steering",
+                    Steering::from_name,
+                    "camera, fused, camera_alone, gnss_alone or nothing",
+                )?,
+                camera_good_s: self.time_or_never("steer_camera_good_s")?,
+                gnss_good_s: self.time_or_never("steer_gnss_good_s")?,
+            },
             law: LawOutput {
                 wheel_angle_rad: f64::NAN,
                 lookahead_offset_m: self.num_or_nan("law_lookahead_offset_m")?,

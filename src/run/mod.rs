@@ -22,7 +22,6 @@ use crate::camlink::{LinkCore, LinkStatus, simwire};
 use crate::config::{Backend, JoystickSource, Settings};
 use crate::config::{CameraPort, GnssPort};
 use crate::gamepad::{self, PadHw};
-use crate::gnss::GnssStatus;
 use crate::health::{self, PanicFlag, ThreadName};
 use crate::modes::Gains;
 use crate::record::{self, RecordTap, Recorder};
@@ -58,6 +57,10 @@ pub struct Running {
     bus_figures: Reader<BusFigures>,
     cable: Option<JoinHandle<()>>,
     gamepad: Option<JoinHandle<()>>,
+    gnss: Option<JoinHandle<()>>,
+    gnss_cable: Option<JoinHandle<()>>,
+    gnss_status: Reader<crate::gnss::GnssStatus>,
+    steer_command: Reader<SteerCommand>,
     link_status: Reader<LinkStatus>,
     truth: TruthHandle,
     settings: Settings,
@@ -71,13 +74,20 @@ pub struct Running {
 /// interface (console or GUI) and calls `Running::finish` at the end.
 pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Running), RunError> {
     let s = &opts.settings;
-    if s.gnss.port != GnssPort::None {
-        return Err(RunError::GnssNotInRealTime);
-    }
     let (camera_end, robot_end) = byte_pipe(4096);
+    let (mut receiver, mut planted) = (None, None);
     let (hw, truth, sim_control): (Box<dyn Hw>, TruthHandle, Option<SimControl>) = match s.backend {
         Backend::Sim => {
-            let sim = SimHw::new(SimRobot::new(&s.sim, camera_end));
+            let mut robot = SimRobot::new(&s.sim, camera_end);
+            if s.gnss.port == GnssPort::Link(CameraPort::Sim) {
+                let (receiver_end, program_end) = byte_pipe(8192);
+                robot.attach_gnss(receiver_end);
+                receiver = Some(program_end);
+            }
+            if s.gnss.port != GnssPort::None {
+                planted = Some(robot.planted_map());
+            }
+            let sim = SimHw::new(robot);
             let (truth, control) = (sim.truth_handle(), sim.control());
             (Box::new(sim), truth, Some(control))
         }
@@ -88,6 +98,9 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
             None,
         ),
     };
+    // The row map and the GNSS receiver's line, before anything starts that an error
+    // here would leave behind (the record).
+    let mut gnss = crate::gnss::run::prepare(s, receiver, planted, &stop)?;
     // The simulated camera computer speaks through a pseudo-terminal, unless robot.ini
     // names a real port: then it stays unplugged and the port's camera computer is used.
     let (camera_port, cable) = match (&s.camera_port, s.backend) {
@@ -112,9 +125,6 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
     let (status_w, status_r) = shared(Status::default());
     let (steer_w, steer_r) = shared(SteerCommand::default());
     let (link_w, link_r) = shared(LinkStatus::default());
-    // No GNSS link thread in the real-time run yet (start refuses [gnss] port): the
-    // steer thread reads a receiver that never sends.
-    let (_gnss_w, gnss_r) = shared(GnssStatus::default());
     let (gui_beat_w, gui_beat_r) = shared(f64::NAN);
     let (steer_settings_w, steer_settings_r) = shared(s.steer);
     let (tuning_w, tuning_r) = shared((Gains::from_settings(s), s.steer));
@@ -154,16 +164,21 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         command: steer_w,
         status: status_r.clone(),
         link: link_r.clone(),
-        gnss: gnss_r,
+        gnss: gnss.status.clone(),
         figures: steer_figures_w,
         new_settings: new_steer_settings_rx,
         settings: steer_settings_w,
         panics: panics.clone(),
         stop: stop.clone(),
     };
-    let steer = SteerThread::new(SteerCore::new(s), s.steer.rate_hz, clock, wires)
-        .with_priority(priority(s.rt.steer_priority))
-        .with_injection(opts.inject);
+    let steer = SteerThread::new(
+        SteerCore::with_map(s, gnss.place.take()),
+        s.steer.rate_hz,
+        clock,
+        wires,
+    )
+    .with_priority(priority(s.rt.steer_priority))
+    .with_injection(opts.inject);
     let wires = LinkWires {
         new_estimate: estimate_tx,
         ping_requests: ping_rx,
@@ -232,6 +247,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
     let supervisor = spawn("supervisor", move || supervisor.run());
     let steer = spawn("steer", move || steer.run());
     let link = spawn("camlink", move || link.run());
+    let gnss_thread = gnss.start(clock, panics.clone(), stop.clone());
 
     let handles = Handles {
         supervisor: handle,
@@ -242,7 +258,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         ping: ping_tx,
         gui_beat: gui_beat_w,
         steer_settings: steer_settings_r,
-        steer: steer_r,
+        steer: steer_r.clone(),
         clock,
         not_realtime: not_realtime(s.backend, &s.rt, priorities_refused.as_deref()),
         bus: bus_figures.clone(),
@@ -257,6 +273,10 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         bus_figures,
         cable,
         gamepad: gamepad_thread,
+        gnss_status: gnss.status.clone(),
+        steer_command: steer_r.clone(),
+        gnss: gnss_thread,
+        gnss_cable: gnss.cable.take(),
         link_status: link_r,
         truth,
         settings: s.clone(),
@@ -303,6 +323,12 @@ impl Running {
         if let Some(Err(_)) = self.gamepad.map(JoinHandle::join) {
             tracing::error!("the gamepad thread panicked");
         }
+        if let Some(Err(_)) = self.gnss.map(JoinHandle::join) {
+            tracing::error!("the GNSS link thread panicked");
+        }
+        if let Some(cable) = self.gnss_cable {
+            let _ = cable.join();
+        }
         let bus = match self.bus.map(JoinHandle::join) {
             Some(Ok(figures)) => figures,
             Some(Err(_)) => {
@@ -329,6 +355,8 @@ impl Running {
             record,
             bus,
             bus_endpoints: self.settings.bus.endpoints(),
+            steer: self.steer_command.snapshot(),
+            gnss: (self.settings.gnss.port != GnssPort::None).then(|| self.gnss_status.snapshot()),
         }
     }
 }

@@ -75,10 +75,8 @@ pub enum RunError {
     Bus(crate::bus::BusError),
     #[error("cannot subscribe to the row estimates on the bus: {0}")]
     BusRows(String),
-    #[error(
-        "[gnss] port: the GNSS receiver steers in the lockstep simulation (mechweed bench rows --sources, the tests) but not yet in a real-time run: set [gnss] port = none and [steer] source = camera"
-    )]
-    GnssNotInRealTime,
+    #[error("{0}")]
+    Gnss(#[from] crate::gnss::run::GnssRunError),
 }
 
 /// What a run leaves behind for the report.
@@ -103,4 +101,8 @@ pub struct RunOutcome {
     pub bus: BusFigures,
     /// Where the bus listened and connected, in words.
     pub bus_endpoints: String,
+    /// The steer thread's last command: which sensors steered, the row filter's figures.
+    pub steer: crate::steer::SteerCommand,
+    /// The GNSS link at the end (None without a receiver).
+    pub gnss: Option<crate::gnss::GnssStatus>,
 }

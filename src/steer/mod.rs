@@ -21,7 +21,7 @@ use endswitch::EndSwitchProcedure;
 pub use endswitch::EndSwitchState;
 use law::{LawOutput, Motion, RowFollower};
 use sources::RowSources;
-pub use sources::{SourceHealth, Steering};
+pub use sources::{FilterFigures, RowFigures, SourceHealth, Steering};
 
 /// What the steer thread asks of the supervisor, published after every tick.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -42,6 +42,8 @@ pub struct SteerCommand {
     pub law: LawOutput,
     /// Which sensors steer (autonomous mode), and since when each has been lost.
     pub sources: SourceHealth,
+    /// The GNSS fix and the row filter's estimate, for the operator and the record.
+    pub row: RowFigures,
 }
 
 pub struct SteerCore {
@@ -169,6 +171,7 @@ impl SteerCore {
             endswitch_last_side: self.endswitch.last_side,
             law: law_output,
             sources: self.rows.health(),
+            row: self.rows.figures(gnss),
         }
     }
 }

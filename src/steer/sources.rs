@@ -24,35 +24,7 @@ use crate::config::{FilterConfig, GnssSettings, Settings, SourceSettings, SteerS
 use crate::gnss::GnssStatus;
 use crate::gnss::place::RowPlace;
 use crate::measure::Measured;
-
-/// Which sensors steer now.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Steering {
-    /// The camera's estimate, straight to the law ([steer] source = camera).
-    #[default]
-    Camera,
-    /// The row filter, fed by the camera and GNSS.
-    Fused,
-    /// The row filter, fed by the camera alone (GNSS lost).
-    FilterCamera,
-    /// The row filter, fed by GNSS alone (the camera lost), at reduced speed.
-    FilterGnss,
-    /// Nothing usable: the robot stops.
-    Nothing,
-}
-
-impl Steering {
-    /// In words, for the GUI, the console and the record.
-    pub fn words(self) -> &'static str {
-        match self {
-            Steering::Camera => "the camera",
-            Steering::Fused => "camera and GNSS, fused",
-            Steering::FilterCamera => "the camera alone (GNSS lost)",
-            Steering::FilterGnss => "GNSS alone (the camera lost)",
-            Steering::Nothing => "nothing: neither the camera nor GNSS",
-        }
-    }
-}
+pub use crate::steering::Steering;
 
 /// Which sensors steer and how long each has been without a good measurement, for the
 /// supervisor's fault check and the GUI (in the steer command).
@@ -62,6 +34,32 @@ pub struct SourceHealth {
     /// When the camera's link last had a usable row, and GNSS a trusted fix, s.
     pub camera_good_s: f64,
     pub gnss_good_s: f64,
+}
+
+/// What the GNSS link and the row filter show, for the GUI, the record and the report
+/// (in the steer command). No NaN in it: views are compared to tell what changed.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RowFigures {
+    /// The last fix: its GGA quality code (0: none), satellites, and the receiver's own
+    /// s.d. of the position, m (None without a GST).
+    pub gnss_quality: u8,
+    pub gnss_satellites: u8,
+    pub gnss_sd_m: Option<f64>,
+    /// The row filter (None when the camera steers alone).
+    pub filter: Option<FilterFigures>,
+}
+
+/// The row filter's estimate of the row at the rear axle, and what its gate did.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FilterFigures {
+    pub offset_m: f64,
+    pub offset_sd_m: f64,
+    pub heading_rad: f64,
+    pub curvature_per_m: f64,
+    pub map_bias_m: f64,
+    /// Measurements the gate rejected so far.
+    pub camera_rejected: u64,
+    pub gnss_rejected: u64,
 }
 
 /// The row to steer by, for the law.
@@ -137,6 +135,33 @@ impl RowSources {
             camera_good_s: self.camera_good_s,
             gnss_good_s: self.gnss_good_s,
         }
+    }
+
+    /// The last fix's figures and, where the filter runs, its estimate.
+    pub fn figures(&self, gnss: &GnssStatus) -> RowFigures {
+        let mut f = RowFigures::default();
+        if let Some(fix) = gnss.last_fix {
+            f.gnss_quality = fix.quality.code();
+            f.gnss_satellites = fix.satellites.unwrap_or(0);
+            f.gnss_sd_m = fix.sd_east_m.zip(fix.sd_north_m).map(|(e, n)| e.max(n));
+        }
+        if self.s.source != SteerSource::Camera {
+            let (x, sd, c) = (
+                self.filter.state(),
+                self.filter.sd(),
+                self.filter.counters(),
+            );
+            f.filter = Some(FilterFigures {
+                offset_m: x.offset_m,
+                offset_sd_m: sd.offset_m,
+                heading_rad: x.heading_rad,
+                curvature_per_m: x.curvature_per_m,
+                map_bias_m: x.map_bias_m,
+                camera_rejected: c.camera_rejected,
+                gnss_rejected: c.gnss_rejected,
+            });
+        }
+        f
     }
 
     pub fn filter(&self) -> &RowFilter {

@@ -17,7 +17,7 @@ use mechweed_hw::{Inputs, Outputs};
 
 use crate::camlink::LinkStatus;
 use crate::config::Settings;
-use crate::config::SteerSettings;
+use crate::config::{SteerSettings, SteerSource};
 use crate::fault_cause::FaultCause;
 use crate::faults::{CheckContext, FaultChecks};
 use crate::health::ThreadHealth;
@@ -26,6 +26,7 @@ use crate::modes::{Gains, Mode};
 use crate::pid::{Pd, Pi};
 use crate::status::{FaultRecord, Notice, PowerState, Status};
 use crate::steer::SteerCommand;
+use crate::steering::Steering;
 use endswitch::{EndSwitchLatch, guard_steering};
 use row_end::RowEnd;
 
@@ -51,6 +52,8 @@ pub struct Supervisor {
     status: Status,
     fault_log: Vec<FaultRecord>,
     notice_log: Vec<Notice>,
+    /// Which sensors steered at the last notice of it (autonomous by GNSS or fused).
+    steering_said: Option<Steering>,
 }
 
 /// Move `value` towards `target` by at most `step`.
@@ -78,6 +81,7 @@ impl Supervisor {
             status: Status::default(),
             fault_log: Vec::with_capacity(LOG_CAPACITY),
             notice_log: Vec::with_capacity(LOG_CAPACITY),
+            steering_said: None,
         }
     }
 
@@ -209,6 +213,7 @@ impl Supervisor {
             });
             self.set_mode(Mode::Halt);
         }
+        self.say_steering(steer, now_s);
         let driving = self.status.mode.drives();
         self.endswitch
             .latch(&mut self.status.endswitch_hit, driving, inputs, now_s);
@@ -271,6 +276,24 @@ impl Supervisor {
     }
 
     /// Publish a notice for the operator and keep it for the report.
+    /// Each change of the sensors that steer, while autonomous by GNSS or the fused row,
+    /// is a notice (the console's line, the GUI's, the record's event).
+    fn say_steering(&mut self, steer: &SteerCommand, now_s: f64) {
+        let autonomous = self.status.mode == Mode::Autonomous && steer.mode == Mode::Autonomous;
+        if !autonomous || self.settings.sources.source == SteerSource::Camera {
+            self.steering_said = None;
+            return;
+        }
+        let steering = steer.sources.steering;
+        if self.steering_said != Some(steering) {
+            self.steering_said = Some(steering);
+            self.say(Notice::Steering {
+                steering,
+                t_s: now_s,
+            });
+        }
+    }
+
     fn say(&mut self, notice: Notice) {
         self.status.notice = Some(notice);
         if self.notice_log.len() < LOG_CAPACITY {

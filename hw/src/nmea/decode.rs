@@ -22,7 +22,7 @@ const BUF_LEN: usize = MAX_LINE_LEN + 1;
 
 /// What the decoder has seen. Every line (a `$` up to the next `\n` or `$`) lands in
 /// exactly one of the fields from `gga` to `non_ascii`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
 pub struct NmeaCounters {
     pub gga: u64,
     pub rmc: u64,

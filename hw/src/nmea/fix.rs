@@ -52,7 +52,7 @@ pub enum Epoch {
 }
 
 /// What the assembler has done, for the status display.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
 pub struct FixCounters {
     pub fixes: u64,
     pub no_fixes: u64,

@@ -54,6 +54,18 @@ impl FixQuality {
         self.code() != 0
     }
 
+    /// In words, for the operator.
+    pub fn words(self) -> &'static str {
+        match self {
+            FixQuality::None => "no fix",
+            FixQuality::Gps => "GPS",
+            FixQuality::Dgps => "DGPS",
+            FixQuality::RtkFixed => "RTK fixed",
+            FixQuality::RtkFloat => "RTK float",
+            FixQuality::Other(_) => "other",
+        }
+    }
+
     /// True for RTK fixed and float: the solutions that use the base station.
     pub fn is_rtk(self) -> bool {
         matches!(self, FixQuality::RtkFixed | FixQuality::RtkFloat)
