@@ -117,6 +117,35 @@ pub fn run_row(
     }
 }
 
+/// Every row at every speed of `field`, once per source, saying each run as it starts
+/// (stderr) and the realistic field's robot first (stdout).
+pub fn run_all(
+    settings: &Settings,
+    field: FieldKind,
+    sources: &[SteerSource],
+    seed: u64,
+) -> Vec<RowRun> {
+    if field == FieldKind::Realistic {
+        println!(
+            "field: realistic ([sim] field_*); the drive geared for 2 m/s ({REALISTIC_MOTOR_GAIN_MPS_PER_V} m/s per V), the speed regulators' gains scaled to match"
+        );
+    }
+    let mut runs = Vec::new();
+    for &source in sources {
+        for row in ROWS {
+            for speed in speeds_mps(field) {
+                eprintln!(
+                    "running {} row at {speed} m/s, steering by {} ...",
+                    row_name(row),
+                    source_name(source)
+                );
+                runs.push(run_row(settings, field, source, row, speed, seed));
+            }
+        }
+    }
+    runs
+}
+
 /// The realistic tier's robot: a drive geared for its 2 m/s, and the speed regulators'
 /// gains (volts per m/s) scaled by the gear, so that the loops behave as the clean
 /// robot's do.

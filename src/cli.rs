@@ -38,6 +38,9 @@ pub enum Command {
     Bench(BenchCommand),
     /// A stand-alone simulated camera computer, for bench tests of a link.
     Camsim(mechweed::camsim_main::CamsimArgs),
+    /// Teach a row for the row map: drive it in joystick mode with the weeding tool on the
+    /// row (or give a record of such a drive); the tool's path goes into the map file.
+    Teach(TeachArgs),
     /// A stand-alone simulated RTK GNSS receiver (NMEA on a serial device or TCP), for
     /// bench tests of the GNSS link.
     Gnsssim(mechweed::gnsssim::GnssSimArgs),
@@ -64,6 +67,27 @@ pub enum Command {
     Cluster(ClusterCommand),
     /// The operator GUI on another computer, fed by the robot's flows on the bus.
     Watch(WatchArgs),
+}
+
+#[derive(clap::Args)]
+pub struct TeachArgs {
+    /// The row's name in the map (e.g. 3 or north-3).
+    pub row: String,
+    /// The row map file to put it in: made if missing; a row of that name is replaced.
+    #[arg(long, value_name = "FILE")]
+    pub map: PathBuf,
+    /// Teach from a record of a drive already made (NAME.csv, NAME.mcap, or latest)
+    /// instead of driving now.
+    #[arg(long, value_name = "RECORD")]
+    pub record: Option<PathBuf>,
+    /// Write the simulated field's own map instead (its planting record, [sim]
+    /// gnss_map_error_*): no driving.
+    #[arg(long, conflicts_with = "record")]
+    pub field: bool,
+    /// The run to drive the row in, as `mechweed run` takes it (it starts in joystick
+    /// mode whatever --mode says).
+    #[command(flatten)]
+    pub run: RunArgs,
 }
 
 #[derive(clap::Args)]

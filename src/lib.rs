@@ -45,4 +45,5 @@ pub mod status;
 pub mod steer;
 pub mod steering;
 mod supervisor;
+pub mod teach_command;
 mod threads;

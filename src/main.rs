@@ -54,8 +54,58 @@ fn settings_file(file: Option<&Path>) -> Option<PathBuf> {
     }
 }
 
-/// What to do when the GUI has no window to open.
 const RUN_ADVICE: &str = "run with --headless for the console, or start it in a desktop session";
+
+/// `mechweed teach`: drive the row (or take a record of the drive), map the tool's path.
+fn teach(args: cli::TeachArgs) -> ExitCode {
+    let Ok(settings) = load_settings(args.run.config.as_deref(), &args.run.set)
+        .map_err(|errors| print_errors(&errors))
+    else {
+        return ExitCode::FAILURE;
+    };
+    if args.field {
+        return said(mechweed::teach_command::field_into_map(
+            &settings, &args.row, &args.map,
+        ));
+    }
+    if args.record.is_none() {
+        println!(
+            "teaching row {}: drive it in joystick mode with the weeding tool on the row, then end the run (close the window, Ctrl-C, or --duration)",
+            args.row
+        );
+        let run = RunArgs {
+            mode: StartMode::Joystick,
+            ..args.run
+        };
+        if run_command(run) != ExitCode::SUCCESS {
+            return ExitCode::FAILURE;
+        }
+    }
+    let record = match args.record {
+        Some(record) if record.as_os_str() != "latest" => Ok(record),
+        _ => mechweed::record::keep::latest(&settings.record.folder), // the run just made
+    };
+    said(record.and_then(|record| {
+        println!("teaching row {} from {}", args.row, record.display());
+        mechweed::teach_command::teach_into_map(&record, &args.row, &args.map, &settings)
+    }))
+}
+
+/// A command's closing line (none if empty), or why it failed.
+fn said(result: Result<String, String>) -> ExitCode {
+    match result {
+        Ok(line) => {
+            if !line.is_empty() {
+                println!("{line}");
+            }
+            ExitCode::SUCCESS
+        }
+        Err(why) => {
+            eprintln!("{why}");
+            ExitCode::FAILURE
+        }
+    }
+}
 
 fn run_command(args: RunArgs) -> ExitCode {
     if args.list_events {
@@ -257,34 +307,16 @@ fn bench(command: BenchCommand) -> ExitCode {
     }
     let field = match field {
         cli::BenchField::Clean => FieldKind::Clean,
-        cli::BenchField::Realistic => {
-            println!(
-                "field: realistic ([sim] field_*); the drive geared for 2 m/s ({} m/s per V), the speed regulators' gains scaled to match",
-                bench_rows::REALISTIC_MOTOR_GAIN_MPS_PER_V
-            );
-            FieldKind::Realistic
-        }
+        cli::BenchField::Realistic => FieldKind::Realistic,
     };
-    let mut runs = Vec::new();
-    for source in sources {
-        let source = match source {
+    let sources: Vec<SteerSource> = (sources.iter())
+        .map(|source| match source {
             cli::BenchSource::Camera => SteerSource::Camera,
             cli::BenchSource::Gnss => SteerSource::Gnss,
             cli::BenchSource::Fused => SteerSource::Fused,
-        };
-        for row in bench_rows::ROWS {
-            for speed in bench_rows::speeds_mps(field) {
-                eprintln!(
-                    "running {} row at {speed} m/s, steering by {} ...",
-                    bench_rows::row_name(row),
-                    bench_rows::source_name(source)
-                );
-                runs.push(bench_rows::run_row(
-                    &settings, field, source, row, speed, seed,
-                ));
-            }
-        }
-    }
+        })
+        .collect();
+    let runs = bench_rows::run_all(&settings, field, &sources, seed);
     print!("{}", bench_rows::table(&runs));
     write_json(json, &runs)
 }
@@ -353,20 +385,11 @@ fn main() -> ExitCode {
         Some(Command::Run(args)) => run_command(args),
         Some(Command::CheckConfig { file }) => check_config(file),
         Some(Command::Bench(b)) => bench(b),
-        Some(Command::Gnsssim(args)) => match mechweed::gnsssim::run(args) {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(why) => {
-                eprintln!("{why}");
-                ExitCode::FAILURE
-            }
-        },
-        Some(Command::Camsim(args)) => match mechweed::camsim_main::run(args) {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(why) => {
-                eprintln!("{why}");
-                ExitCode::FAILURE
-            }
-        },
+        Some(Command::Teach(args)) => teach(args),
+        Some(Command::Gnsssim(args)) => said(mechweed::gnsssim::run(args).map(|()| String::new())),
+        Some(Command::Camsim(args)) => {
+            said(mechweed::camsim_main::run(args).map(|()| String::new()))
+        }
         Some(Command::Probe { raw, config }) => probe(raw, config),
         Some(Command::Record(args)) => record_command::record(args),
         Some(Command::Replay(args)) => replay_command::replay(args),

@@ -251,6 +251,15 @@ fn gnss_settings_that_cannot_work_are_named() {
             ),
         "{got:?}"
     );
+    let got = errors(SHIPPED, &["gnss.origin=52.0,east"]);
+    assert!(
+        got[0].contains("'52.0,east' is not map or LAT,LON in degrees"),
+        "{got:?}"
+    );
+    assert_eq!(
+        errors(SHIPPED, &["gnss.origin=52.0, 5.66"]),
+        Vec::<String>::new()
+    );
     let got = errors(SHIPPED, &["gnss.port=bus"]);
     assert!(
         got[0].contains("the bus carries no GNSS positions"),

@@ -3,6 +3,7 @@
 
 use std::path::PathBuf;
 
+use mechweed_hw::geo::Geodetic;
 use mechweed_hw::nmea::FixQuality;
 
 use super::camera_port::{BAUD_RATES, CameraPort};
@@ -33,6 +34,8 @@ pub struct GnssSettings {
     pub antenna_ahead_m: f64,
     pub antenna_left_m: f64,
     pub map: MapSource,
+    /// The local east-north frame's reference point (None: the map's first point).
+    pub origin: Option<Geodetic>,
     /// Fix qualities whose positions steer, by their GGA code (bit n = code n).
     pub trusted: u16,
     /// No trusted fix for this long: GNSS is lost, s.
@@ -96,9 +99,31 @@ pub(super) fn load(r: &mut Reader) -> GnssSettings {
         antenna_ahead_m: r.f64(s, "antenna_ahead_m", -5.0, 5.0),
         antenna_left_m: r.f64(s, "antenna_left_m", -5.0, 5.0),
         map,
+        origin: r.parsed(s, "origin", origin).unwrap_or(None),
         trusted: r.parsed(s, "trust", trusted_codes).unwrap_or(1 << 4),
         timeout_s: r.f64(s, "timeout_s", 0.05, 10.0),
     }
+}
+
+/// "map" (the map's first point) or "LAT,LON" in degrees.
+fn origin(text: &str) -> Result<Option<Geodetic>, String> {
+    if text == "map" {
+        return Ok(None);
+    }
+    let bad = || format!("'{text}' is not map or LAT,LON in degrees (for example 52.0,5.66)");
+    let (lat, lon) = text.split_once(',').ok_or_else(bad)?;
+    let lat_deg: f64 = lat.trim().parse().map_err(|_| bad())?;
+    let lon_deg: f64 = lon.trim().parse().map_err(|_| bad())?;
+    if !(-85.0..=85.0).contains(&lat_deg) || !(-180.0..=180.0).contains(&lon_deg) {
+        return Err(format!(
+            "{text}: the latitude must be -85..85 and the longitude -180..180 degrees"
+        ));
+    }
+    Ok(Some(Geodetic {
+        lat_deg,
+        lon_deg,
+        height_m: 0.0,
+    }))
 }
 
 /// "rtk_fixed, rtk_float" -> the bits of codes 4 and 5.

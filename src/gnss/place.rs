@@ -1,7 +1,7 @@
 //! Where the row map's line lies from the robot, from a GNSS fix.
 //!
-//! The map's rows are turned into metres east and north of the map's first point (the
-//! local frame: the fixes go into the same frame). A fix is the antenna's position; the
+//! The map's rows are turned into metres east and north of [gnss] origin, or the map's
+//! first point (the local frame: the fixes go into the same frame). A fix is the antenna's position; the
 //! rear axle is `antenna_ahead_m` behind it and `antenna_left_m` to its right, along the
 //! robot's heading. GNSS gives no heading of its own at a standstill, so the heading is
 //! the map line's, less the row filter's estimate of the row's heading relative to the
@@ -37,21 +37,22 @@ pub struct RowPlace {
 }
 
 impl RowPlace {
-    /// The map's rows in the frame of its first point; `label` names the map in errors.
+    /// The map's rows in the local frame at `origin` (None: the map's first point);
+    /// `label` names the map in errors.
     pub fn new(
         map: &RowMap,
         label: &str,
-        antenna_ahead_m: f64,
-        antenna_left_m: f64,
+        (antenna_ahead_m, antenna_left_m): (f64, f64),
+        origin: Option<Geodetic>,
     ) -> Result<RowPlace, String> {
         let Some(&(lat_deg, lon_deg)) = map.rows.first().and_then(|r| r.points_deg.first()) else {
             return Err(format!("{label}: the map has no rows"));
         };
-        let frame = LocalFrame::new(Geodetic {
+        let frame = LocalFrame::new(origin.unwrap_or(Geodetic {
             lat_deg,
             lon_deg,
             height_m: 0.0,
-        });
+        }));
         let local = map
             .to_local(&frame)
             .map_err(|e| format!("{label}: row {}: {}", e.row, e.what))?;
@@ -76,12 +77,8 @@ impl RowPlace {
             points_deg: points.iter().map(|p| (p.lat_deg, p.lon_deg)).collect(),
         };
         let map = RowMap { rows: vec![row] };
-        RowPlace::new(
-            &map,
-            "the simulated field's map",
-            antenna_ahead_m,
-            antenna_left_m,
-        )
+        let antenna = (antenna_ahead_m, antenna_left_m);
+        RowPlace::new(&map, "the simulated field's map", antenna, None)
     }
 
     /// Choose the row afresh at the next fix (a new autonomous run).

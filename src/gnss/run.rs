@@ -78,7 +78,12 @@ pub fn prepare(
         (MapSource::File(path), _) => {
             let map = read_map(path).map_err(|e| GnssRunError::Map(e.to_string()))?;
             let label = path.display().to_string();
-            RowPlace::new(&map, &label, g.antenna_ahead_m, g.antenna_left_m)
+            RowPlace::new(
+                &map,
+                &label,
+                (g.antenna_ahead_m, g.antenna_left_m),
+                g.origin,
+            )
         }
     }
     .map_err(GnssRunError::Map)?;

@@ -153,6 +153,9 @@ pub fn fill_from_tick(view: &mut View, tick: &Value) {
         gnss_quality: int(tick, "gnss_quality").clamp(0, 255) as u8,
         gnss_satellites: int(tick, "gnss_satellites").clamp(0, 255) as u8,
         gnss_sd_m: tick["gnss_sd_m"].as_f64(),
+        gnss_position: tick["gnss_lat_deg"]
+            .as_f64()
+            .zip(tick["gnss_lon_deg"].as_f64()),
         // The filter's columns are numbers only where it runs.
         filter: tick["filter_offset_m"].is_number().then(|| FilterFigures {
             offset_m: num(tick, "filter_offset_m"),

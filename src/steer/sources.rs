@@ -45,6 +45,8 @@ pub struct RowFigures {
     pub gnss_quality: u8,
     pub gnss_satellites: u8,
     pub gnss_sd_m: Option<f64>,
+    /// The antenna's latitude and longitude in that fix, degrees.
+    pub gnss_position: Option<(f64, f64)>,
     /// The row filter (None when the camera steers alone).
     pub filter: Option<FilterFigures>,
 }
@@ -144,6 +146,7 @@ impl RowSources {
             f.gnss_quality = fix.quality.code();
             f.gnss_satellites = fix.satellites.unwrap_or(0);
             f.gnss_sd_m = fix.sd_east_m.zip(fix.sd_north_m).map(|(e, n)| e.max(n));
+            f.gnss_position = Some((fix.lat_deg, fix.lon_deg));
         }
         if self.s.source != SteerSource::Camera {
             let (x, sd, c) = (

@@ -1,0 +1,234 @@
+//! `mechweed teach`: a row's line for the row map, from a drive along the row in
+//! joystick mode with the weeding tool on it. The drive is an ordinary run (its record
+//! keeps every fix); this reads the record back, turns each fix of the antenna into the
+//! tool's position (the robot's heading from the antenna's own track), and hands them to
+//! the teacher (rowmap/teach.rs), which keeps a point every 25 cm of trusted RTK fixes
+//! and refuses a row with a stretch it could not trust. The row goes into the map file,
+//! replacing a row of the same name.
+
+use std::collections::VecDeque;
+use std::path::Path;
+
+use mechweed_hw::geo::{Enu, Geodetic, LocalFrame};
+
+use crate::config::Settings;
+use crate::record::read::{Table, read};
+use crate::rowmap::{MapRow, RowMap, TeachSample, TeachSettings, Teacher, read_map, write_map};
+
+/// The record's columns teaching reads.
+const COLUMNS: [&str; 5] = [
+    "mode",
+    "distance_m",
+    "gnss_quality",
+    "gnss_lat_deg",
+    "gnss_lon_deg",
+];
+
+/// The heading is taken from the antenna's track over the last metre or so: over less,
+/// RTK's centimetre of noise turns it by degrees, which the 0.9 m from the antenna to
+/// the tool makes centimetres.
+const HEADING_BASE_M: f64 = 1.0;
+
+/// What teaching found, for the closing lines.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Taught {
+    pub row: MapRow,
+    /// Driven in joystick mode with a trusted fix, m.
+    pub length_m: f64,
+    pub fixes_used: usize,
+}
+
+/// The tool's path along the row `name`, from the joystick driving in `record`.
+pub fn taught_row(record: &Path, name: &str, s: &Settings) -> Result<Taught, String> {
+    let rec = read(record, &COLUMNS).map_err(|e| e.to_string())?;
+    let t = &rec.ticks;
+    let col = |c: &str| {
+        t.column(c).ok_or_else(|| {
+            format!(
+                "{}: no column {c} (recorded by an older mechweed?)",
+                record.display()
+            )
+        })
+    };
+    let (mode, distance, quality, lat, lon) = (
+        col("mode")?,
+        col("distance_m")?,
+        col("gnss_quality")?,
+        col("gnss_lat_deg")?,
+        col("gnss_lon_deg")?,
+    );
+    let num = |row: usize, c: usize| t.number(row, c).map_err(|e| e.to_string());
+    let mut teacher = Teacher::new(TeachSettings::default()).map_err(|e| e.to_string())?;
+    let mut track = Track::new(s);
+    let (mut fixes_used, mut first_m, mut last_m) = (0, None, 0.0);
+    for row in 0..t.rows.len() {
+        if t.text(row, mode) != "joystick" {
+            continue;
+        }
+        let (Some(lat_deg), Some(lon_deg), Some(distance_m)) =
+            (num(row, lat)?, num(row, lon)?, num(row, distance)?)
+        else {
+            continue;
+        };
+        let code = num(row, quality)?.unwrap_or(0.0) as u8;
+        let Some((tool_lat_deg, tool_lon_deg)) = track.tool(lat_deg, lon_deg) else {
+            continue;
+        };
+        teacher
+            .feed(TeachSample {
+                lat_deg: tool_lat_deg,
+                lon_deg: tool_lon_deg,
+                fix_quality: code,
+                distance_m,
+            })
+            .map_err(|e| e.to_string())?;
+        fixes_used += 1;
+        first_m.get_or_insert(distance_m);
+        last_m = distance_m;
+    }
+    if fixes_used == 0 {
+        return Err(no_drive(record, t));
+    }
+    let row = teacher.finish(name).map_err(|e| e.to_string())?;
+    Ok(Taught {
+        row,
+        length_m: last_m - first_m.unwrap_or(last_m),
+        fixes_used,
+    })
+}
+
+/// Why nothing could be taught from the record.
+fn no_drive(record: &Path, t: &Table) -> String {
+    format!(
+        "{}: no joystick driving with a GNSS position in its {} ticks: drive the row in joystick mode with [gnss] port set",
+        record.display(),
+        t.rows.len()
+    )
+}
+
+/// Teach row `name` from `record` and put it into the map file `map`: the line to say,
+/// or why nothing was written.
+pub fn teach_into_map(
+    record: &Path,
+    name: &str,
+    map: &Path,
+    s: &Settings,
+) -> Result<String, String> {
+    let taught = taught_row(record, name, s)
+        .map_err(|why| format!("{why}; nothing written to {}", map.display()))?;
+    let points = taught.row.points_deg.len();
+    let comment = format!(
+        "row {name} taught by mechweed teach from {}",
+        record.display()
+    );
+    let replaced = write_into_map(map, taught.row, &comment)?;
+    Ok(format!(
+        "row {name}: {points} points over {:.1} m driven, {} {}",
+        taught.length_m,
+        if replaced {
+            "replacing the row of that name in"
+        } else {
+            "written to"
+        },
+        map.display()
+    ))
+}
+
+/// The simulated field's own map (its planting record, with the planting error of
+/// [sim] gnss_map_error_*) as row `name` of the map file `map`: the line to say.
+pub fn field_into_map(s: &Settings, name: &str, map: &Path) -> Result<String, String> {
+    let (camera, _) = mechweed_hw::sim::byte_pipe(16);
+    let robot = mechweed_hw::sim::SimRobot::new(&s.sim, camera);
+    let points = robot.planted_map();
+    let row = MapRow {
+        name: name.to_string(),
+        points_deg: points.iter().map(|p| (p.lat_deg, p.lon_deg)).collect(),
+    };
+    let comment = format!(
+        "row {name}: the simulated field's planting record (seed {})",
+        s.sim.seed
+    );
+    let replaced = write_into_map(map, row, &comment)?;
+    Ok(format!(
+        "row {name}: the simulated field's map, {} points, {} {}",
+        points.len(),
+        if replaced {
+            "replacing the row of that name in"
+        } else {
+            "written to"
+        },
+        map.display()
+    ))
+}
+
+/// Put `row` into the map file at `path` (made if missing), replacing a row of the same
+/// name. Returns true if it replaced one.
+pub fn write_into_map(path: &Path, row: MapRow, comment: &str) -> Result<bool, String> {
+    let mut map = if path.exists() {
+        read_map(path).map_err(|e| e.to_string())?
+    } else {
+        RowMap { rows: Vec::new() }
+    };
+    let replaced = match map.rows.iter_mut().find(|r| r.name == row.name) {
+        Some(old) => {
+            *old = row;
+            true
+        }
+        None => {
+            map.rows.push(row);
+            false
+        }
+    };
+    write_map(path, &map, Some(comment)).map_err(|e| e.to_string())?;
+    Ok(replaced)
+}
+
+/// The antenna's track: its heading from where it was a metre back, and the tool's
+/// place from the antenna's along that heading.
+struct Track {
+    frame: Option<LocalFrame>,
+    /// The antenna's recent positions, east and north, m: the oldest is at least
+    /// `HEADING_BASE_M` back once the robot has driven that far.
+    recent: VecDeque<(f64, f64)>,
+    /// From the antenna to the tool, along and across the robot, m.
+    ahead_m: f64,
+    left_m: f64,
+}
+
+impl Track {
+    fn new(s: &Settings) -> Track {
+        Track {
+            frame: None,
+            recent: VecDeque::new(),
+            ahead_m: s.robot.tool_offset_m - s.gnss.antenna_ahead_m,
+            left_m: -s.gnss.antenna_left_m,
+        }
+    }
+
+    /// The tool's latitude and longitude for an antenna fix, once the robot has driven
+    /// far enough for a heading.
+    fn tool(&mut self, lat_deg: f64, lon_deg: f64) -> Option<(f64, f64)> {
+        let place = Geodetic {
+            lat_deg,
+            lon_deg,
+            height_m: 0.0,
+        };
+        let frame = *self.frame.get_or_insert_with(|| LocalFrame::new(place));
+        let here = frame.to_enu(place);
+        let far = |p: &(f64, f64)| (here.east_m - p.0).hypot(here.north_m - p.1) >= HEADING_BASE_M;
+        // Keep one position at least a base back, and drop the older ones.
+        while self.recent.len() > 1 && self.recent.get(1).is_some_and(far) {
+            self.recent.pop_front();
+        }
+        self.recent.push_back((here.east_m, here.north_m));
+        let &(back_e, back_n) = self.recent.front().filter(|p| far(p))?;
+        let heading_rad = (here.north_m - back_n).atan2(here.east_m - back_e);
+        let (sin, cos) = heading_rad.sin_cos();
+        let tool = frame.to_geodetic(Enu {
+            east_m: here.east_m + self.ahead_m * cos - self.left_m * sin,
+            north_m: here.north_m + self.ahead_m * sin + self.left_m * cos,
+            up_m: 0.0,
+        });
+        Some((tool.lat_deg, tool.lon_deg))
+    }
+}
