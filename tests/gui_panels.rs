@@ -318,3 +318,38 @@ fn the_status_panel_shows_the_bus_its_endpoints_and_what_it_published_and_droppe
     assert!(shows(&h, "2 other programs present"));
     assert!(shows(&h, "listening on tcp/127.0.0.1:7447"));
 }
+
+#[test]
+fn the_status_tab_shows_the_fix_which_sensors_steer_and_the_filters_row() {
+    use mechweed::steer::{FilterFigures, RowFigures, Steering};
+    let mut view = robot(Mode::Autonomous, PowerState::On);
+    view.steer.sources.steering = Steering::FilterGnss;
+    view.steer.row = RowFigures {
+        gnss_quality: 5,
+        gnss_satellites: 16,
+        gnss_sd_m: Some(0.1),
+        gnss_position: Some((52.0, 5.66)),
+        filter: Some(FilterFigures {
+            offset_m: 0.012,
+            offset_sd_m: 0.004,
+            heading_rad: 0.01,
+            curvature_per_m: 0.0,
+            map_bias_m: -0.008,
+            camera_rejected: 21,
+            gnss_rejected: 3,
+        }),
+    };
+    let mut h = panels(view, draw_status);
+    h.step();
+    assert!(shows(&h, "GNSS alone (the camera lost)"));
+    assert!(shows(&h, "RTK float  16 satellites  s.d. 10.0 cm"));
+    assert!(shows(&h, "row +1.2 cm +- 0.4 cm at the rear axle"));
+    assert!(shows(&h, "map bias -0.8 cm"));
+    assert!(shows(&h, "camera 21  GNSS 3"));
+
+    // The camera steering alone: no filter, and no fix.
+    let mut h = panels(robot(Mode::Autonomous, PowerState::On), draw_status);
+    h.step();
+    assert!(shows(&h, "not running ([steer] source = camera)"));
+    assert!(shows(&h, "no fix received"));
+}
