@@ -41,6 +41,10 @@ pub enum FaultCause {
         camera_s: f64,
         gnss_s: f64,
     },
+    /// [steer] source = gnss or fused: the row filter's row is this far from the robot.
+    OffTheRow {
+        offset_m: f64,
+    },
     ThreadStopped {
         thread: ThreadName,
         for_s: f64,
@@ -145,6 +149,12 @@ impl fmt::Display for FaultCause {
             FaultCause::CameraSeesNoRow { for_s } => {
                 write!(f, "camera sees no row: no usable estimate for {for_s:.2} s")
             }
+            FaultCause::OffTheRow { offset_m } => write!(
+                f,
+                "the robot is off its row: the row is {:.0} cm to its {} (steering by GNSS or the fused row)",
+                offset_m.abs() * 100.0,
+                if offset_m > 0.0 { "left" } else { "right" }
+            ),
             FaultCause::NoRowSource { camera_s, gnss_s } => write!(
                 f,
                 "no row to steer by: the camera has given no usable row for {camera_s:.2} s and GNSS no trusted fix for {gnss_s:.2} s"

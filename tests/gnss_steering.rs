@@ -209,3 +209,28 @@ fn weed_patches_are_rejected_by_the_gate_and_the_fused_tool_stays_within_2_cm_of
         "the camera alone {camera_worst_cm:.2} cm off"
     );
 }
+
+#[test]
+fn a_robot_put_down_beside_its_row_is_off_the_row_and_stops_steering_by_gnss() {
+    // 40 cm left of the row at the start: GNSS on the map sees it at once.
+    let mut s = settings(SteerSource::Gnss, FieldKind::Clean, 0.5, "");
+    s.sim.start_offset_m = 0.4;
+    let run = drive(&s, 10.0);
+    let faults = run.sim.supervisor.faults();
+    assert_eq!(faults.len(), 1, "{faults:?}");
+    let text = faults[0].cause.to_string();
+    assert!(
+        text.starts_with("the robot is off its row: the row is 4")
+            && text.contains("cm to its right"),
+        "{text}"
+    );
+    assert!(run.sim.robot.outputs().is_safe());
+    // The filter's gate takes the first fixes for an RTK jump until twenty in a row
+    // agree (2 s), then it knows: the robot stopped within a metre or so.
+    assert!(faults[0].t_s < 5.0, "{faults:?}");
+    assert!(
+        run.sim.robot.truth().distance_m < 1.5,
+        "{:?}",
+        run.sim.robot.truth()
+    );
+}

@@ -93,6 +93,9 @@ pub struct FaultSettings {
     pub endswitch_unhandled_s: f64,
     pub endswitch_timeout_s: f64,
     pub contactor_drop_s: f64,
+    /// Steering by GNSS or the fused row: the row filter's row farther than this from
+    /// the rear axle is the robot off its row, m.
+    pub off_row_m: f64,
 }
 
 /// PI speed regulator of one drive wheel, with feed-forward.
@@ -310,6 +313,7 @@ fn faults(r: &mut Reader) -> FaultSettings {
         endswitch_timeout_s: r.f64(s, "endswitch_timeout_s", 0.1, 10.0),
         // A real contactor drops in tens of milliseconds; a second is plenty.
         contactor_drop_s: r.f64(s, "contactor_drop_s", 0.02, 1.0),
+        off_row_m: r.f64(s, "off_row_m", 0.02, 2.0),
     }
 }
 

@@ -275,6 +275,14 @@ impl FaultChecks {
             });
         }
 
+        // Steering by GNSS or the fused row, nothing loses the row the way a camera
+        // does: a robot far from the filter's row has left it (a steering that swings).
+        let offset_m = c.steer.sources.row_offset_m;
+        let by_filter = c.mode == Mode::Autonomous && c.steer.mode == Mode::Autonomous;
+        if self.source != SteerSource::Camera && by_filter && offset_m.abs() > self.s.off_row_m {
+            report(FaultCause::OffTheRow { offset_m });
+        }
+
         // Autonomous driving by the camera needs it: frames, and frames that see the row.
         if c.mode == Mode::Autonomous && self.source == SteerSource::Camera {
             let since = |t: f64| now - t.max(c.mode_since_s);

@@ -51,6 +51,7 @@ pub const WANTED: &[&str] = &[
     "steering",
     "steer_camera_good_s",
     "steer_gnss_good_s",
+    "filter_offset_m",
     "link_last_row_s",
     "link_last_usable_s",
     "link_beat_s",
@@ -198,6 +199,10 @@ impl Row<'_> {
                 )?,
                 camera_good_s: self.time_or_never("steer_camera_good_s")?,
                 gnss_good_s: self.time_or_never("steer_gnss_good_s")?,
+                // Empty while the camera steers alone: no filter, no row offset of its.
+                row_offset_m: Some(self.num_or_nan("filter_offset_m")?)
+                    .filter(|m| !m.is_nan())
+                    .unwrap_or(0.0),
             },
             law: LawOutput {
                 wheel_angle_rad: f64::NAN,

@@ -135,13 +135,6 @@ pub enum Outcome {
     Refused,
 }
 
-impl Outcome {
-    /// The measurement moved the estimate (used, or used after a reset).
-    pub fn used(self) -> bool {
-        matches!(self, Outcome::Used | Outcome::Reset)
-    }
-}
-
 /// Counts since construction. `*_rejected` counts every gate failure, `*_resets` those
 /// that ended a run and reset; `*_used` counts updates that passed the gate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -34,6 +34,8 @@ pub struct SourceHealth {
     /// When the camera's link last had a usable row, and GNSS a trusted fix, s.
     pub camera_good_s: f64,
     pub gnss_good_s: f64,
+    /// The row filter's row offset at the rear axle, m (0 when the camera steers alone).
+    pub row_offset_m: f64,
 }
 
 /// What the GNSS link and the row filter show, for the GUI, the record and the report
@@ -136,6 +138,10 @@ impl RowSources {
             steering: self.steering,
             camera_good_s: self.camera_good_s,
             gnss_good_s: self.gnss_good_s,
+            row_offset_m: match self.s.source {
+                SteerSource::Camera => 0.0,
+                _ => self.filter.state().offset_m,
+            },
         }
     }
 
@@ -214,9 +220,12 @@ impl RowSources {
         }
         self.fuse_gnss(gnss);
         self.steering = self.choose(now_s);
-        let speed_mps = match self.steering {
-            Steering::Nothing => return None,
-            Steering::FilterGnss => cruise_mps.min(self.s.gnss_only_speed_mps),
+        let speed_mps = match (self.steering, self.s.source) {
+            (Steering::Nothing, _) => return None,
+            // Fused that lost its camera slows down; GNSS chosen alone does not.
+            (Steering::FilterGnss, SteerSource::Fused) => {
+                cruise_mps.min(self.s.gnss_only_speed_mps)
+            }
             _ => cruise_mps,
         };
         let (offset_m, angle_rad) = self.filter.row_at(self.camera_x_m);
@@ -232,10 +241,15 @@ impl RowSources {
         })
     }
 
-    /// Which sensors steer, from how long each has been without a good measurement.
+    /// Which sensors steer, from how long each has been without a good measurement:
+    /// GNSS alone is lost after [gnss] timeout_s; fused falls back after its own times.
     fn choose(&self, now_s: f64) -> Steering {
         let camera_ok = now_s - self.camera_good_s <= self.s.camera_fallback_s;
-        let gnss_ok = now_s - self.gnss_good_s <= self.s.gnss_fallback_s;
+        let gnss_lost_after_s = match self.s.source {
+            SteerSource::Gnss => self.gnss.timeout_s,
+            _ => self.s.gnss_fallback_s,
+        };
+        let gnss_ok = now_s - self.gnss_good_s <= gnss_lost_after_s;
         match (self.s.source, camera_ok, gnss_ok) {
             (SteerSource::Gnss, _, true) => Steering::FilterGnss,
             (SteerSource::Fused, true, true) => Steering::Fused,
@@ -292,14 +306,14 @@ impl RowSources {
     }
 
     /// A new usable camera estimate into the filter, at its capture pose.
-    fn fuse_camera(&mut self, link: &LinkStatus) -> bool {
+    fn fuse_camera(&mut self, link: &LinkStatus) {
         if link.last_usable_s <= self.used_camera_s {
-            return false;
+            return;
         }
         self.used_camera_s = link.last_usable_s;
         let estimate = link.last_usable;
         if estimate.quality < self.fuse_min_quality {
-            return false;
+            return;
         }
         let now = self.history[self.newest];
         let then = self.odometry_at(link.last_usable_s - self.latency_s);
@@ -307,7 +321,8 @@ impl RowSources {
             travelled_m: now.distance_m - then.distance_m,
             turned_rad: now.heading_rad - then.heading_rad,
         };
-        let outcome = self.filter.update_camera(
+        // A rejected row (a weed patch) is counted by the filter; nothing else to do.
+        self.filter.update_camera(
             estimate.offset_m,
             estimate.angle_rad,
             self.camera_x_m,
@@ -315,34 +330,31 @@ impl RowSources {
             self.camera_sd_angle_rad,
             since,
         );
-        outcome.used()
     }
 
     /// A new trusted fix into the filter, against the row map.
-    fn fuse_gnss(&mut self, gnss: &GnssStatus) -> bool {
+    fn fuse_gnss(&mut self, gnss: &GnssStatus) {
         let (Some(fix), Some(place)) = (gnss.last_fix, &mut self.place) else {
-            return false;
+            return;
         };
         if gnss.last_fix_s <= self.used_fix_s {
-            return false;
+            return;
         }
         self.used_fix_s = gnss.last_fix_s;
         if !self.gnss.trusts(fix.quality) {
-            return false;
+            return;
         }
         // GNSS is there while trusted fixes come, whether or not the gate takes them.
         self.gnss_good_s = gnss.last_fix_s;
         let row: RowState = self.filter.state();
         let Some(view) = place.locate(&fix, row.heading_rad) else {
-            return false;
+            return;
         };
         let sd_m = match (fix.sd_east_m, fix.sd_north_m) {
             (Some(east), Some(north)) => east.max(north),
             _ => typical_sd_m(fix.quality),
         };
-        self.filter
-            .update_gnss(view.offset_m, sd_m.max(0.005))
-            .used()
+        self.filter.update_gnss(view.offset_m, sd_m.max(0.005));
     }
 }
 
