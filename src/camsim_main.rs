@@ -36,23 +36,31 @@ fn each_second_printer() -> impl FnMut(f64, &CamSim) {
     }
 }
 
+/// A serial device, or for DEVICE = "pty" a new pseudo-terminal whose path is said with
+/// the setting that points the robot program at it (`what` is the simulated device).
+pub fn serial_or_pty(
+    device: &str,
+    baud: u32,
+    what: &str,
+    setting: &str,
+) -> Result<Box<dyn SerialPort>, String> {
+    if device != "pty" {
+        return serialport::new(device, baud)
+            .open()
+            .map_err(|e| format!("cannot open {device}: {e}"));
+    }
+    let (master, slave) =
+        TTYPort::pair().map_err(|e| format!("cannot make a pseudo-terminal: {e}"))?;
+    let path = slave.name().unwrap_or_default();
+    println!("{what} on {path}: try  mechweed run --headless --set {setting}={path}");
+    // The far end stays open here so the robot computer may open and close it.
+    std::mem::forget(slave);
+    Ok(Box::new(master))
+}
+
 /// Serve on a serial device, or on a new pseudo-terminal for DEVICE = "pty".
 pub fn on_serial(device: &str, baud: u32, options: CamSimOptions) -> Result<(), String> {
-    let mut port: Box<dyn SerialPort> = if device == "pty" {
-        let (master, slave) =
-            TTYPort::pair().map_err(|e| format!("cannot make a pseudo-terminal: {e}"))?;
-        let path = slave.name().unwrap_or_default();
-        println!(
-            "simulated camera computer on {path}: try  mechweed run --headless --set camera.port={path}"
-        );
-        // The far end stays open here so the robot computer may open and close it.
-        std::mem::forget(slave);
-        Box::new(master)
-    } else {
-        serialport::new(device, baud)
-            .open()
-            .map_err(|e| format!("cannot open {device}: {e}"))?
-    };
+    let mut port = serial_or_pty(device, baud, "simulated camera computer", "camera.port")?;
     port.set_timeout(POLL).map_err(|e| e.to_string())?;
     println!("simulated camera computer on {device}, waiting for START");
     let mut sim = CamSim::new(options);

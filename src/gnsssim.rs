@@ -9,11 +9,9 @@ use std::net::TcpListener;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use serialport::SerialPort;
-
-use mechweed_hw::geo::{Enu, Geodetic, LocalFrame};
-use mechweed_hw::nmea::FixQuality;
-use mechweed_hw::nmea::encode::{NmeaEncoder, ReceiverEpoch};
+use mechweed_hw::geo::{Geodetic, LocalFrame};
+use mechweed_hw::nmea::encode::NmeaEncoder;
+use mechweed_hw::sim::gnss::epoch_of;
 use mechweed_hw::sim::gnss_model::{GnssState, ReceiverModel};
 
 /// The receiver's solution, as `--state` names it.
@@ -79,41 +77,13 @@ impl GnssSim {
             self.next_epoch_s += 1.0 / self.opts.rate_hz;
             self.epochs += 1;
             let east_m = self.opts.speed_mps * t_s;
-            let mut epoch = ReceiverEpoch {
-                utc_s_of_day: START_UTC_S + t_s,
-                lat_deg: 0.0,
-                lon_deg: 0.0,
-                altitude_m: self.opts.origin.height_m,
-                quality: FixQuality::None,
-                satellites: 0,
-                hdop: 99.9,
-                correction_age_s: None,
-                sd_lat_m: 0.0,
-                sd_lon_m: 0.0,
-                sd_alt_m: 0.0,
-                speed_mps: self.opts.speed_mps,
-                course_deg: 90.0,
-            };
-            if let Some(m) = self.model.measure(t_s, east_m, east_m, 0.0) {
+            let measured = self.model.measure(t_s, east_m, east_m, 0.0);
+            if measured.is_some() {
                 self.fixes += 1;
-                let place = self.frame.to_geodetic(Enu {
-                    east_m: m.east_m,
-                    north_m: m.north_m,
-                    up_m: 0.0,
-                });
-                epoch = ReceiverEpoch {
-                    lat_deg: place.lat_deg,
-                    lon_deg: place.lon_deg,
-                    quality: m.quality,
-                    satellites: m.satellites,
-                    hdop: m.hdop,
-                    correction_age_s: Some(1.0),
-                    sd_lat_m: m.sd_m,
-                    sd_lon_m: m.sd_m,
-                    sd_alt_m: 2.0 * m.sd_m,
-                    ..epoch
-                };
             }
+            // Driving east: course 90 degrees.
+            let motion = (self.opts.speed_mps, 90.0);
+            let epoch = epoch_of(START_UTC_S + t_s, measured.as_ref(), &self.frame, motion);
             // An epoch the encoder cannot write is left out, as a receiver sends nothing then.
             if let Ok(lines) = self.encoder.epoch(&epoch) {
                 for line in &lines {
@@ -154,21 +124,8 @@ pub fn serve(
 
 /// Serve on a serial device, or on a new pseudo-terminal for DEVICE = "pty".
 pub fn on_serial(device: &str, baud: u32, opts: GnssSimOptions) -> Result<(), String> {
-    let mut port: Box<dyn SerialPort> = if device == "pty" {
-        let (master, slave) = serialport::TTYPort::pair()
-            .map_err(|e| format!("cannot make a pseudo-terminal: {e}"))?;
-        let path = slave.name().unwrap_or_default();
-        println!(
-            "simulated GNSS receiver on {path}: try  mechweed run --headless --set gnss.port={path}"
-        );
-        // The far end stays open here so the robot computer may open and close it.
-        std::mem::forget(slave);
-        Box::new(master)
-    } else {
-        serialport::new(device, baud)
-            .open()
-            .map_err(|e| format!("cannot open {device}: {e}"))?
-    };
+    let mut port =
+        crate::camsim_main::serial_or_pty(device, baud, "simulated GNSS receiver", "gnss.port")?;
     let stop = AtomicBool::new(false);
     serve(&mut GnssSim::new(opts), &mut port, Instant::now(), &stop)
         .map_err(|e| format!("{device}: {e}"))
@@ -293,7 +250,7 @@ pub fn run(args: GnssSimArgs) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mechweed_hw::nmea::{Epoch, FixAssembler, NmeaDecoder};
+    use mechweed_hw::nmea::{Epoch, FixAssembler, FixQuality, NmeaDecoder};
 
     fn options(state: StateArg, speed_mps: f64) -> GnssSimOptions {
         GnssSimOptions {

@@ -9,7 +9,7 @@
 //! receiver's metres. Nothing here allocates after `new`.
 
 use super::body::Pose;
-use super::gnss_model::{FloatSchedule, GnssState, ReceiverModel};
+use super::gnss_model::{FloatSchedule, GnssState, Measured, ReceiverModel};
 use super::params::{FieldKind, SimParams};
 use super::pipe::PipeEnd;
 use crate::geo::{Enu, Geodetic, LocalFrame};
@@ -181,41 +181,12 @@ impl SimReceiver {
         let north_m = north_m + self.p.antenna_left_m * cos;
         // Course over ground: clockwise from north, as NMEA gives it.
         let course_deg = (90.0 - pose.heading_rad.to_degrees()).rem_euclid(360.0);
-        let mut epoch = ReceiverEpoch {
-            utc_s_of_day: START_UTC_S + t_s,
-            lat_deg: 0.0,
-            lon_deg: 0.0,
-            altitude_m: ANTENNA_HEIGHT_M,
-            quality: FixQuality::None,
-            satellites: 0,
-            hdop: 99.9,
-            correction_age_s: None,
-            sd_lat_m: 0.0,
-            sd_lon_m: 0.0,
-            sd_alt_m: 0.0,
-            speed_mps: speed_mps.abs(),
-            course_deg,
-        };
-        if let Some(m) = self.model.measure(t_s, distance_m, east_m, north_m) {
-            let place = self.frame.to_geodetic(Enu {
-                east_m: m.east_m,
-                north_m: m.north_m,
-                up_m: ANTENNA_HEIGHT_M,
-            });
+        let measured = self.model.measure(t_s, distance_m, east_m, north_m);
+        if measured.is_some() {
             self.counters.fixes += 1;
-            epoch = ReceiverEpoch {
-                lat_deg: place.lat_deg,
-                lon_deg: place.lon_deg,
-                quality: m.quality,
-                satellites: m.satellites,
-                hdop: m.hdop,
-                correction_age_s: Some(1.0),
-                sd_lat_m: m.sd_m,
-                sd_lon_m: m.sd_m,
-                sd_alt_m: 2.0 * m.sd_m,
-                ..epoch
-            };
         }
+        let motion = (speed_mps.abs(), course_deg);
+        let epoch = epoch_of(START_UTC_S + t_s, measured.as_ref(), &self.frame, motion);
         if self.waiting == RING {
             self.counters.ring_full += 1;
             return;
@@ -233,6 +204,52 @@ impl SimReceiver {
                 self.counters.lines_written += 1;
             }
         }
+    }
+}
+
+/// What a receiver writes for one epoch at UTC `utc_s_of_day`: the position the error
+/// model `measured` gives (in `frame`'s metres), or no fix; `(speed_mps, course_deg)`
+/// over ground. Shared with `mechweed gnsssim`.
+pub fn epoch_of(
+    utc_s_of_day: f64,
+    measured: Option<&Measured>,
+    frame: &LocalFrame,
+    (speed_mps, course_deg): (f64, f64),
+) -> ReceiverEpoch {
+    let no_fix = ReceiverEpoch {
+        utc_s_of_day,
+        lat_deg: 0.0,
+        lon_deg: 0.0,
+        altitude_m: ANTENNA_HEIGHT_M,
+        quality: FixQuality::None,
+        satellites: 0,
+        hdop: 99.9,
+        correction_age_s: None,
+        sd_lat_m: 0.0,
+        sd_lon_m: 0.0,
+        sd_alt_m: 0.0,
+        speed_mps,
+        course_deg,
+    };
+    let Some(m) = measured else {
+        return no_fix;
+    };
+    let place = frame.to_geodetic(Enu {
+        east_m: m.east_m,
+        north_m: m.north_m,
+        up_m: ANTENNA_HEIGHT_M,
+    });
+    ReceiverEpoch {
+        lat_deg: place.lat_deg,
+        lon_deg: place.lon_deg,
+        quality: m.quality,
+        satellites: m.satellites,
+        hdop: m.hdop,
+        correction_age_s: Some(1.0),
+        sd_lat_m: m.sd_m,
+        sd_lon_m: m.sd_m,
+        sd_alt_m: 2.0 * m.sd_m,
+        ..no_fix
     }
 }
 
