@@ -16,7 +16,6 @@
 //! The same file decides for source = gnss: GNSS alone, or nothing.
 
 use mechweed_hw::camproto::RowEstimate;
-use mechweed_hw::nmea::FixQuality;
 
 use super::filter::{FilterSettings, GateProbability, RowFilter, RowState, Travel};
 use crate::camlink::LinkStatus;
@@ -352,7 +351,7 @@ impl RowSources {
         };
         let sd_m = match (fix.sd_east_m, fix.sd_north_m) {
             (Some(east), Some(north)) => east.max(north),
-            _ => typical_sd_m(fix.quality),
+            _ => fix.quality.typical_sd_m(),
         };
         self.filter.update_gnss(view.offset_m, sd_m.max(0.005));
     }
@@ -391,14 +390,4 @@ fn filter_settings(c: &FilterConfig, source: SteerSource) -> FilterSettings {
         SteerSource::Camera => {}
     }
     f
-}
-
-/// A receiver's usual error for its fix, when it sends no GST, m.
-fn typical_sd_m(quality: FixQuality) -> f64 {
-    match quality {
-        FixQuality::RtkFixed => 0.02,
-        FixQuality::RtkFloat => 0.2,
-        FixQuality::Dgps => 0.5,
-        _ => 3.0,
-    }
 }

@@ -54,6 +54,16 @@ impl FixQuality {
         self.code() != 0
     }
 
+    /// A receiver's usual error for this fix when it sends no GST, m (1 s.d.).
+    pub fn typical_sd_m(self) -> f64 {
+        match self {
+            FixQuality::RtkFixed => 0.02,
+            FixQuality::RtkFloat => 0.2,
+            FixQuality::Dgps => 0.5,
+            _ => 3.0,
+        }
+    }
+
     /// In words, for the operator.
     pub fn words(self) -> &'static str {
         match self {
