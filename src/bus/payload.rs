@@ -10,9 +10,15 @@ use crate::camlink::LinkStatus;
 use crate::modes::{Mode, Request};
 use crate::rt::LoopSummary;
 use crate::status::{PowerState, Status};
+use crate::steer::SteerCommand;
 
 /// `ROBOT/status`, about ten times a second.
-pub fn status_json(status: &Status, link: &LinkStatus, loops: &[LoopSummary; 2]) -> Value {
+pub fn status_json(
+    status: &Status,
+    link: &LinkStatus,
+    steer: &SteerCommand,
+    loops: &[LoopSummary; 2],
+) -> Value {
     let power = match status.power {
         PowerState::Off => "off",
         PowerState::Closing { .. } => "closing",
@@ -42,7 +48,31 @@ pub fn status_json(status: &Status, link: &LinkStatus, loops: &[LoopSummary; 2])
             "quality": link.last_usable.quality,
             "counters": link.counters,
         },
+        "steering": steer.sources.steering.name(),
+        "gnss": gnss_json(steer),
+        "filter": steer.row.filter.map(|f| json!({
+            "offset_m": f.offset_m,
+            "offset_sd_m": f.offset_sd_m,
+            "heading_rad": f.heading_rad,
+            "curvature_per_m": f.curvature_per_m,
+            "map_bias_m": f.map_bias_m,
+            "camera_rejected": f.camera_rejected,
+            "gnss_rejected": f.gnss_rejected,
+        })),
         "loops": { "supervisor": loops[0], "steer": loops[1] },
+    })
+}
+
+/// The last GNSS fix as the steer thread saw it (quality 0 and nulls: no fix).
+fn gnss_json(steer: &SteerCommand) -> Value {
+    let row = &steer.row;
+    let (lat_deg, lon_deg) = row.gnss_position.unzip();
+    json!({
+        "quality": row.gnss_quality,
+        "satellites": row.gnss_satellites,
+        "sd_m": row.gnss_sd_m,
+        "lat_deg": lat_deg,
+        "lon_deg": lon_deg,
     })
 }
 

@@ -29,6 +29,7 @@ use crate::request_channel::SupervisorHandle;
 use crate::rt::LoopSummary;
 use crate::state::{Reader, Writer};
 use crate::status::Status;
+use crate::steer::SteerCommand;
 
 /// How often ROBOT/status goes out: ten a second is what a person reads.
 const STATUS_PERIOD: Duration = Duration::from_millis(100);
@@ -40,6 +41,7 @@ const QUEUE_QUERIES: usize = 16;
 pub struct BusWires {
     pub status: Reader<Status>,
     pub link: Reader<LinkStatus>,
+    pub steer: Reader<SteerCommand>,
     pub loops: [Reader<LoopSummary>; 2],
     pub flow: TickFlow,
     pub supervisor: SupervisorHandle,
@@ -133,7 +135,12 @@ pub fn run(session: Session, settings: &Settings, w: BusWires) -> zenoh::Result<
                 next_status = now + STATUS_PERIOD;
             }
             let loops = [w.loops[0].snapshot(), w.loops[1].snapshot()];
-            let status = status_json(&w.status.snapshot(), &w.link.snapshot(), &loops);
+            let status = status_json(
+                &w.status.snapshot(),
+                &w.link.snapshot(),
+                &w.steer.snapshot(),
+                &loops,
+            );
             if status_pub.put(status.to_string()).wait().is_ok() {
                 figures.status_published += 1;
             }

@@ -224,6 +224,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
             let wires = BusWires {
                 status: status_r.clone(),
                 link: link_r.clone(),
+                steer: steer_r.clone(),
                 loops: [supervisor_figures.clone(), steer_figures.clone()],
                 flow,
                 supervisor: handle.clone(),
