@@ -76,13 +76,18 @@ pub fn on_serial(device: &str, baud: u32, options: CamSimOptions) -> Result<(), 
     .map_err(|e| format!("{device}: {e}"))
 }
 
-/// Serve robot computers on a TCP port, one at a time. "PORT" alone means 127.0.0.1:PORT.
-pub fn on_tcp(address: &str, options: CamSimOptions) -> Result<(), String> {
-    let address = if address.contains(':') {
+/// "PORT" alone means 127.0.0.1:PORT: a stand-in listens on this computer unless told.
+pub fn tcp_address(address: &str) -> String {
+    if address.contains(':') {
         address.to_string()
     } else {
         format!("127.0.0.1:{address}")
-    };
+    }
+}
+
+/// Serve robot computers on a TCP port, one at a time. "PORT" alone means 127.0.0.1:PORT.
+pub fn on_tcp(address: &str, options: CamSimOptions) -> Result<(), String> {
+    let address = tcp_address(address);
     let listener =
         TcpListener::bind(&address).map_err(|e| format!("cannot listen on {address}: {e}"))?;
     let local = listener.local_addr().map_err(|e| e.to_string())?;

@@ -133,11 +133,7 @@ pub fn on_serial(device: &str, baud: u32, opts: GnssSimOptions) -> Result<(), St
 
 /// Serve robot computers on a TCP port, one at a time. "PORT" alone means 127.0.0.1:PORT.
 pub fn on_tcp(address: &str, opts: GnssSimOptions) -> Result<(), String> {
-    let address = if address.contains(':') {
-        address.to_string()
-    } else {
-        format!("127.0.0.1:{address}")
-    };
+    let address = crate::camsim_main::tcp_address(address);
     let listener =
         TcpListener::bind(&address).map_err(|e| format!("cannot listen on {address}: {e}"))?;
     println!(

@@ -124,14 +124,8 @@ fn the_camera_silent_for_5_s_leaves_the_fused_robot_on_the_row_by_rtk_at_reduced
         run.steering_at_s
     );
     assert_eq!(run.steering_at_s[30], Steering::Fused);
-    let (before, during) = (
-        worst_cm(&run.errors_m, 0.0, 20.0),
-        worst_cm(&run.errors_m, 20.0, 27.0),
-    );
-    eprintln!(
-        "before {before:.2} during {during:.2} all {:.2}",
-        worst_cm(&run.errors_m, 0.0, 1e9)
-    );
+    // The 5 s without the camera and the 2 s it takes to settle back.
+    let during = worst_cm(&run.errors_m, 20.0, 27.0);
     assert!(during < 3.0, "the tool {during:.2} cm off the row");
     assert!(run.sim.robot.truth().row_done);
 }
