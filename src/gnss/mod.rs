@@ -13,7 +13,8 @@ use mechweed_hw::nmea::{Epoch, Fix, FixAssembler, FixCounters, NmeaCounters, Nme
 /// What the GNSS link knows now: a plain `Copy` snapshot.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GnssStatus {
-    /// The newest epoch with a position, and when it arrived (program time, s).
+    /// The newest epoch with a position (None after an epoch without one), and when the
+    /// last position arrived (program time, s).
     pub last_fix: Option<Fix>,
     pub last_fix_s: f64,
     /// When any epoch arrived, with or without a position: the receiver is alive.
@@ -23,7 +24,8 @@ pub struct GnssStatus {
     pub fixes: u64,
     pub sentences: NmeaCounters,
     pub epochs: FixCounters,
-    /// The link thread is alive at this time (the supervisor watches it).
+    /// The link thread is alive at this time (the GUI and the report show it; a silent
+    /// receiver is judged by the steer thread from `last_fix_s`).
     pub beat_s: f64,
 }
 
@@ -73,7 +75,12 @@ impl GnssCore {
                         status.fixes += 1;
                         fixed = true;
                     }
-                    Epoch::NoFix { .. } => status.no_fix_epochs += 1,
+                    // The last position is not the receiver's any more: nothing that
+                    // shows or records the fix may go on saying RTK fixed.
+                    Epoch::NoFix { .. } => {
+                        status.last_fix = None;
+                        status.no_fix_epochs += 1;
+                    }
                 }
             });
         });
@@ -82,8 +89,103 @@ impl GnssCore {
         fixed
     }
 
+    /// The receiver's port was opened again: what it sent before is not finished now.
+    pub fn reconnected(&mut self) {
+        self.assembler.drop_pending();
+    }
+
     /// The link thread is alive at `now_s`.
     pub fn beat(&mut self, now_s: f64) {
         self.status.beat_s = now_s;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use mechweed_hw::nmea::FixQuality;
+    use mechweed_hw::nmea::encode::{NmeaEncoder, NmeaLine, ReceiverEpoch};
+
+    use super::GnssCore;
+
+    fn epoch(utc_s_of_day: f64, quality: FixQuality) -> ReceiverEpoch {
+        ReceiverEpoch {
+            utc_s_of_day,
+            lat_deg: 52.0,
+            lon_deg: 5.66,
+            altitude_m: 10.0,
+            quality,
+            satellites: 14,
+            hdop: 0.7,
+            correction_age_s: Some(1.0),
+            sd_lat_m: 0.01,
+            sd_lon_m: 0.01,
+            sd_alt_m: 0.02,
+            speed_mps: 0.5,
+            course_deg: 90.0,
+        }
+    }
+
+    fn send(core: &mut GnssCore, lines: &[NmeaLine], now_s: f64) {
+        for line in lines {
+            core.receive(line.as_bytes(), now_s);
+        }
+    }
+
+    #[test]
+    fn an_epoch_begun_before_the_port_was_lost_is_never_passed_on_as_new() {
+        let (encoder, mut core) = (NmeaEncoder::new(), GnssCore::new());
+        for t in [1.0, 2.0, 3.0] {
+            send(
+                &mut core,
+                &encoder.epoch(&epoch(t, FixQuality::RtkFixed)).unwrap(),
+                t,
+            );
+        }
+        // Epoch 4's GGA, then the cable is pulled for 30 s before its GST.
+        let lines = encoder.epoch(&epoch(4.0, FixQuality::RtkFixed)).unwrap();
+        send(&mut core, &lines[..1], 4.0);
+        core.reconnected();
+        send(
+            &mut core,
+            &encoder.epoch(&epoch(34.0, FixQuality::RtkFixed)).unwrap(),
+            34.0,
+        );
+        send(
+            &mut core,
+            &encoder.epoch(&epoch(35.0, FixQuality::RtkFixed)).unwrap(),
+            35.0,
+        );
+        let status = core.status();
+        let utc: Vec<f64> = status.last_fix.iter().map(|f| f.utc_s_of_day).collect();
+        assert!(utc[0] >= 34.0, "the last fix is from {utc:?}");
+        // Epochs 1, 2 and 3 and the two after: 4 never went out.
+        assert!(status.fixes <= 5, "{status:?}");
+    }
+
+    #[test]
+    fn an_epoch_without_a_position_ends_the_last_fix() {
+        let (encoder, mut core) = (NmeaEncoder::new(), GnssCore::new());
+        for t in [1.0, 2.0, 3.0] {
+            send(
+                &mut core,
+                &encoder.epoch(&epoch(t, FixQuality::RtkFixed)).unwrap(),
+                t,
+            );
+        }
+        assert_eq!(
+            core.status().last_fix.unwrap().quality,
+            FixQuality::RtkFixed
+        );
+        for t in [4.0, 5.0, 6.0] {
+            send(
+                &mut core,
+                &encoder.epoch(&epoch(t, FixQuality::None)).unwrap(),
+                t,
+            );
+        }
+        let status = core.status();
+        assert_eq!(status.last_fix, None, "{status:?}");
+        assert!(status.no_fix_epochs >= 2, "{status:?}");
+        assert!(status.last_fix_s <= 3.0, "{status:?}");
     }
 }

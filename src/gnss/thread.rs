@@ -67,6 +67,7 @@ impl GnssThread {
                     tracing::info!("GNSS receiver open on {}", self.port.describe());
                     backoff = BACKOFF_MIN;
                     said_why = None;
+                    self.core.reconnected();
                     if let Some(why) = self.serve(stream)
                         && !self.stopping()
                     {

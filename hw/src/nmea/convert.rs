@@ -26,6 +26,9 @@ const MAX_SD_M: f64 = 1_000_000.0;
 /// GGA's fields after the talker and kind, counted from 0: the age of corrections.
 /// The crate stops reading GGA after the geoid separation, so this one is ours to read.
 const GGA_CORRECTION_AGE_FIELD: usize = 12;
+/// Where the latitude is in GGA and RMC (the longitude two fields on).
+const GGA_LATITUDE_FIELD: usize = 1;
+const RMC_LATITUDE_FIELD: usize = 2;
 
 /// Seconds since midnight of an `Option<NaiveTime>` from the crate. A macro, because
 /// the crate's time type comes from a crate this one does not depend on, so it cannot
@@ -96,11 +99,33 @@ fn sd_m(sd: Option<f32>) -> Result<Option<f64>, &'static str> {
     }
 }
 
-/// GGA's age of corrections, read from the checksummed line the crate parsed.
-fn correction_age_s(line: &str) -> Result<Option<f32>, &'static str> {
+/// The sentence's data fields, counted from 0 after the talker and kind, without the
+/// checksum: for what the crate does not read, or reads too kindly.
+fn data_field(line: &str, index: usize) -> &str {
     let data = line.split_once(',').map_or("", |(_, rest)| rest);
     let data = data.rsplit_once('*').map_or(data, |(fields, _)| fields);
-    let field = data.split(',').nth(GGA_CORRECTION_AGE_FIELD).unwrap_or("");
+    data.split(',').nth(index).unwrap_or("")
+}
+
+/// Latitude (ddmm.mmmm) and longitude (dddmm.mmmm) fields whose minutes are minutes:
+/// the crate adds any number as minutes, so `5275.000` would pass as 53.25 degrees.
+fn minutes_in_range(line: &str, lat_field: usize) -> Result<(), &'static str> {
+    for index in [lat_field, lat_field + 2] {
+        let field = data_field(line, index);
+        if field.is_empty() {
+            continue;
+        }
+        match field.parse::<f64>() {
+            Ok(v) if v.is_finite() && v >= 0.0 && v % 100.0 < 60.0 => {}
+            _ => return Err("minutes of a latitude or longitude not between 0 and 60"),
+        }
+    }
+    Ok(())
+}
+
+/// GGA's age of corrections, read from the checksummed line the crate parsed.
+fn correction_age_s(line: &str) -> Result<Option<f32>, &'static str> {
+    let field = data_field(line, GGA_CORRECTION_AGE_FIELD);
     if field.is_empty() {
         return Ok(None);
     }
@@ -116,6 +141,7 @@ fn correction_age_s(line: &str) -> Result<Option<f32>, &'static str> {
 /// `line` is the whole sentence the crate parsed into `data`, for the fields it skips.
 pub(crate) fn gga(data: &GgaData, line: &str) -> Result<Gga, &'static str> {
     let quality = quality(data.fix_type.ok_or("empty fix quality")?);
+    minutes_in_range(line, GGA_LATITUDE_FIELD)?;
     let position = position(data.latitude, data.longitude)?;
     let utc_s_of_day = seconds_of_day!(data.fix_time);
     if quality.carries_position() {
@@ -165,7 +191,8 @@ fn rmc_mode(mode: FaaMode) -> RmcMode {
     }
 }
 
-pub(crate) fn rmc(data: &RmcData) -> Result<Rmc, &'static str> {
+pub(crate) fn rmc(data: &RmcData, line: &str) -> Result<Rmc, &'static str> {
+    minutes_in_range(line, RMC_LATITUDE_FIELD)?;
     let valid = data.status_of_fix != RmcStatusOfFix::Invalid;
     let position = position(data.lat, data.lon)?;
     let utc_s_of_day = seconds_of_day!(data.fix_time);

@@ -237,7 +237,7 @@ fn decode_line(line: &[u8]) -> Result<Sentence, LineFault> {
     };
     let converted = match &parsed {
         ParseResult::GGA(data) => convert::gga(data, text).map(Sentence::Gga),
-        ParseResult::RMC(data) => convert::rmc(data).map(Sentence::Rmc),
+        ParseResult::RMC(data) => convert::rmc(data, text).map(Sentence::Rmc),
         ParseResult::VTG(data) => convert::vtg(data).map(Sentence::Vtg),
         ParseResult::GST(data) => convert::gst(data).map(Sentence::Gst),
         _ => return Err(LineFault::UnknownKind),

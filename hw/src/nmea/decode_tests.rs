@@ -218,6 +218,18 @@ fn impossible_numbers_are_malformed_with_a_reason() {
             "satellite count above 99",
         ),
         (gga(",,,,4,08,0.9,545.4"), "fix without a position"),
+        (
+            gga("5275.000,N,01131.000,E,4,08,0.9,545.4"),
+            "minutes of a latitude or longitude not between 0 and 60",
+        ),
+        (
+            gga("4807.038,N,01199.000,E,4,08,0.9,545.4"),
+            "minutes of a latitude or longitude not between 0 and 60",
+        ),
+        (
+            line("GPRMC,123519,A,4807.038,N,01160.000,E,022.4,084.4,230394,003.1,W"),
+            "minutes of a latitude or longitude not between 0 and 60",
+        ),
         (line("GPVTG,054.7,T,,M,-5.5,N,,K"), "speed out of range"),
         (
             line("GPGST,,0.006,0.023,0.020,273.6,0.023,0.020,0.031"),

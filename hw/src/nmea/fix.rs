@@ -139,6 +139,12 @@ impl FixAssembler {
         self.counters
     }
 
+    /// The link was lost: an epoch begun before is never finished with what comes after,
+    /// nor passed on later as if it had just been measured.
+    pub fn drop_pending(&mut self) {
+        self.current = None;
+    }
+
     /// Add one sentence; `out` gets each epoch once, as soon as it is complete.
     pub fn push(&mut self, sentence: Sentence, mut out: impl FnMut(Epoch)) {
         let time = sentence.utc_s_of_day();
