@@ -78,7 +78,7 @@
 //! correlation to the rest, and applies the measurement: the camera's offset and heading
 //! (the camera is the reference of the row: the robot really drifted), GNSS's map_bias (an
 //! RTK jump or a map error must not move the row). Resetting rather than only reporting
-//! keeps the truth from being locked out; the counters tell the supervisor it happened.
+//! keeps the truth from being locked out; the filter counts each reset.
 //!
 //! Bad input (not finite, a s.d. not above zero or too large to square, a step beyond the
 //! linear model) and an S not positive definite are refused and counted, the state kept.

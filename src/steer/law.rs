@@ -89,7 +89,7 @@ impl RowFollower {
     }
 
     /// The wheel angle for `estimate` of an image taken `age_s` ago, at time `now_s`
-    /// (the row filter's estimate is of the row now: age 0).
+    /// (the row filter's row goes in as old as a camera row on average: sources.rs).
     pub fn update_aged(
         &mut self,
         estimate: &RowEstimate,

@@ -5,6 +5,7 @@
 
 pub mod endswitch;
 pub mod filter;
+mod filter_config;
 pub mod joystick;
 pub mod law;
 pub mod sources;

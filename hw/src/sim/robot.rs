@@ -131,7 +131,14 @@ impl SimRobot {
 
     /// Carry a GNSS receiver that writes its NMEA lines into `pipe` (its end).
     pub fn attach_gnss(&mut self, pipe: PipeEnd) {
-        self.gnss = Some(SimReceiver::new(&self.p, pipe));
+        let mut receiver = SimReceiver::new(&self.p, pipe);
+        // Events at time 0 were applied before the receiver was there: its own ones too.
+        for event in self.events.iter().take(self.next_event) {
+            if let EventAction::Gnss(state) = event.action {
+                receiver.set_state(state, event.t_s);
+            }
+        }
+        self.gnss = Some(receiver);
     }
 
     /// Integrate up to `t_s` in whole steps; does nothing if `t_s` is not later than now.

@@ -1,0 +1,39 @@
+//! The row filter's settings from robot.ini's [filter], for the source that steers.
+
+use super::filter::{FilterSettings, GateProbability};
+use crate::config::{FilterConfig, SteerSource};
+
+/// The filter's settings from [filter], for a source. GNSS alone has nothing to tell
+/// the map's error from the robot's offset by: the map is taken as the row (its bias
+/// known to be 0), or the filter would split each GNSS offset between the two and steer
+/// by a part of it. The camera's lasting error is told from the map's only with both.
+pub fn filter_settings(c: &FilterConfig, source: SteerSource) -> FilterSettings {
+    let mut f = FilterSettings {
+        offset_sd_per_sqrt_m: c.offset_sd_per_sqrt_m,
+        heading_sd_per_sqrt_m: c.heading_sd_per_sqrt_m,
+        curvature_sd_per_sqrt_m: c.curvature_sd_per_sqrt_m,
+        map_bias_sd_per_sqrt_m: c.map_bias_sd_per_sqrt_m,
+        slip_sd_per_sqrt_m: c.slip_sd_per_sqrt_m,
+        camera_bias_length_m: c.camera_bias_length_m,
+        gate: match c.gate {
+            g if g < 0.995 => GateProbability::P0_99,
+            g if g < 0.9995 => GateProbability::P0_999,
+            _ => GateProbability::P0_9999,
+        },
+        camera_rejections_to_reset: c.camera_rejections_to_reset,
+        gnss_rejections_to_reset: c.gnss_rejections_to_reset,
+        ..FilterSettings::default()
+    };
+    match source {
+        SteerSource::Gnss => {
+            f.map_bias_sd_per_sqrt_m = 0.0;
+            f.initial_sd.map_bias_m = 0.0;
+        }
+        SteerSource::Fused => {
+            f.camera_bias_sd_m = c.camera_bias_sd_m;
+            f.initial_sd.camera_bias_m = c.camera_bias_sd_m;
+        }
+        SteerSource::Camera => {}
+    }
+    f
+}

@@ -1,0 +1,101 @@
+//! GNSS that must not move the robot: fixes beside no row of the map, and no fix yet when
+//! autonomous mode begins. Each starts from what used to drive the robot blind: the row
+//! filter's first guess (the row straight ahead) steering at the cruising speed.
+
+mod common;
+
+use common::settings_with;
+use mechweed::config::{CameraPort, GnssPort, Settings, SteerSource};
+use mechweed::gnss::place::RowPlace;
+use mechweed::lockstep::Lockstep;
+use mechweed::modes::Mode;
+use mechweed::steer::SteerCore;
+use mechweed_hw::geo::Geodetic;
+use mechweed_hw::sim::{RowShape, SimParams, parse_events};
+
+fn gnss_alone(events: &str) -> Settings {
+    let mut s = settings_with("", &[]);
+    s.sim = SimParams {
+        events: parse_events(events).unwrap(),
+        ..SimParams::benchmark(RowShape::Straight, 1)
+    };
+    s.sources.source = SteerSource::Gnss;
+    s.gnss.port = GnssPort::Link(CameraPort::Sim);
+    s.steer.speed_mps = 1.0;
+    s
+}
+
+/// Run for `seconds`; the largest distance driven.
+fn run(sim: &mut Lockstep, seconds: f64) -> f64 {
+    let mut driven_m = 0.0f64;
+    while sim.now_s() < seconds {
+        sim.tick();
+        driven_m = driven_m.max(sim.robot.truth().distance_m);
+    }
+    driven_m
+}
+
+#[test]
+fn fixes_beside_no_row_of_the_map_do_not_drive_the_robot_and_it_faults() {
+    let s = gnss_alone("");
+    let mut sim = Lockstep::new(&s, Mode::Autonomous);
+    // The map of another field: the simulated field's row 1.1 km to the north.
+    let elsewhere: Vec<Geodetic> = sim
+        .robot
+        .planted_map()
+        .iter()
+        .map(|p| Geodetic {
+            lat_deg: p.lat_deg + 0.01,
+            ..*p
+        })
+        .collect();
+    let place = RowPlace::from_points(&elsewhere, s.gnss.antenna_ahead_m, s.gnss.antenna_left_m);
+    sim.steer = SteerCore::with_map(&s, Some(place.unwrap()));
+    let driven_m = run(&mut sim, 10.0);
+    assert!(driven_m < 0.02, "the robot drove {driven_m:.2} m on no row");
+    let faults = sim.supervisor.faults();
+    assert_eq!(faults.len(), 1, "{faults:?}");
+    assert!(
+        faults[0]
+            .cause
+            .to_string()
+            .starts_with("no row to steer by"),
+        "{faults:?}"
+    );
+    assert!(sim.robot.outputs().is_safe());
+}
+
+#[test]
+fn no_fix_when_autonomous_mode_begins_keeps_the_robot_standing() {
+    // The receiver has lost its fix before the robot is powered up and sent off.
+    let s = gnss_alone("0 gnss_lost");
+    let mut sim = Lockstep::new(&s, Mode::Autonomous);
+    let driven_m = run(&mut sim, 10.0);
+    assert!(
+        driven_m < 0.02,
+        "the robot drove {driven_m:.2} m with no fix"
+    );
+    let faults = sim.supervisor.faults();
+    assert_eq!(faults.len(), 1, "{faults:?}");
+    assert!(
+        faults[0]
+            .cause
+            .to_string()
+            .starts_with("no row to steer by"),
+        "{faults:?}"
+    );
+}
+
+#[test]
+fn with_its_fix_the_same_robot_drives_its_row() {
+    // The tests above would pass on a robot that never moves: this one must.
+    let s = gnss_alone("");
+    let mut sim = Lockstep::new(&s, Mode::Autonomous);
+    let driven_m = run(&mut sim, 10.0);
+    assert!(driven_m > 3.0, "the robot drove {driven_m:.2} m");
+    assert!(
+        sim.supervisor.faults().is_empty(),
+        "{:?}",
+        sim.supervisor.faults()
+    );
+}
