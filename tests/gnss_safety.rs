@@ -66,6 +66,32 @@ fn fixes_beside_no_row_of_the_map_do_not_drive_the_robot_and_it_faults() {
 }
 
 #[test]
+fn past_the_end_of_its_row_on_the_map_the_robot_stops() {
+    let s = gnss_alone("");
+    let mut sim = Lockstep::new(&s, Mode::Autonomous);
+    // A map of the row's first 6 m (the planted points every 25 cm): the rest of the
+    // field lies beyond what the map knows, as a headland does.
+    let first_6_m: Vec<Geodetic> = sim.robot.planted_map().into_iter().take(25).collect();
+    let place = RowPlace::from_points(&first_6_m, s.gnss.antenna_ahead_m, s.gnss.antenna_left_m);
+    sim.steer = SteerCore::with_map(&s, Some(place.unwrap()));
+    let driven_m = run(&mut sim, 30.0);
+    // Stopped within the margin of a metre past the map's end and the time to stop.
+    assert!(
+        (5.0..8.5).contains(&driven_m),
+        "the robot drove {driven_m:.2} m on a 6 m map"
+    );
+    let faults = sim.supervisor.faults();
+    assert_eq!(faults.len(), 1, "{faults:?}");
+    assert!(
+        faults[0]
+            .cause
+            .to_string()
+            .starts_with("no row to steer by"),
+        "{faults:?}"
+    );
+}
+
+#[test]
 fn no_fix_when_autonomous_mode_begins_keeps_the_robot_standing() {
     // The receiver has lost its fix before the robot is powered up and sent off.
     let s = gnss_alone("0 gnss_lost");

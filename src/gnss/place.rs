@@ -14,6 +14,7 @@
 use mechweed_hw::geo::{Geodetic, LocalFrame};
 use mechweed_hw::nmea::Fix;
 
+use crate::rowmap::map::ROW_END_MARGIN_M;
 use crate::rowmap::{LocalMap, MapRow, RowMap};
 
 /// The row map's line seen from the robot.
@@ -117,6 +118,12 @@ impl RowPlace {
             let axle_north_m =
                 antenna.north_m - self.antenna_ahead_m * sin - self.antenna_left_m * cos;
             foot = line.project(axle_east_m, axle_north_m, &mut self.hint)?;
+        }
+        // The line is only known along the row: past its end (the headland) the map
+        // tells nothing, however far its last segment would reach.
+        let beside = -ROW_END_MARGIN_M..=line.length_m() + ROW_END_MARGIN_M;
+        if !beside.contains(&foot.s_m) {
+            return None;
         }
         Some(MapView {
             // The axle left of the line is the line to the axle's right.
