@@ -58,7 +58,9 @@ pub fn taught_row(record: &Path, name: &str, s: &Settings) -> Result<Taught, Str
         col("gnss_lon_deg")?,
     );
     let num = |row: usize, c: usize| t.number(row, c).map_err(|e| e.to_string());
-    let mut teacher = Teacher::new(TeachSettings::default()).map_err(|e| e.to_string())?;
+    let settings = TeachSettings::default();
+    let trusted = settings.trusted_fix.clone();
+    let mut teacher = Teacher::new(settings).map_err(|e| e.to_string())?;
     let mut track = Track::new(s);
     let (mut fixes_used, mut first_m, mut last_m) = (0, None, 0.0);
     for row in 0..t.rows.len() {
@@ -71,8 +73,16 @@ pub fn taught_row(record: &Path, name: &str, s: &Settings) -> Result<Taught, Str
             continue;
         };
         let code = num(row, quality)?.unwrap_or(0.0) as u8;
-        let Some((tool_lat_deg, tool_lon_deg)) = track.tool(lat_deg, lon_deg) else {
-            continue;
+        // Only trusted fixes give the heading that places the tool (a float fix 15 cm
+        // off, 1 m back, turns it by 8 degrees). The teacher sees an untrusted one too,
+        // to judge the gap it makes.
+        let (tool_lat_deg, tool_lon_deg) = if trusted.contains(&code) {
+            let Some(tool) = track.tool(lat_deg, lon_deg) else {
+                continue;
+            };
+            tool
+        } else {
+            (lat_deg, lon_deg)
         };
         teacher
             .feed(TeachSample {
@@ -230,5 +240,49 @@ impl Track {
             up_m: 0.0,
         });
         Some((tool.lat_deg, tool.lon_deg))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_float_fix_in_mid_row_does_not_turn_the_heading_that_places_the_tool() {
+        // Driving east along latitude 52 at 0.5 m/s, a fix every 5 cm; from 3.0 to 3.3 m
+        // the receiver is in RTK float (quality 5) and 15 cm north.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("drive.csv");
+        let frame = LocalFrame::new(Geodetic {
+            lat_deg: 52.0,
+            lon_deg: 5.66,
+            height_m: 0.0,
+        });
+        let mut csv = String::from("mode,distance_m,gnss_quality,gnss_lat_deg,gnss_lon_deg\n");
+        for i in 0..=120 {
+            let at_m = 0.05 * f64::from(i);
+            let float = (3.0..3.3).contains(&at_m);
+            let p = frame.to_geodetic(Enu {
+                east_m: at_m,
+                north_m: if float { 0.15 } else { 0.0 },
+                up_m: 0.0,
+            });
+            let quality = if float { 5 } else { 4 };
+            csv += &format!("joystick,{at_m},{quality},{},{}\n", p.lat_deg, p.lon_deg);
+        }
+        std::fs::write(&path, csv).unwrap();
+        let taught = taught_row(&path, "1", &Settings::shipped()).unwrap();
+        for &(lat_deg, lon_deg) in &taught.row.points_deg {
+            let p = frame.to_enu(Geodetic {
+                lat_deg,
+                lon_deg,
+                height_m: 0.0,
+            });
+            assert!(
+                p.north_m.abs() < 0.01,
+                "a point {:.3} m off the row",
+                p.north_m
+            );
+        }
     }
 }
