@@ -7,7 +7,7 @@
 //! replacing a row of the same name.
 
 use std::collections::VecDeque;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use mechweed_hw::geo::{Enu, Geodetic, LocalFrame};
 
@@ -131,16 +131,10 @@ pub fn teach_into_map(
         "row {name} taught by mechweed teach from {}",
         record.display()
     );
-    let replaced = write_into_map(map, taught.row, &comment)?;
+    let wrote = write_into_map(map, taught.row, &comment)?;
     Ok(format!(
-        "row {name}: {points} points over {:.1} m driven, {} {}",
-        taught.length_m,
-        if replaced {
-            "replacing the row of that name in"
-        } else {
-            "written to"
-        },
-        map.display()
+        "row {name}: {points} points over {:.1} m driven, {wrote}",
+        taught.length_m
     ))
 }
 
@@ -158,26 +152,32 @@ pub fn field_into_map(s: &Settings, name: &str, map: &Path) -> Result<String, St
         "row {name}: the simulated field's planting record (seed {})",
         s.sim.seed
     );
-    let replaced = write_into_map(map, row, &comment)?;
+    let wrote = write_into_map(map, row, &comment)?;
     Ok(format!(
-        "row {name}: the simulated field's map, {} points, {} {}",
-        points.len(),
-        if replaced {
-            "replacing the row of that name in"
-        } else {
-            "written to"
-        },
-        map.display()
+        "row {name}: the simulated field's map, {} points, {wrote}",
+        points.len()
     ))
 }
 
 /// Put `row` into the map file at `path` (made if missing), replacing a row of the same
-/// name. Returns true if it replaced one.
-pub fn write_into_map(path: &Path, row: MapRow, comment: &str) -> Result<bool, String> {
-    let mut map = if path.exists() {
-        read_map(path).map_err(|e| e.to_string())?
+/// name; says what it did. A file that was there is kept beside it as FILE.bak first:
+/// the map is written anew, without the old file's notes and comments.
+pub fn write_into_map(path: &Path, row: MapRow, comment: &str) -> Result<String, String> {
+    let (mut map, backup) = if path.exists() {
+        let map = read_map(path).map_err(|e| e.to_string())?;
+        let mut backup = path.as_os_str().to_owned();
+        backup.push(".bak");
+        let backup = PathBuf::from(backup);
+        std::fs::copy(path, &backup).map_err(|e| {
+            format!(
+                "cannot keep {} as {}: {e}",
+                path.display(),
+                backup.display()
+            )
+        })?;
+        (map, Some(backup))
     } else {
-        RowMap { rows: Vec::new() }
+        (RowMap { rows: Vec::new() }, None)
     };
     let replaced = match map.rows.iter_mut().find(|r| r.name == row.name) {
         Some(old) => {
@@ -190,7 +190,18 @@ pub fn write_into_map(path: &Path, row: MapRow, comment: &str) -> Result<bool, S
         }
     };
     write_map(path, &map, Some(comment)).map_err(|e| e.to_string())?;
-    Ok(replaced)
+    let verb = match replaced {
+        true => "replacing the row of that name in",
+        false => "written to",
+    };
+    Ok(match backup {
+        Some(backup) => format!(
+            "{verb} {} (the file as it was, with its notes and comments, kept as {})",
+            path.display(),
+            backup.display()
+        ),
+        None => format!("{verb} {}", path.display()),
+    })
 }
 
 /// The antenna's track: its heading from where it was a metre back, and the tool's

@@ -85,6 +85,10 @@ fn a_row_driven_in_joystick_mode_is_taught_along_the_tools_path() {
         .unwrap();
     let said = text(&again.stdout);
     assert!(said.contains("replacing the row of that name"), "{said}");
+    // The file as it was is kept: teaching writes the map anew, without its notes.
+    assert!(said.contains("rows.csv.bak"), "{said}");
+    let kept = std::fs::read_to_string(dir.path().join("rows.csv.bak")).unwrap();
+    assert!(kept.contains("row,lat_deg,lon_deg"), "{kept}");
     assert_eq!(
         read_map(&dir.path().join("rows.csv")).unwrap().rows.len(),
         1
