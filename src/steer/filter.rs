@@ -77,8 +77,8 @@
 //! part that sensor speaks for, widening it to ten times its initial s.d. with no
 //! correlation to the rest, and applies the measurement: the camera's offset and heading
 //! (the camera is the reference of the row: the robot really drifted), GNSS's map_bias (an
-//! RTK jump or a map error must not move the row). Resetting rather than only reporting
-//! keeps the truth from being locked out; the filter counts each reset.
+//! RTK jump must not move the row; GNSS alone, the map the row: offset, heading). Resetting
+//! rather than only reporting keeps the truth from being locked out; each is counted.
 //!
 //! Bad input (not finite, a s.d. not above zero or too large to square, a step beyond the
 //! linear model) and an S not positive definite are refused and counted, the state kept.
@@ -340,7 +340,7 @@ impl RowFilter {
                 return self.counters.count(sensor, Outcome::Rejected);
             }
             let initial_sd = self.settings.initial_sd.to_vector();
-            for &k in sensor.part() {
+            for &k in sensor.part(initial_sd[MAP_BIAS] > 0.0) {
                 p.row_mut(k).fill(0.0);
                 p.column_mut(k).fill(0.0);
                 p[(k, k)] = (RESET_WIDEN * initial_sd[k]).powi(2);

@@ -227,6 +227,36 @@ fn a_lasting_disagreement_resets_that_sensors_part() {
 }
 
 #[test]
+fn with_gnss_alone_a_lasting_disagreement_moves_the_row() {
+    // GNSS alone steering: the map is the row (its error 0 and known to be).
+    let mut settings = FilterSettings::default();
+    settings.map_bias_sd_per_sqrt_m = 0.0;
+    settings.initial_sd.map_bias_m = 0.0;
+    let mut sim = Sim::new(6, FilterSettings::default());
+    let mut f = RowFilter::new(settings);
+    for k in 0..2000 {
+        sim.drive(&mut f);
+        if k % EVERY == 0 {
+            sim.gnss(&mut f, 0.0);
+        }
+    }
+    // A stone knocks the robot 30 cm right, unseen by odometry: after 20 rejected fixes
+    // the row is where GNSS says, not a step of the way there.
+    sim.truth.offset_m += 0.30;
+    let mut outcomes = vec![];
+    for _ in 0..20 {
+        (0..EVERY).for_each(|_| sim.drive(&mut f));
+        outcomes.push(sim.gnss(&mut f, 0.0));
+    }
+    assert_eq!(outcomes[19], Outcome::Reset, "{outcomes:?}");
+    let (state, truth) = (f.state(), sim.truth);
+    assert!(
+        close(state.offset_m, truth.offset_m, 0.01),
+        "{state:?} {truth:?}"
+    );
+}
+
+#[test]
 fn gnss_holds_the_row_when_the_camera_is_lost() {
     // The map lies 3 cm left of the row, slowly varying: GNSS alone, taken at its word,
     // would be 2.7 to 3.3 cm off. The robot crabs 1°.

@@ -184,11 +184,14 @@ pub(super) enum Sensor {
 }
 
 impl Sensor {
-    /// The part of the state a run of this sensor's rejections resets.
-    pub(super) fn part(self) -> &'static [usize] {
-        match self {
-            Sensor::Camera => &[OFFSET, HEADING, CAMERA_BIAS],
-            Sensor::Gnss => &[MAP_BIAS],
+    /// The part of the state a run of this sensor's rejections resets. GNSS speaks for
+    /// the map's error while the map may have one; with the map taken as the row (GNSS
+    /// alone steering) it is the only reference, and a run of it says the robot moved.
+    pub(super) fn part(self, map_may_err: bool) -> &'static [usize] {
+        match (self, map_may_err) {
+            (Sensor::Camera, _) => &[OFFSET, HEADING, CAMERA_BIAS],
+            (Sensor::Gnss, true) => &[MAP_BIAS],
+            (Sensor::Gnss, false) => &[OFFSET, HEADING],
         }
     }
 }
