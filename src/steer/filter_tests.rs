@@ -229,8 +229,10 @@ fn a_lasting_disagreement_resets_that_sensors_part() {
 #[test]
 fn with_gnss_alone_a_lasting_disagreement_moves_the_row() {
     // GNSS alone steering: the map is the row (its error 0 and known to be).
-    let mut settings = FilterSettings::default();
-    settings.map_bias_sd_per_sqrt_m = 0.0;
+    let mut settings = FilterSettings {
+        map_bias_sd_per_sqrt_m: 0.0,
+        ..FilterSettings::default()
+    };
     settings.initial_sd.map_bias_m = 0.0;
     let mut sim = Sim::new(6, FilterSettings::default());
     let mut f = RowFilter::new(settings);

@@ -90,8 +90,10 @@ fn camsim_on_the_bus_steers_as_on_its_serial_link_and_its_silence_faults_the_rob
         serial_stdout.contains("FAULT: camera link lost"),
         "{serial_stdout}"
     );
+    // At least a second of driving past the first metre: about 2 s, less when a busy
+    // machine starts the programs late (camsim stops 8 s after the robot started).
     assert!(
-        bus_m.len() > 200 && serial_m.len() > 200,
+        bus_m.len() > 100 && serial_m.len() > 100,
         "drove {} and {} ticks",
         bus_m.len(),
         serial_m.len()
