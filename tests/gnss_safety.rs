@@ -35,6 +35,20 @@ fn run(sim: &mut Lockstep, seconds: f64) -> f64 {
     driven_m
 }
 
+/// The robot steers by `points` as its row map instead of its field's own.
+fn give_map(sim: &mut Lockstep, s: &Settings, points: &[Geodetic]) {
+    let place = RowPlace::from_points(points, s.gnss.antenna_ahead_m, s.gnss.antenna_left_m);
+    sim.steer = SteerCore::with_map(s, Some(place.unwrap()));
+}
+
+/// The run ended in the one fault that names both sensors.
+fn stopped_with_no_row(sim: &Lockstep) {
+    let faults = sim.supervisor.faults();
+    assert_eq!(faults.len(), 1, "{faults:?}");
+    let cause = faults[0].cause.to_string();
+    assert!(cause.starts_with("no row to steer by"), "{cause}");
+}
+
 #[test]
 fn fixes_beside_no_row_of_the_map_do_not_drive_the_robot_and_it_faults() {
     let s = gnss_alone("");
@@ -49,19 +63,10 @@ fn fixes_beside_no_row_of_the_map_do_not_drive_the_robot_and_it_faults() {
             ..*p
         })
         .collect();
-    let place = RowPlace::from_points(&elsewhere, s.gnss.antenna_ahead_m, s.gnss.antenna_left_m);
-    sim.steer = SteerCore::with_map(&s, Some(place.unwrap()));
+    give_map(&mut sim, &s, &elsewhere);
     let driven_m = run(&mut sim, 10.0);
     assert!(driven_m < 0.02, "the robot drove {driven_m:.2} m on no row");
-    let faults = sim.supervisor.faults();
-    assert_eq!(faults.len(), 1, "{faults:?}");
-    assert!(
-        faults[0]
-            .cause
-            .to_string()
-            .starts_with("no row to steer by"),
-        "{faults:?}"
-    );
+    stopped_with_no_row(&sim);
     assert!(sim.robot.outputs().is_safe());
 }
 
@@ -72,23 +77,14 @@ fn past_the_end_of_its_row_on_the_map_the_robot_stops() {
     // A map of the row's first 6 m (the planted points every 25 cm): the rest of the
     // field lies beyond what the map knows, as a headland does.
     let first_6_m: Vec<Geodetic> = sim.robot.planted_map().into_iter().take(25).collect();
-    let place = RowPlace::from_points(&first_6_m, s.gnss.antenna_ahead_m, s.gnss.antenna_left_m);
-    sim.steer = SteerCore::with_map(&s, Some(place.unwrap()));
+    give_map(&mut sim, &s, &first_6_m);
     let driven_m = run(&mut sim, 30.0);
     // Stopped within the margin of a metre past the map's end and the time to stop.
     assert!(
         (5.0..8.5).contains(&driven_m),
         "the robot drove {driven_m:.2} m on a 6 m map"
     );
-    let faults = sim.supervisor.faults();
-    assert_eq!(faults.len(), 1, "{faults:?}");
-    assert!(
-        faults[0]
-            .cause
-            .to_string()
-            .starts_with("no row to steer by"),
-        "{faults:?}"
-    );
+    stopped_with_no_row(&sim);
 }
 
 #[test]
@@ -101,15 +97,7 @@ fn no_fix_when_autonomous_mode_begins_keeps_the_robot_standing() {
         driven_m < 0.02,
         "the robot drove {driven_m:.2} m with no fix"
     );
-    let faults = sim.supervisor.faults();
-    assert_eq!(faults.len(), 1, "{faults:?}");
-    assert!(
-        faults[0]
-            .cause
-            .to_string()
-            .starts_with("no row to steer by"),
-        "{faults:?}"
-    );
+    stopped_with_no_row(&sim);
 }
 
 #[test]
