@@ -79,17 +79,22 @@ impl Lockstep {
     /// the simulated field's own map (whatever [gnss] map says: this is the field).
     pub fn with_io(settings: &Settings, start_mode: Mode, io: Io) -> Lockstep {
         let (camera_end, robot_end) = byte_pipe(4096);
-        let mut robot = SimRobot::new(&settings.sim, camera_end);
-        let (mut gnss_pipe, mut place) = (None, None);
-        if settings.gnss.port == GnssPort::Link(CameraPort::Sim) {
-            let (receiver_end, program_end) = byte_pipe(8192);
-            robot.attach_gnss(receiver_end);
-            gnss_pipe = Some(program_end);
-            let g = &settings.gnss;
-            place =
+        let with_receiver = settings.gnss.port == GnssPort::Link(CameraPort::Sim);
+        let (receiver_end, gnss_pipe) = match with_receiver {
+            true => {
+                let (receiver_end, program_end) = byte_pipe(8192);
+                (Some(receiver_end), Some(program_end))
+            }
+            false => (None, None),
+        };
+        let robot = SimRobot::with_gnss(&settings.sim, camera_end, receiver_end);
+        let g = &settings.gnss;
+        let place = with_receiver
+            .then(|| {
                 RowPlace::from_points(&robot.planted_map(), g.antenna_ahead_m, g.antenna_left_m)
-                    .ok();
-        }
+                    .ok()
+            })
+            .flatten();
         Lockstep {
             robot,
             io,

@@ -78,12 +78,13 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
     let (mut receiver, mut planted) = (None, None);
     let (hw, truth, sim_control): (Box<dyn Hw>, TruthHandle, Option<SimControl>) = match s.backend {
         Backend::Sim => {
-            let mut robot = SimRobot::new(&s.sim, camera_end);
+            let mut receiver_end = None;
             if s.gnss.port == GnssPort::Link(CameraPort::Sim) {
-                let (receiver_end, program_end) = byte_pipe(8192);
-                robot.attach_gnss(receiver_end);
+                let (robot_end, program_end) = byte_pipe(8192);
+                receiver_end = Some(robot_end);
                 receiver = Some(program_end);
             }
+            let robot = SimRobot::with_gnss(&s.sim, camera_end, receiver_end);
             if s.gnss.port != GnssPort::None {
                 planted = Some(robot.planted_map());
             }

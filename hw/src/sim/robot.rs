@@ -75,6 +75,12 @@ pub struct SimRobot {
 impl SimRobot {
     /// `camera` is the simulated camera computer's end of the byte pipe.
     pub fn new(params: &SimParams, camera: PipeEnd) -> SimRobot {
+        SimRobot::with_gnss(params, camera, None)
+    }
+
+    /// With a GNSS receiver that writes its NMEA lines into `gnss` (its end), there from
+    /// the start, so that events at time 0 reach it too.
+    pub fn with_gnss(params: &SimParams, camera: PipeEnd, gnss: Option<PipeEnd>) -> SimRobot {
         let p = params.sanitized();
         let field = Field::new(&p);
         let (x_m, y_m, heading_rad) = field.point_at(0.0);
@@ -90,7 +96,7 @@ impl SimRobot {
         events.sort_by(|a, b| a.t_s.total_cmp(&b.t_s));
         let mut robot = SimRobot {
             camera: CameraComputer::new(&p, camera),
-            gnss: None,
+            gnss: gnss.map(|pipe| SimReceiver::new(&p, pipe)),
             left: wheel(gain(0.5)),
             right: wheel(gain(-0.5)),
             steering: Steering::new(
@@ -127,18 +133,6 @@ impl SimRobot {
         robot.tool.measure(&robot.field, &robot.pose, 0.0);
         robot.apply_due_events();
         robot
-    }
-
-    /// Carry a GNSS receiver that writes its NMEA lines into `pipe` (its end).
-    pub fn attach_gnss(&mut self, pipe: PipeEnd) {
-        let mut receiver = SimReceiver::new(&self.p, pipe);
-        // Events at time 0 were applied before the receiver was there: its own ones too.
-        for event in self.events.iter().take(self.next_event) {
-            if let EventAction::Gnss(state) = event.action {
-                receiver.set_state(state, event.t_s);
-            }
-        }
-        self.gnss = Some(receiver);
     }
 
     /// Integrate up to `t_s` in whole steps; does nothing if `t_s` is not later than now.
