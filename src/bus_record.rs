@@ -74,8 +74,17 @@ pub fn record(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
     let end = opts
         .seconds
         .map(|s| Instant::now() + Duration::from_secs_f64(s));
+    let mut stride = || {
+        tool.ask("config/bus/tick_every_n", None)
+            .ok()
+            .and_then(|answer| {
+                let json: serde_json::Value = serde_json::from_str(&answer).ok()?;
+                json["value"].as_str()?.parse().ok()
+            })
+            .unwrap_or(1)
+    };
     let mut recording = Recording {
-        tool: Some(&tool),
+        stride: &mut stride,
         settings: &opts.record,
         record: None,
         last_tick: None,
@@ -89,9 +98,9 @@ pub fn record(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
             continue;
         };
         let parsed = if is_tick {
-            parse_tick(&bytes).map(|tick| recording.tick(&tick))
+            parse_tick(&bytes).map(|tick| recording.received_tick(&tick))
         } else {
-            parse_event(&bytes).map(|event| recording.event(event))
+            parse_event(&bytes).map(|event| recording.received_event(event))
         };
         if let Err(why) = parsed {
             recording.counts.bad += 1;
@@ -123,9 +132,12 @@ pub fn record(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
     ))
 }
 
+/// The received ticks and events into record files: plain bookkeeping of this program's
+/// own; it holds no bus (the robot's real-time threads never touch Zenoh either: theirs
+/// go to the bus thread through a queue).
 struct Recording<'a> {
-    /// Where to ask for the robot's stride (None: `every_n` is known, in tests).
-    tool: Option<&'a Tool>,
+    /// The robot's `[bus] tick_every_n`, asked when a record begins.
+    stride: &'a mut dyn FnMut() -> u64,
     settings: &'a RecordSettings,
     record: Option<BusRecord>,
     last_tick: Option<u64>,
@@ -139,7 +151,7 @@ struct Recording<'a> {
 }
 
 impl Recording<'_> {
-    fn tick(&mut self, tick: &ReceivedTick) {
+    fn received_tick(&mut self, tick: &ReceivedTick) {
         if self.last_tick.is_some_and(|last| tick.tick <= last) {
             println!(
                 "off-board recorder: the tick numbers went back (the robot program started again): a new record begins"
@@ -153,7 +165,7 @@ impl Recording<'_> {
             let missing = (tick.tick - last) / self.every_n;
             if missing > 1 {
                 self.counts.missing += missing - 1;
-                self.event(ReceivedEvent {
+                self.received_event(ReceivedEvent {
                     t_s: tick.t_s,
                     tick: tick.tick,
                     kind: "dropped".to_string(),
@@ -171,7 +183,7 @@ impl Recording<'_> {
         }
     }
 
-    fn event(&mut self, event: ReceivedEvent) {
+    fn received_event(&mut self, event: ReceivedEvent) {
         match &mut self.record {
             Some(record) => {
                 record.event(&event);
@@ -184,17 +196,7 @@ impl Recording<'_> {
 
     /// New files, at the first tick of a run: its start time and the robot's stride.
     fn begin(&mut self, first: &ReceivedTick) {
-        if let Some(tool) = self.tool {
-            self.every_n = tool
-                .ask("config/bus/tick_every_n", None)
-                .ok()
-                .and_then(|answer| {
-                    let json: serde_json::Value = serde_json::from_str(&answer).ok()?;
-                    json["value"].as_str()?.parse().ok()
-                })
-                .unwrap_or(1)
-                .max(1);
-        }
+        self.every_n = (self.stride)().max(1);
         let now_ns = SystemTime::now()
             .duration_since(UNIX_EPOCH)
             .map_or(0, |d| d.as_nanos() as u64);
@@ -209,7 +211,7 @@ impl Recording<'_> {
                 self.counts.files.extend(record.files().iter().cloned());
                 self.record = Some(record);
                 for event in std::mem::take(&mut self.waiting_events) {
-                    self.event(event);
+                    self.received_event(event);
                 }
             }
             Err(why) => self.broken = Some(why.to_string()),
@@ -246,8 +248,9 @@ mod tests {
         let folder = tempfile::tempdir().unwrap();
         let mut settings = Settings::shipped().record;
         settings.folder = folder.path().to_path_buf();
+        let mut stride = || 10;
         let mut recording = Recording {
-            tool: None,
+            stride: &mut stride,
             settings: &settings,
             record: None,
             last_tick: None,
@@ -257,10 +260,10 @@ mod tests {
             broken: None,
         };
         for n in [10, 20, 50, 60] {
-            recording.tick(&tick(n));
+            recording.received_tick(&tick(n));
         }
         // The robot program started again: a second record.
-        recording.tick(&tick(10));
+        recording.received_tick(&tick(10));
         recording.close();
         let c = &recording.counts;
         assert_eq!((c.ticks, c.missing, c.events), (5, 2, 1));
