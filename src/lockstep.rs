@@ -80,12 +80,11 @@ impl Lockstep {
     pub fn with_io(settings: &Settings, start_mode: Mode, io: Io) -> Lockstep {
         let (camera_end, robot_end) = byte_pipe(4096);
         let with_receiver = settings.gnss.port == GnssPort::Link(CameraPort::Sim);
-        let (receiver_end, gnss_pipe) = match with_receiver {
-            true => {
-                let (receiver_end, program_end) = byte_pipe(8192);
-                (Some(receiver_end), Some(program_end))
-            }
-            false => (None, None),
+        let (receiver_end, gnss_pipe) = if with_receiver {
+            let (receiver_end, program_end) = byte_pipe(8192);
+            (Some(receiver_end), Some(program_end))
+        } else {
+            (None, None)
         };
         let robot = SimRobot::with_gnss(&settings.sim, camera_end, receiver_end);
         let g = &settings.gnss;

@@ -190,9 +190,10 @@ pub fn write_into_map(path: &Path, row: MapRow, comment: &str) -> Result<String,
         }
     };
     write_map(path, &map, Some(comment)).map_err(|e| e.to_string())?;
-    let verb = match replaced {
-        true => "replacing the row of that name in",
-        false => "written to",
+    let verb = if replaced {
+        "replacing the row of that name in"
+    } else {
+        "written to"
     };
     Ok(match backup {
         Some(backup) => format!(

@@ -131,58 +131,44 @@ mod tests {
         }
     }
 
+    /// Whole epochs of `quality`, each arriving at its own time.
+    fn epochs(core: &mut GnssCore, times_s: &[f64], quality: FixQuality) {
+        let encoder = NmeaEncoder::new();
+        for &t in times_s {
+            send(core, &encoder.epoch(&epoch(t, quality)).unwrap(), t);
+        }
+    }
+
     #[test]
     fn an_epoch_begun_before_the_port_was_lost_is_never_passed_on_as_new() {
-        let (encoder, mut core) = (NmeaEncoder::new(), GnssCore::new());
-        for t in [1.0, 2.0, 3.0] {
-            send(
-                &mut core,
-                &encoder.epoch(&epoch(t, FixQuality::RtkFixed)).unwrap(),
-                t,
-            );
-        }
+        let mut core = GnssCore::new();
+        epochs(&mut core, &[1.0, 2.0, 3.0], FixQuality::RtkFixed);
         // Epoch 4's GGA, then the cable is pulled for 30 s before its GST.
-        let lines = encoder.epoch(&epoch(4.0, FixQuality::RtkFixed)).unwrap();
+        let lines = NmeaEncoder::new()
+            .epoch(&epoch(4.0, FixQuality::RtkFixed))
+            .unwrap();
         send(&mut core, &lines[..1], 4.0);
         core.reconnected();
-        send(
-            &mut core,
-            &encoder.epoch(&epoch(34.0, FixQuality::RtkFixed)).unwrap(),
-            34.0,
-        );
-        send(
-            &mut core,
-            &encoder.epoch(&epoch(35.0, FixQuality::RtkFixed)).unwrap(),
-            35.0,
-        );
+        epochs(&mut core, &[34.0, 35.0], FixQuality::RtkFixed);
         let status = core.status();
-        let utc: Vec<f64> = status.last_fix.iter().map(|f| f.utc_s_of_day).collect();
-        assert!(utc[0] >= 34.0, "the last fix is from {utc:?}");
+        let utc_s = status.last_fix.map(|f| f.utc_s_of_day);
+        assert!(
+            utc_s.is_some_and(|t| t >= 34.0),
+            "the last fix is from {utc_s:?}"
+        );
         // Epochs 1, 2 and 3 and the two after: 4 never went out.
         assert!(status.fixes <= 5, "{status:?}");
     }
 
     #[test]
     fn an_epoch_without_a_position_ends_the_last_fix() {
-        let (encoder, mut core) = (NmeaEncoder::new(), GnssCore::new());
-        for t in [1.0, 2.0, 3.0] {
-            send(
-                &mut core,
-                &encoder.epoch(&epoch(t, FixQuality::RtkFixed)).unwrap(),
-                t,
-            );
-        }
+        let mut core = GnssCore::new();
+        epochs(&mut core, &[1.0, 2.0, 3.0], FixQuality::RtkFixed);
         assert_eq!(
             core.status().last_fix.unwrap().quality,
             FixQuality::RtkFixed
         );
-        for t in [4.0, 5.0, 6.0] {
-            send(
-                &mut core,
-                &encoder.epoch(&epoch(t, FixQuality::None)).unwrap(),
-                t,
-            );
-        }
+        epochs(&mut core, &[4.0, 5.0, 6.0], FixQuality::None);
         let status = core.status();
         assert_eq!(status.last_fix, None, "{status:?}");
         assert!(status.no_fix_epochs >= 2, "{status:?}");
