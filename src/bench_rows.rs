@@ -50,6 +50,10 @@ pub struct RowRun {
     pub row: String,
     pub speed_mps: f64,
     pub cross_track_cm: CrossTrackSummary,
+    /// How far the row filter's estimate of the tool's offset was from the truth over the
+    /// same stretch (None when the camera steers alone): the part of the tool's error no
+    /// steering law could remove, the rest being what the steering did not correct.
+    pub filter_error_cm: Option<CrossTrackSummary>,
     pub faults: Vec<String>,
     pub sim_time_s: f64,
 }
@@ -90,6 +94,9 @@ pub fn run_row(
     s.steer.speed_mps = speed_mps;
     let limit_s = s.sim.row_length_m / speed_mps.max(0.05) + 30.0;
     let mut sim = Lockstep::new(&s, Mode::Autonomous);
+    if source != SteerSource::Camera {
+        sim.track_filter_error(s.robot.tool_offset_m, s.sim.cross_track_from_m);
+    }
     // The run ends where the tool passes the row's end, or where the supervisor stopped
     // the robot (its own end of row, or a fault) after it started driving.
     let mut driving = false;
@@ -107,6 +114,7 @@ pub fn run_row(
         row: row_name(row).to_string(),
         speed_mps,
         cross_track_cm: sim.robot.cross_track().summary(),
+        filter_error_cm: sim.filter_error().map(|e| e.summary()),
         faults: sim
             .supervisor
             .faults()
@@ -164,13 +172,13 @@ fn gear_for_the_field(s: &mut Settings) {
 /// The table `mechweed bench rows` prints.
 pub fn table(runs: &[RowRun]) -> String {
     let mut out = String::from(
-        "source  row       speed   mean    s.d.    RMS     p95     max    >2cm  faults\n",
+        "source  row       speed   mean    s.d.    RMS     p95     max    >2cm  filter  faults\n",
     );
-    out += "                  m/s     cm      cm      cm      cm      cm     %\n";
+    out += "                  m/s     cm      cm      cm      cm      cm     %     s.d. cm\n";
     for r in runs {
         let c = &r.cross_track_cm;
         out += &format!(
-            "{:<7} {:<9} {:4.1} {:7.2} {:7.2} {:7.2} {:7.2} {:7.2} {:6.1}  {}\n",
+            "{:<7} {:<9} {:4.1} {:7.2} {:7.2} {:7.2} {:7.2} {:7.2} {:6.1} {:>7}  {}\n",
             r.source,
             r.row,
             r.speed_mps,
@@ -180,6 +188,8 @@ pub fn table(runs: &[RowRun]) -> String {
             c.p95_cm,
             c.max_cm,
             c.share_over_2cm * 100.0,
+            r.filter_error_cm
+                .map_or("-".to_string(), |e| format!("{:.2}", e.sd_cm)),
             if r.faults.is_empty() {
                 "none".to_string()
             } else {

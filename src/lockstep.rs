@@ -12,7 +12,7 @@
 //! real robot except the wires.
 
 use mechweed_hw::emulated::CardRig;
-use mechweed_hw::sim::{PipeEnd, SimRobot, byte_pipe};
+use mechweed_hw::sim::{CrossTrackStats, PipeEnd, SAMPLE_SPACING_M, SimRobot, byte_pipe};
 use mechweed_hw::{Hw, HwError, Outputs};
 
 use crate::camlink::LinkCore;
@@ -65,6 +65,38 @@ pub struct Lockstep {
     pub steer_ticks: u64,
     /// Where each supervisor tick is recorded, if anywhere (see `record_into`).
     record: Option<RecordTap>,
+    /// The row filter's error at the tool, if asked for (see `track_filter_error`).
+    filter_error: Option<FilterErrorTrack>,
+}
+
+/// How far the row filter's estimate of the tool's offset is from the truth, sampled at
+/// every steer tick (when the filter has just been brought to now) and weighted by
+/// distance like the tool's cross-track error, over the same stretch of row. It splits
+/// the tool's error into what the filter misjudged and what the steering did not correct.
+struct FilterErrorTrack {
+    tool_x_m: f64,
+    from_m: f64,
+    next_mark: u64,
+    stats: CrossTrackStats,
+}
+
+impl FilterErrorTrack {
+    fn sample(&mut self, steer: &SteerCore, robot: &SimRobot) {
+        let truth = robot.truth();
+        let marks = (truth.distance_m / SAMPLE_SPACING_M).floor() as u64;
+        if marks < self.next_mark || truth.row_done {
+            return;
+        }
+        let count = marks - self.next_mark + 1;
+        self.next_mark = marks + 1;
+        if truth.distance_m >= self.from_m {
+            // The filter gives the row's offset from the tool (positive: the row lies to
+            // the left), the truth the tool's offset from the row.
+            let (row_at_tool_m, _) = steer.rows().filter().row_at(self.tool_x_m);
+            self.stats
+                .record(truth.tool_cross_track_m + row_at_tool_m, count);
+        }
+    }
 }
 
 impl Lockstep {
@@ -112,6 +144,7 @@ impl Lockstep {
             buf: [0; 512],
             steer_ticks: 0,
             record: None,
+            filter_error: None,
         }
     }
 
@@ -128,6 +161,23 @@ impl Lockstep {
     /// Stop recording: drops the tap, so that the recorder can finish its files.
     pub fn stop_recording(&mut self) {
         self.record = None;
+    }
+
+    /// From now on, compare the row filter's estimate of the offset of the tool
+    /// (`tool_x_m` ahead of the rear axle) with the truth at every steer tick, once the
+    /// robot has driven `from_m` (the benchmark's split of the tool's error).
+    pub fn track_filter_error(&mut self, tool_x_m: f64, from_m: f64) {
+        self.filter_error = Some(FilterErrorTrack {
+            tool_x_m,
+            from_m,
+            next_mark: 0,
+            stats: CrossTrackStats::new(),
+        });
+    }
+
+    /// The row filter's error at the tool so far, if tracked.
+    pub fn filter_error(&self) -> Option<&CrossTrackStats> {
+        self.filter_error.as_ref().map(|t| &t.stats)
     }
 
     /// Send a request to the supervisor, as the GUI would.
@@ -149,6 +199,9 @@ impl Lockstep {
             self.gnss.status(),
         );
         self.steer_ticks += 1;
+        if let Some(track) = &mut self.filter_error {
+            track.sample(&self.steer, &self.robot);
+        }
     }
 
     /// Advance to the next supervisor tick, run it, and return the outputs it wrote.

@@ -1,5 +1,6 @@
 //! The steering law on the simulated robot, closed loop: it converges from 5 cm off
-//! the row, and holds an arc and a side slope without steady-state error.
+//! the row, and holds an arc and a side slope without steady-state error; and the
+//! benchmark's split of a fused robot's error into the filter's part and the steering's.
 
 mod common;
 
@@ -135,4 +136,29 @@ fn benchmark_scurve_at_half_a_metre_per_second_stays_on_the_row() {
         run.cross_track_cm.distance_m
     );
     assert!(run.cross_track_cm.sd_cm < 1.5, "{:?}", run.cross_track_cm);
+}
+
+#[test]
+fn the_benchmark_splits_the_fused_tools_error_into_the_filters_part_and_none_for_the_camera() {
+    let s = settings_with("", &[]);
+    let row = |source| run_row(&s, FieldKind::Realistic, source, RowShape::Straight, 1.0, 1);
+    let camera = row(SteerSource::Camera);
+    assert_eq!(
+        camera.filter_error_cm, None,
+        "the camera alone has no filter"
+    );
+    let fused = row(SteerSource::Fused);
+    let filter = fused
+        .filter_error_cm
+        .expect("a fused run measures its filter");
+    // Over the same stretch of row, sampled every centimetre like the tool's error. The
+    // filter tracks the tool: its error is the smaller part (with the sign of the row's
+    // offset turned the wrong way it would be near twice the tool's error).
+    let tool = fused.cross_track_cm;
+    assert!(
+        (filter.distance_m - tool.distance_m).abs() < 1.0,
+        "{filter:?} {tool:?}"
+    );
+    assert!(filter.sd_cm > 0.1, "{filter:?}");
+    assert!(filter.sd_cm < 0.8 * tool.sd_cm, "{filter:?} {tool:?}");
 }

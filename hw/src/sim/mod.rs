@@ -33,7 +33,7 @@ mod tool;
 #[cfg(test)]
 pub(crate) mod alloc_tests;
 
-pub use crosstrack::{CrossTrackStats, CrossTrackSummary};
+pub use crosstrack::{CrossTrackStats, CrossTrackSummary, SAMPLE_SPACING_M};
 pub use events::{ActionHelp, EventAction, OperatorMode, SimEvent, action_list, parse_events};
 pub use params::{CROSS_TRACK_FROM_M, FieldKind, FieldTierParams, RowShape, SimParams};
 pub use pipe::{PipeEnd, byte_pipe};
