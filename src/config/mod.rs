@@ -140,6 +140,8 @@ pub struct CameraSettings {
     pub link_timeout_s: f64,
     pub restart_after_s: f64,
     pub min_quality: u8,
+    /// A camera repeating its last estimate (a gap in the row) steers for this far, m.
+    pub gap_hold_m: f64,
 }
 
 /// Real-time scheduling and the supervisor's watch over the other threads.
@@ -382,5 +384,7 @@ fn camera(r: &mut Reader) -> CameraSettings {
         restart_after_s: r.f64(s, "restart_after_s", 0.05, 5.0),
         // Quality 0 means "no row seen" (function_spec.md section 7): such a frame must never steer.
         min_quality: r.u64(s, "min_quality", 1, 100) as u8,
+        // Beyond a few metres odometry alone no longer keeps the tool on the row.
+        gap_hold_m: r.f64(s, "gap_hold_m", 0.0, 10.0),
     }
 }

@@ -283,11 +283,15 @@ impl FaultChecks {
             report(FaultCause::OffTheRow { offset_m });
         }
 
-        // Autonomous driving by the camera needs it: frames, and frames that see the row.
+        // Autonomous driving by the camera needs it: frames, and frames that see the row
+        // (an old image's estimate repeated sees it only for [camera] gap_hold_m: the steer
+        // thread says, as of its last tick, since when the camera has had a row it steers
+        // by; a steer thread that stalls is its own fault, not the camera's).
         if c.mode == Mode::Autonomous && self.source == SteerSource::Camera {
             let since = |t: f64| now - t.max(c.mode_since_s);
             let silent_s = since(c.link.last_row_s);
-            let blind_s = since(c.link.last_usable_s);
+            let held_too_long_s = c.steer.t_s - c.steer.sources.camera_good_s.max(c.mode_since_s);
+            let blind_s = since(c.link.last_usable_s).max(held_too_long_s);
             if silent_s > self.camera.link_timeout_s {
                 report(FaultCause::CameraLinkLost { silent_s });
             } else if blind_s > self.camera.link_timeout_s {

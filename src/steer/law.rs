@@ -1,12 +1,16 @@
 //! The steering law: from the camera's row angle and offset to a front wheel angle.
 //!
 //! 1. Latency. Each estimate describes an image taken about `latency_s` before it
-//!    arrived, and it ages further until the next one. Using the measured speed and
-//!    heading rate, the row line seen then is moved into the robot's frame now.
+//!    arrived, and it ages further until the next one. By the robot's motion since
+//!    (from odometry, or the measured speed and heading rate times the age), the row
+//!    line seen then is moved into the robot's frame now.
 //! 2. Row model. Near the robot the row is a parabola in the robot frame (x forward,
 //!    y left): y(x) = y0 + tan(angle) (x - x0) + curvature/2 (x - x0)^2, through the
 //!    camera's point (x0, y0). The curvature is the robot's own path curvature smoothed
 //!    over `curvature_filter_m` of travel: following a row, the robot turns as the row does.
+//!    Not while the camera repeats an old image (a gap in the row): the robot then turns
+//!    to reach the row line it saw, and learning that turn as the row's would have it
+//!    turn ever further.
 //! 3. Pure pursuit. Steer along the circle that passes through the row point
 //!    `lookahead_m` ahead of the rear axle: curvature = 2 y / d^2 (d the distance to the
 //!    point). Linearised, the lateral error then behaves as a second-order system with
@@ -19,6 +23,7 @@
 
 use mechweed_hw::camproto::RowEstimate;
 
+use super::filter::Travel;
 use crate::config::{RobotSettings, SteerSettings};
 
 /// What the robot's own motion says, from the supervisor's measurements.
@@ -51,9 +56,16 @@ pub struct RowFollower {
     camera_x_m: f64,
     tool_x_m: f64,
     row_curvature_per_m: f64,
+    /// The same over HELD_CURVATURE_SPAN times the distance: steered by in a gap.
+    long_curvature_per_m: f64,
     integral_per_m: f64,
     last_t_s: Option<f64>,
 }
+
+/// In a gap the row line is the old image's for metres, bent by this curvature: smoothed
+/// over this many times `curvature_filter_m`, so that the robot's last correction is not
+/// taken for the row's bend.
+const HELD_CURVATURE_SPAN: f64 = 5.0;
 
 impl RowFollower {
     pub fn new(s: &SteerSettings, robot: &RobotSettings) -> RowFollower {
@@ -64,6 +76,7 @@ impl RowFollower {
             camera_x_m: robot.camera_lookahead_m,
             tool_x_m: robot.tool_offset_m,
             row_curvature_per_m: 0.0,
+            long_curvature_per_m: 0.0,
             integral_per_m: 0.0,
             last_t_s: None,
         }
@@ -72,6 +85,7 @@ impl RowFollower {
     /// Start afresh (entering autonomous mode).
     pub fn reset(&mut self) {
         self.row_curvature_per_m = 0.0;
+        self.long_curvature_per_m = 0.0;
         self.integral_per_m = 0.0;
         self.last_t_s = None;
     }
@@ -88,12 +102,30 @@ impl RowFollower {
         self.update_aged(estimate, age_s, now_s, motion)
     }
 
-    /// The wheel angle for `estimate` of an image taken `age_s` ago, at time `now_s`
-    /// (the row filter's row goes in as old as a camera row on average: sources.rs).
+    /// The wheel angle for `estimate` of an image taken `age_s` ago, at time `now_s`,
+    /// the robot taken to have moved since as it moves now.
     pub fn update_aged(
         &mut self,
         estimate: &RowEstimate,
         age_s: f64,
+        now_s: f64,
+        motion: &Motion,
+    ) -> LawOutput {
+        let since = Travel {
+            travelled_m: motion.speed_mps * age_s,
+            turned_rad: motion.yaw_rate_rps * age_s,
+        };
+        self.update_moved(estimate, since, false, now_s, motion)
+    }
+
+    /// The wheel angle for `estimate` of an image taken where the robot stood before it
+    /// drove and turned `since`, at time `now_s`; `repeated`: the camera sent that
+    /// image's estimate again (a gap in the row).
+    pub fn update_moved(
+        &mut self,
+        estimate: &RowEstimate,
+        since: Travel,
+        repeated: bool,
         now_s: f64,
         motion: &Motion,
     ) -> LawOutput {
@@ -103,12 +135,19 @@ impl RowFollower {
 
         // 2. The row turns as the robot does when the robot follows it.
         let robot_curvature = motion.wheel_angle_rad.tan() / self.wheelbase_m;
-        let blend = (travelled_m / self.s.curvature_filter_m).min(1.0);
-        self.row_curvature_per_m += (robot_curvature - self.row_curvature_per_m) * blend;
+        if !repeated {
+            let blend = |m: f64| (travelled_m / m).min(1.0);
+            let (short, long) = (
+                &mut self.row_curvature_per_m,
+                &mut self.long_curvature_per_m,
+            );
+            *short += (robot_curvature - *short) * blend(self.s.curvature_filter_m);
+            *long +=
+                (robot_curvature - *long) * blend(self.s.curvature_filter_m * HELD_CURVATURE_SPAN);
+        }
 
         // 1. Move the row line seen in the image into the robot's frame now.
-        let moved_m = motion.speed_mps * age_s;
-        let turned_rad = motion.yaw_rate_rps * age_s;
+        let (moved_m, turned_rad) = (since.travelled_m, since.turned_rad);
         let (robot_x, robot_y) = (
             moved_m * (turned_rad / 2.0).cos(),
             moved_m * (turned_rad / 2.0).sin(),
@@ -118,7 +157,10 @@ impl RowFollower {
         let point_x = dx * cos + dy * sin;
         let point_y = -dx * sin + dy * cos;
         let slope = (estimate.angle_rad - turned_rad).tan();
-        let curvature = self.row_curvature_per_m;
+        let curvature = match repeated {
+            true => self.long_curvature_per_m,
+            false => self.row_curvature_per_m,
+        };
         let row_y_at =
             |x: f64| point_y + slope * (x - point_x) + 0.5 * curvature * (x - point_x).powi(2);
 
@@ -218,5 +260,43 @@ mod tests {
         }
         assert_eq!(standing.integral_per_m, 0.0);
         assert!(moving.integral_per_m > 0.0);
+    }
+
+    #[test]
+    fn a_repeated_image_neither_learns_nor_takes_the_robots_last_turn_as_the_rows() {
+        // 5 m straight along a straight row, then 0.3 m of a hard left turn (a correction,
+        // not the row's bend), then one more tick: (repeated while turning, at the end).
+        let run = |turning_repeated: bool, last_repeated: bool| {
+            let straight = Motion {
+                speed_mps: 1.0,
+                ..Motion::default()
+            };
+            let turning = Motion {
+                wheel_angle_rad: 0.1,
+                yaw_rate_rps: 0.1f64.tan(),
+                ..straight
+            };
+            let (mut law, row, still) = (follower(), estimate(0.0, 0.0), Travel::default());
+            for k in 0..50 {
+                law.update_moved(&row, still, false, k as f64 * 0.1, &straight);
+            }
+            for k in 50..53 {
+                law.update_moved(&row, still, turning_repeated, k as f64 * 0.1, &turning);
+            }
+            law.update_moved(&row, still, last_repeated, 5.3, &straight)
+                .row_curvature_per_m
+        };
+        let taught = run(false, false);
+        assert!(
+            taught > 0.02,
+            "a fresh image: the turn is the row's, {taught}"
+        );
+        let held = run(false, true);
+        assert!(
+            held < taught / 3.0,
+            "held: smoothed over 5 m, {held} of {taught}"
+        );
+        let not_taught = run(true, true);
+        assert!(not_taught.abs() < 1e-12, "turning in a gap: {not_taught}");
     }
 }

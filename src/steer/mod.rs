@@ -3,11 +3,13 @@
 //! joystick gives speed and angle; while driving, an end switch starts the end-switch
 //! procedure. It runs at [steer] rate_hz and on every new camera estimate.
 
+mod camera_hold;
 pub mod endswitch;
 pub mod filter;
 mod filter_config;
 pub mod joystick;
 pub mod law;
+mod odometry;
 pub mod sources;
 
 use mechweed_hw::Side;
@@ -116,6 +118,9 @@ impl SteerCore {
             self.last_mode = mode;
         }
         let m = &sup.measured;
+        if mode == Mode::Autonomous {
+            self.rows.watch(now_s, m, link);
+        }
         let mut law_output = LawOutput::default();
         let procedure = if mode.drives() {
             self.endswitch.tick(
@@ -149,9 +154,13 @@ impl SteerCore {
                             yaw_rate_rps: m.yaw_rate_rps,
                             wheel_angle_rad: m.wheel_angle_rad,
                         };
-                        law_output = self
-                            .law
-                            .update_aged(&row.estimate, row.age_s, now_s, &motion);
+                        law_output = self.law.update_moved(
+                            &row.estimate,
+                            row.since,
+                            row.repeated,
+                            now_s,
+                            &motion,
+                        );
                         (row.speed_mps, law_output.wheel_angle_rad)
                     }
                     // No fresh estimate yet (or any more): do not drive blind. The

@@ -14,11 +14,16 @@
 //!   causes named once that lasts the camera's link time-out.
 //!
 //! The same file decides for source = gnss: GNSS alone, or nothing.
+//!
+//! A camera that repeats its last estimate (a gap in the row) is steered by as the row
+//! line it last saw, for at most [camera] gap_hold_m (camera_hold.rs).
 
 use mechweed_hw::camproto::RowEstimate;
 
+use super::camera_hold::{CameraHold, Held};
 use super::filter::{RowFilter, RowState, Travel};
 use super::filter_config::filter_settings;
+use super::odometry::OdometryHistory;
 use crate::camlink::LinkStatus;
 use crate::config::{GnssSettings, Settings, SourceSettings, SteerSource};
 use crate::gnss::GnssStatus;
@@ -31,7 +36,8 @@ pub use crate::steering::Steering;
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SourceHealth {
     pub steering: Steering,
-    /// When the camera's link last had a usable row, and GNSS a trusted fix, s.
+    /// When the camera's link last had a usable row (an estimate repeated unchanged only
+    /// within [camera] gap_hold_m), and GNSS a trusted fix, s.
     pub camera_good_s: f64,
     pub gnss_good_s: f64,
     /// The row filter's row offset at the rear axle, m (0 when the camera steers alone).
@@ -70,20 +76,11 @@ pub struct FilterFigures {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RowChoice {
     pub estimate: RowEstimate,
-    /// How old the law takes the estimate's image to be, s.
-    pub age_s: f64,
+    /// The robot's motion since the estimate's image was taken, as the law takes it.
+    pub since: Travel,
+    /// The camera repeats an estimate it sent before (a gap in the row).
+    pub repeated: bool,
     pub speed_mps: f64,
-}
-
-/// How far back the odometry is kept, to place a camera image: ticks.
-const HISTORY: usize = 64;
-
-/// Odometry at one steer tick: time, distance driven, heading turned.
-#[derive(Debug, Clone, Copy, Default)]
-struct Odometry {
-    t_s: f64,
-    distance_m: f64,
-    heading_rad: f64,
 }
 
 pub struct RowSources {
@@ -99,10 +96,11 @@ pub struct RowSources {
     camera_sd_angle_rad: f64,
     fuse_min_quality: u8,
     place: Option<RowPlace>,
-    history: [Odometry; HISTORY],
-    newest: usize,
-    filled: usize,
-    used_camera_s: f64,
+    odometry: OdometryHistory,
+    hold: CameraHold,
+    /// What the hold said of the camera's estimate at the last `watch`.
+    held: Held,
+    gap_hold_m: f64,
     used_fix_s: f64,
     /// The last time each sensor was good, s.
     camera_good_s: f64,
@@ -128,10 +126,10 @@ impl RowSources {
             camera_sd_angle_rad: settings.filter.camera_sd_angle_rad,
             fuse_min_quality: settings.filter.fuse_min_quality,
             place,
-            history: [Odometry::default(); HISTORY],
-            newest: 0,
-            filled: 0,
-            used_camera_s: f64::NEG_INFINITY,
+            odometry: OdometryHistory::default(),
+            hold: CameraHold::default(),
+            held: Held::default(),
+            gap_hold_m: settings.camera.gap_hold_m,
             used_fix_s: f64::NEG_INFINITY,
             camera_good_s: f64::NEG_INFINITY,
             gnss_good_s: f64::NEG_INFINITY,
@@ -191,7 +189,7 @@ impl RowSources {
         if let Some(place) = &mut self.place {
             place.choose_again();
         }
-        self.filled = 0;
+        self.odometry.clear();
         self.camera_good_s = now_s;
         self.gnss_good_s = now_s;
         self.reset_s = now_s;
@@ -201,7 +199,27 @@ impl RowSources {
         };
     }
 
-    /// One steer tick in autonomous mode at `now_s`: the row to steer by, or None.
+    /// Every steer tick in autonomous mode, whatever steers (an end-switch procedure
+    /// too): the robot's motion into the odometry kept and the filter, and whether the
+    /// camera still has a row.
+    pub fn watch(&mut self, now_s: f64, m: &Measured, link: &LinkStatus) {
+        let step = self.odometry.remember(now_s, m);
+        if let (Some(step), false) = (step, self.s.source == SteerSource::Camera) {
+            self.filter.predict(step.travelled_m, step.turned_rad);
+        }
+        self.held = self
+            .hold
+            .see(&link.last_usable, link.last_usable_s, m.distance_m);
+        // The camera is there while its link has a usable row, whether or not the filter
+        // takes it (a weed patch, a gap held at low quality); not when it has repeated
+        // one estimate for longer than it may be held.
+        if self.held.held_m <= self.gap_hold_m {
+            self.camera_good_s = self.camera_good_s.max(link.last_usable_s);
+        }
+    }
+
+    /// The steer tick in autonomous mode at `now_s`, after `watch`: the row to steer by,
+    /// or None.
     pub fn tick(
         &mut self,
         now_s: f64,
@@ -210,20 +228,28 @@ impl RowSources {
         gnss: &GnssStatus,
         cruise_mps: f64,
     ) -> Option<RowChoice> {
-        let camera_fresh = now_s - link.last_usable_s < self.link_timeout_s;
+        let held = self.held;
+        let camera_fresh =
+            now_s - link.last_usable_s < self.link_timeout_s && held.held_m <= self.gap_hold_m;
         if self.s.source == SteerSource::Camera {
             self.steering = Steering::Camera;
+            // Where the image was taken: by odometry, or (just after entering autonomous
+            // mode) as the robot moves now.
+            let (since, known) = self.odometry.since(held.first_s - self.latency_s);
+            let age_s = self.latency_s + (now_s - held.first_s).max(0.0);
             return camera_fresh.then_some(RowChoice {
                 estimate: link.last_usable,
-                age_s: self.latency_s + (now_s - link.last_usable_s).max(0.0),
+                since: if known {
+                    since
+                } else {
+                    moving_as_now(m, age_s)
+                },
+                repeated: held.repeated,
                 speed_mps: cruise_mps,
             });
         }
-        self.predict(now_s, m);
-        if self.s.source == SteerSource::Fused {
-            // The camera is there while its link has a usable row, whether or not the
-            // filter takes it (a weed patch, a gap held at low quality).
-            self.camera_good_s = self.camera_good_s.max(link.last_usable_s);
+        // A repeated estimate tells the filter nothing new.
+        if self.s.source == SteerSource::Fused && held.new {
             self.fuse_camera(link);
         }
         self.fuse_gnss(gnss);
@@ -258,7 +284,8 @@ impl RowSources {
                 offset_m,
                 quality: 100,
             },
-            age_s: self.law_age_s,
+            since: moving_as_now(m, self.law_age_s),
+            repeated: false,
             speed_mps,
         })
     }
@@ -281,68 +308,14 @@ impl RowSources {
         }
     }
 
-    /// Move the filter with the odometry since the last tick, and keep it for placing
-    /// camera images.
-    fn predict(&mut self, now_s: f64, m: &Measured) {
-        let last = self.history[self.newest];
-        let (dt_s, travelled_m) = match self.filled {
-            0 => (0.0, 0.0),
-            _ => ((now_s - last.t_s).max(0.0), m.distance_m - last.distance_m),
-        };
-        let now = Odometry {
-            t_s: now_s,
-            distance_m: m.distance_m,
-            heading_rad: last.heading_rad + m.yaw_rate_rps * dt_s,
-        };
-        if self.filled > 0 {
-            self.filter
-                .predict(travelled_m, now.heading_rad - last.heading_rad);
-        }
-        self.newest = (self.newest + 1) % HISTORY;
-        self.history[self.newest] = now;
-        self.filled = (self.filled + 1).min(HISTORY);
-    }
-
-    /// Odometry at `t_s`, between the kept ticks (the oldest if it is older).
-    fn odometry_at(&self, t_s: f64) -> Odometry {
-        let mut later = self.history[self.newest];
-        for back in 1..self.filled {
-            let earlier = self.history[(self.newest + HISTORY - back) % HISTORY];
-            if earlier.t_s <= t_s {
-                let span_s = later.t_s - earlier.t_s;
-                let k = if span_s > 0.0 {
-                    (t_s - earlier.t_s) / span_s
-                } else {
-                    0.0
-                };
-                return Odometry {
-                    t_s,
-                    distance_m: earlier.distance_m + k * (later.distance_m - earlier.distance_m),
-                    heading_rad: earlier.heading_rad
-                        + k * (later.heading_rad - earlier.heading_rad),
-                };
-            }
-            later = earlier;
-        }
-        later
-    }
-
     /// A new usable camera estimate into the filter, at its capture pose.
     fn fuse_camera(&mut self, link: &LinkStatus) {
-        if link.last_usable_s <= self.used_camera_s {
-            return;
-        }
-        self.used_camera_s = link.last_usable_s;
         let estimate = link.last_usable;
         if estimate.quality < self.fuse_min_quality {
             return;
         }
-        let now = self.history[self.newest];
-        let then = self.odometry_at(link.last_usable_s - self.latency_s);
-        let since = Travel {
-            travelled_m: now.distance_m - then.distance_m,
-            turned_rad: now.heading_rad - then.heading_rad,
-        };
+        // An image older than the odometry kept is placed at the oldest tick kept.
+        let (since, _) = self.odometry.since(link.last_usable_s - self.latency_s);
         // A rejected row (a weed patch) is counted by the filter; nothing else to do.
         self.filter.update_camera(
             estimate.offset_m,
@@ -379,5 +352,13 @@ impl RowSources {
             _ => fix.quality.typical_sd_m(),
         };
         self.filter.update_gnss(view.offset_m, sd_m.max(0.005));
+    }
+}
+
+/// The robot's motion over `age_s` if it moved all along as it moves now.
+fn moving_as_now(m: &Measured, age_s: f64) -> Travel {
+    Travel {
+        travelled_m: m.speed_mps * age_s,
+        turned_rad: m.yaw_rate_rps * age_s,
     }
 }
