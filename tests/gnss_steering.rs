@@ -1,6 +1,7 @@
 //! Steering by GNSS and by the fused row, in lockstep on the simulated robot with its
 //! receiver: the fallbacks when one sensor is lost, the fault when both are, and the
-//! gate that keeps a weed patch from pulling the robot off the row.
+//! gate that keeps a weed patch from pulling the robot off the row, and a float
+//! episode that does not.
 
 mod common;
 
@@ -226,5 +227,33 @@ fn a_robot_put_down_beside_its_row_is_off_the_row_and_stops_steering_by_gnss() {
         run.sim.robot.truth().distance_m < 1.5,
         "{:?}",
         run.sim.robot.truth()
+    );
+}
+
+#[test]
+fn an_rtk_float_episode_moves_the_maps_bias_and_not_the_row() {
+    // A float solution's error wanders by decimetres over tens of seconds: ten fixes a
+    // second of it are not ten independent measurements of the row. Taken as such, the
+    // tool was 4.1 cm off at worst in float, against 1.8 cm in RTK fixed.
+    let float = settings(
+        SteerSource::Fused,
+        FieldKind::Clean,
+        1.0,
+        "10 gnss_float, 40 gnss_fixed",
+    );
+    let run = drive(&float, 120.0);
+    let faults = run.sim.supervisor.faults();
+    assert!(faults.is_empty(), "{faults:?}");
+    let fixed = drive(
+        &settings(SteerSource::Fused, FieldKind::Clean, 1.0, ""),
+        120.0,
+    );
+    let (during, without) = (
+        worst_cm(&run.errors_m, 10.0, 45.0),
+        worst_cm(&fixed.errors_m, 10.0, 45.0),
+    );
+    assert!(
+        during < without + 1.0,
+        "{during:.2} cm in float, {without:.2} cm in RTK fixed"
     );
 }

@@ -357,41 +357,22 @@ impl RowFilter {
         self.counters.count(sensor, outcome)
     }
 
+    /// GNSS's own error may have moved by `sd_m` (its solution changed, or is not RTK
+    /// fixed and wanders): the map's bias, which carries it, is widened by that much, so
+    /// that the fixes to come move it and not the row.
+    pub fn widen_map_bias(&mut self, sd_m: f64) -> Outcome {
+        if !sd_m.is_finite() || sd_m < 0.0 || !(sd_m * sd_m).is_finite() {
+            return self.refuse(false);
+        }
+        self.p[(MAP_BIAS, MAP_BIAS)] += sd_m * sd_m;
+        Outcome::Used
+    }
+
     /// The fused row at `x_m` ahead of the rear axle, now: (offset_m, angle_rad), as a
     /// fresh camera estimate at `x_m` would give it.
     pub fn row_at(&self, x_m: f64) -> (f64, f64) {
         let (a, b, c) = (self.x[OFFSET], self.x[HEADING], self.x[CURVATURE]);
         (a + b * x_m + c * x_m * x_m / 2.0, b + c * x_m)
-    }
-
-    pub fn state(&self) -> RowState {
-        RowState::from_vector(&self.x)
-    }
-
-    /// Each part's standard deviation.
-    pub fn sd(&self) -> RowState {
-        RowState::from_vector(&self.p.diagonal().map(|v| v.max(0.0).sqrt()))
-    }
-
-    pub fn covariance(&self) -> Covariance {
-        self.p
-    }
-
-    pub fn counters(&self) -> FilterCounters {
-        self.counters
-    }
-
-    /// NIS of the camera's last update, gated or not, for a consistency check.
-    pub fn last_camera_nis(&self) -> Option<f64> {
-        self.last_nis[Sensor::Camera as usize]
-    }
-
-    pub fn last_gnss_nis(&self) -> Option<f64> {
-        self.last_nis[Sensor::Gnss as usize]
-    }
-
-    pub fn settings(&self) -> &FilterSettings {
-        &self.settings
     }
 }
 

@@ -1,6 +1,6 @@
 //! The row filter's settings, its state as named quantities, and what it reports.
 
-use super::{CAMERA_BIAS, CURVATURE, HEADING, MAP_BIAS, OFFSET, SLIP, Vector};
+use super::{CAMERA_BIAS, CURVATURE, Covariance, HEADING, MAP_BIAS, OFFSET, SLIP, Vector};
 
 /// Probability that a good measurement passes the gate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -193,5 +193,38 @@ impl Sensor {
             (Sensor::Gnss, true) => &[MAP_BIAS],
             (Sensor::Gnss, false) => &[OFFSET, HEADING],
         }
+    }
+}
+
+/// What the filter reports.
+impl super::RowFilter {
+    pub fn state(&self) -> RowState {
+        RowState::from_vector(&self.x)
+    }
+
+    /// Each part's standard deviation.
+    pub fn sd(&self) -> RowState {
+        RowState::from_vector(&self.p.diagonal().map(|v| v.max(0.0).sqrt()))
+    }
+
+    pub fn covariance(&self) -> Covariance {
+        self.p
+    }
+
+    pub fn counters(&self) -> FilterCounters {
+        self.counters
+    }
+
+    /// NIS of the camera's last update, gated or not, for a consistency check.
+    pub fn last_camera_nis(&self) -> Option<f64> {
+        self.last_nis[Sensor::Camera as usize]
+    }
+
+    pub fn last_gnss_nis(&self) -> Option<f64> {
+        self.last_nis[Sensor::Gnss as usize]
+    }
+
+    pub fn settings(&self) -> &FilterSettings {
+        &self.settings
     }
 }

@@ -10,6 +10,7 @@ mod filter_config;
 pub mod joystick;
 pub mod law;
 mod odometry;
+mod receiver;
 pub mod sources;
 
 use mechweed_hw::Side;

@@ -24,12 +24,14 @@ use super::camera_hold::{CameraHold, Held};
 use super::filter::{RowFilter, RowState, Travel};
 use super::filter_config::filter_settings;
 use super::odometry::OdometryHistory;
+use super::receiver::receiver_moved_sd_m;
 use crate::camlink::LinkStatus;
 use crate::config::{GnssSettings, Settings, SourceSettings, SteerSource};
 use crate::gnss::GnssStatus;
 use crate::gnss::place::RowPlace;
 use crate::measure::Measured;
 pub use crate::steering::Steering;
+use mechweed_hw::nmea::FixQuality;
 
 /// Which sensors steer and how long each has been without a good measurement, for the
 /// supervisor's fault check and the GUI (in the steer command).
@@ -102,6 +104,8 @@ pub struct RowSources {
     held: Held,
     gap_hold_m: f64,
     used_fix_s: f64,
+    /// The quality of the last trusted fix used (fused only).
+    used_fix_quality: Option<FixQuality>,
     /// The last time each sensor was good, s.
     camera_good_s: f64,
     gnss_good_s: f64,
@@ -130,6 +134,7 @@ impl RowSources {
             hold: CameraHold::default(),
             held: Held::default(),
             gap_hold_m: settings.camera.gap_hold_m,
+            used_fix_quality: None,
             used_fix_s: f64::NEG_INFINITY,
             camera_good_s: f64::NEG_INFINITY,
             gnss_good_s: f64::NEG_INFINITY,
@@ -335,6 +340,7 @@ impl RowSources {
         if gnss.last_fix_s <= self.used_fix_s {
             return;
         }
+        let since_fix_s = gnss.last_fix_s - self.used_fix_s;
         self.used_fix_s = gnss.last_fix_s;
         if !self.gnss.trusts(fix.quality) {
             return;
@@ -345,6 +351,13 @@ impl RowSources {
         let Some(view) = place.locate(&fix, row.heading_rad) else {
             return;
         };
+        // Fused: the receiver's own error, which the map's bias carries, may have moved.
+        if self.s.source == SteerSource::Fused {
+            let used = self.used_fix_quality.replace(fix.quality);
+            if let Some(sd_m) = receiver_moved_sd_m(used, fix.quality, since_fix_s) {
+                self.filter.widen_map_bias(sd_m);
+            }
+        }
         // GNSS is there while located fixes come, whether or not the gate takes them.
         self.gnss_good_s = gnss.last_fix_s;
         let sd_m = match (fix.sd_east_m, fix.sd_north_m) {
