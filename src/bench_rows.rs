@@ -9,6 +9,7 @@
 use mechweed_hw::sim::{CrossTrackSummary, FieldKind, RowShape, SimParams};
 use serde::Serialize;
 
+use crate::bench_floor::{Geometry, floor_cm};
 use crate::config::{CameraPort, GnssPort, Settings, SteerSource};
 use crate::lockstep::Lockstep;
 use crate::modes::Mode;
@@ -54,6 +55,11 @@ pub struct RowRun {
     /// same stretch (None when the camera steers alone): the part of the tool's error no
     /// steering law could remove, the rest being what the steering did not correct.
     pub filter_error_cm: Option<CrossTrackSummary>,
+    /// On the realistic field: the s.d. at the tool that an exact Kalman filter of the
+    /// field's error model leaves over a stretch this long with these sensors, on
+    /// average over such fields, cm (bench_floor.rs): what the sensors allow before any
+    /// steering. One field's draw can fall either side of it.
+    pub filter_floor_cm: Option<f64>,
     pub faults: Vec<String>,
     pub sim_time_s: f64,
 }
@@ -108,13 +114,23 @@ pub fn run_row(
         }
         driving |= autonomous;
     }
+    let cross_track_cm = sim.robot.cross_track().summary();
+    let at = Geometry {
+        tool_x_m: s.robot.tool_offset_m,
+        camera_x_m: s.robot.camera_lookahead_m,
+        antenna_x_m: s.gnss.antenna_ahead_m,
+    };
+    let filter_floor_cm = (field == FieldKind::Realistic)
+        .then(|| floor_cm(&s.sim, at, source, speed_mps, cross_track_cm.distance_m))
+        .flatten();
     RowRun {
         field: field_name(field).to_string(),
         source: source_name(source).to_string(),
         row: row_name(row).to_string(),
         speed_mps,
-        cross_track_cm: sim.robot.cross_track().summary(),
+        cross_track_cm,
         filter_error_cm: sim.filter_error().map(|e| e.summary()),
+        filter_floor_cm,
         faults: sim
             .supervisor
             .faults()
@@ -172,13 +188,13 @@ fn gear_for_the_field(s: &mut Settings) {
 /// The table `mechweed bench rows` prints.
 pub fn table(runs: &[RowRun]) -> String {
     let mut out = String::from(
-        "source  row       speed   mean    s.d.    RMS     p95     max    >2cm  filter  faults\n",
+        "source  row       speed   mean    s.d.    RMS     p95     max    >2cm  filter  floor  faults\n",
     );
-    out += "                  m/s     cm      cm      cm      cm      cm     %     s.d. cm\n";
+    out += "                  m/s     cm      cm      cm      cm      cm     %     s.d. cm   cm\n";
     for r in runs {
         let c = &r.cross_track_cm;
         out += &format!(
-            "{:<7} {:<9} {:4.1} {:7.2} {:7.2} {:7.2} {:7.2} {:7.2} {:6.1} {:>7}  {}\n",
+            "{:<7} {:<9} {:4.1} {:7.2} {:7.2} {:7.2} {:7.2} {:7.2} {:6.1} {:>7} {:>6}  {}\n",
             r.source,
             r.row,
             r.speed_mps,
@@ -190,6 +206,8 @@ pub fn table(runs: &[RowRun]) -> String {
             c.share_over_2cm * 100.0,
             r.filter_error_cm
                 .map_or("-".to_string(), |e| format!("{:.2}", e.sd_cm)),
+            r.filter_floor_cm
+                .map_or("-".to_string(), |f| format!("{f:.2}")),
             if r.faults.is_empty() {
                 "none".to_string()
             } else {

@@ -139,7 +139,7 @@ fn benchmark_scurve_at_half_a_metre_per_second_stays_on_the_row() {
 }
 
 #[test]
-fn the_benchmark_splits_the_fused_tools_error_into_the_filters_part_and_none_for_the_camera() {
+fn the_benchmark_splits_the_fused_tools_error_into_the_filters_part_and_gives_the_floor() {
     let s = settings_with("", &[]);
     let row = |source| run_row(&s, FieldKind::Realistic, source, RowShape::Straight, 1.0, 1);
     let camera = row(SteerSource::Camera);
@@ -161,4 +161,24 @@ fn the_benchmark_splits_the_fused_tools_error_into_the_filters_part_and_none_for
     );
     assert!(filter.sd_cm > 0.1, "{filter:?}");
     assert!(filter.sd_cm < 0.8 * tool.sd_cm, "{filter:?} {tool:?}");
+    // What an exact filter would leave: less with both sensors than with the camera.
+    let (fused_floor, camera_floor) = (fused.filter_floor_cm, camera.filter_floor_cm);
+    assert!(
+        fused_floor
+            .zip(camera_floor)
+            .is_some_and(|(f, c)| 0.1 < f && f < c),
+        "{fused_floor:?} {camera_floor:?}"
+    );
+    let clean = run_row(
+        &s,
+        FieldKind::Clean,
+        SteerSource::Fused,
+        RowShape::Straight,
+        1.0,
+        1,
+    );
+    assert_eq!(
+        clean.filter_floor_cm, None,
+        "a floor of the realistic field only"
+    );
 }

@@ -75,6 +75,8 @@ const DGPS: StateModel = StateModel {
     satellites: 12,
     hdop: 1.2,
 };
+/// The RTK fixed solution's error from epoch to epoch, per axis, m.
+pub const RTK_FIXED_WHITE_SD_M: f64 = FIXED.white_sd_m;
 /// Fixed, Float, Dgps: the states with a position, in the order of `biases`.
 const MODELS: [StateModel; 3] = [FIXED, FLOAT, DGPS];
 
