@@ -5,9 +5,11 @@
 use super::filter::Travel;
 use crate::measure::Measured;
 
-/// Steer ticks kept: at 10 Hz and as many estimates a second, over 12 s, longer than a
-/// gap in the row is held (camera_hold.rs) at any speed the robot weeds at.
-const HISTORY: usize = 256;
+/// Steer ticks kept: at the shipped 10 Hz and as many estimates a second, about 50 s,
+/// longer than a gap in the row is held (camera_hold.rs) at any speed the robot weeds
+/// at; at the highest [steer] rate_hz, 200, about 5 s. An image older than the ticks kept
+/// is not steered by when repeated (sources.rs).
+const HISTORY: usize = 1024;
 
 /// Odometry at one steer tick: time, distance driven, heading turned.
 #[derive(Debug, Clone, Copy, Default)]

@@ -100,12 +100,16 @@ pub struct RowSources {
     place: Option<RowPlace>,
     odometry: OdometryHistory,
     hold: CameraHold,
-    /// What the hold said of the camera's estimate at the last `watch`.
+    /// What the hold said of the camera's estimate at the last `watch`, and whether it
+    /// may be steered by.
     held: Held,
+    held_ok: bool,
+    /// A new camera estimate came that the filter has not had yet.
+    camera_unfused: bool,
     gap_hold_m: f64,
     used_fix_s: f64,
-    /// The quality of the last trusted fix used (fused only).
-    used_fix_quality: Option<FixQuality>,
+    /// The quality and time of the last trusted fix used.
+    last_fix_used: Option<(FixQuality, f64)>,
     /// The last time each sensor was good, s.
     camera_good_s: f64,
     gnss_good_s: f64,
@@ -133,8 +137,10 @@ impl RowSources {
             odometry: OdometryHistory::default(),
             hold: CameraHold::default(),
             held: Held::default(),
+            held_ok: false,
+            camera_unfused: false,
             gap_hold_m: settings.camera.gap_hold_m,
-            used_fix_quality: None,
+            last_fix_used: None,
             used_fix_s: f64::NEG_INFINITY,
             camera_good_s: f64::NEG_INFINITY,
             gnss_good_s: f64::NEG_INFINITY,
@@ -195,6 +201,7 @@ impl RowSources {
             place.choose_again();
         }
         self.odometry.clear();
+        self.camera_unfused = false;
         self.camera_good_s = now_s;
         self.gnss_good_s = now_s;
         self.reset_s = now_s;
@@ -215,10 +222,14 @@ impl RowSources {
         self.held = self
             .hold
             .see(&link.last_usable, link.last_usable_s, m.distance_m);
+        self.camera_unfused |= self.held.new;
         // The camera is there while its link has a usable row, whether or not the filter
         // takes it (a weed patch, a gap held at low quality); not when it has repeated
-        // one estimate for longer than it may be held.
-        if self.held.held_m <= self.gap_hold_m {
+        // one estimate for longer than it may be held, nor when the odometry kept (which
+        // starts afresh in each autonomous spell) no longer reaches back to its image.
+        let (_, reaches) = self.odometry.since(self.held.first_s - self.latency_s);
+        self.held_ok = self.held.held_m <= self.gap_hold_m && (reaches || !self.held.repeated);
+        if self.held_ok {
             self.camera_good_s = self.camera_good_s.max(link.last_usable_s);
         }
     }
@@ -234,12 +245,12 @@ impl RowSources {
         cruise_mps: f64,
     ) -> Option<RowChoice> {
         let held = self.held;
-        let camera_fresh =
-            now_s - link.last_usable_s < self.link_timeout_s && held.held_m <= self.gap_hold_m;
+        let camera_fresh = now_s - link.last_usable_s < self.link_timeout_s && self.held_ok;
         if self.s.source == SteerSource::Camera {
             self.steering = Steering::Camera;
-            // Where the image was taken: by odometry, or (just after entering autonomous
-            // mode) as the robot moves now.
+            // Where the image was taken: by odometry, or (a new estimate just after
+            // entering autonomous mode, a repeated one is not fresh then) as the robot
+            // moves now.
             let (since, known) = self.odometry.since(held.first_s - self.latency_s);
             let age_s = self.latency_s + (now_s - held.first_s).max(0.0);
             return camera_fresh.then_some(RowChoice {
@@ -253,8 +264,10 @@ impl RowSources {
                 speed_mps: cruise_mps,
             });
         }
-        // A repeated estimate tells the filter nothing new.
-        if self.s.source == SteerSource::Fused && held.new {
+        // A repeated estimate tells the filter nothing new; a new one that came during
+        // an end-switch procedure is fused now, at its capture pose.
+        if self.s.source == SteerSource::Fused && self.camera_unfused {
+            self.camera_unfused = false;
             self.fuse_camera(link);
         }
         self.fuse_gnss(gnss);
@@ -340,7 +353,6 @@ impl RowSources {
         if gnss.last_fix_s <= self.used_fix_s {
             return;
         }
-        let since_fix_s = gnss.last_fix_s - self.used_fix_s;
         self.used_fix_s = gnss.last_fix_s;
         if !self.gnss.trusts(fix.quality) {
             return;
@@ -351,10 +363,17 @@ impl RowSources {
         let Some(view) = place.locate(&fix, row.heading_rad) else {
             return;
         };
-        // Fused: the receiver's own error, which the map's bias carries, may have moved.
-        if self.s.source == SteerSource::Fused {
-            let used = self.used_fix_quality.replace(fix.quality);
-            if let Some(sd_m) = receiver_moved_sd_m(used, fix.quality, since_fix_s) {
+        // Fused with the camera in the filter: the receiver's own error, which the map's
+        // bias carries, may have moved since the last fix used. (GNSS alone, the map is
+        // the row: a wider bias would take part of each fix from the robot's offset.)
+        let last = self.last_fix_used.replace((fix.quality, gnss.last_fix_s));
+        let camera_in = matches!(self.steering, Steering::Fused | Steering::FilterCamera);
+        if self.s.source == SteerSource::Fused && camera_in {
+            let (used, since_s) = match last {
+                Some((quality, t_s)) => (Some(quality), gnss.last_fix_s - t_s),
+                None => (None, f64::INFINITY),
+            };
+            if let Some(sd_m) = receiver_moved_sd_m(used, fix.quality, since_s) {
                 self.filter.widen_map_bias(sd_m);
             }
         }
