@@ -226,12 +226,15 @@ fn the_view_reads_a_real_robots_flows_and_its_halt_is_answered() {
     let view = loop {
         let view = remote.view();
         let link = view.remote.clone().unwrap();
-        if link.age_s.is_some() && link.operator && view.status.tick > 0 {
+        // The status flow and the tick flow come separately, either first: a tick has
+        // come when the steering potentiometer reads (about 2.5 V at the centre).
+        let ticked = view.status.inputs.pot_v > 0.0;
+        if link.age_s.is_some() && link.operator && view.status.tick > 0 && ticked {
             break view;
         }
         assert!(
             Instant::now() < end,
-            "no status, or operator never seen: {link:?}"
+            "no status, no tick, or operator never seen: {link:?}"
         );
         std::thread::sleep(Duration::from_millis(100));
     };
