@@ -19,6 +19,7 @@ mod files;
 pub mod header;
 pub mod keep;
 mod mcap;
+pub mod off_board;
 pub mod read;
 pub mod received;
 pub mod request_text;
