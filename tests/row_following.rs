@@ -205,9 +205,17 @@ fn gappy_row(gap_m: f64, every_m: f64) -> Settings {
     s
 }
 
-/// Drive until the row's end, a fault or `limit_s`: the worst |tool error| after 5 m
-/// (m), and the distance driven since the camera last gave new numbers (m).
-fn drive_through_gaps(sim: &mut Lockstep, limit_s: f64) -> (f64, f64) {
+/// What a drive through gaps saw: the worst |tool error| after 5 m (m), and the
+/// camera's last numbers with the distance driven since they first came (m).
+struct ThroughGaps {
+    worst_m: f64,
+    numbers: (f64, f64),
+    repeated_m: f64,
+}
+
+/// Drive until the row's end, a fault (and the robot stopped), `limit_s`, or the camera
+/// having repeated one estimate for `repeated_m` of driving.
+fn drive_through_gaps(sim: &mut Lockstep, limit_s: f64, repeated_m: f64) -> ThroughGaps {
     let (mut worst_m, mut numbers, mut new_at_m) = (0.0f64, (f64::NAN, f64::NAN), 0.0);
     while !sim.robot.truth().row_done && sim.now_s() < limit_s {
         sim.tick();
@@ -219,11 +227,29 @@ fn drive_through_gaps(sim: &mut Lockstep, limit_s: f64) -> (f64, f64) {
         if truth.distance_m > 5.0 {
             worst_m = worst_m.max(truth.tool_cross_track_m.abs());
         }
-        if !sim.supervisor.faults().is_empty() && truth.speed_mps.abs() < 1e-3 {
+        let stopped = !sim.supervisor.faults().is_empty() && truth.speed_mps.abs() < 1e-3;
+        if stopped || truth.distance_m - new_at_m > repeated_m {
             break;
         }
     }
-    (worst_m, sim.robot.truth().distance_m - new_at_m)
+    let repeated_m = sim.robot.truth().distance_m - new_at_m;
+    ThroughGaps {
+        worst_m,
+        numbers,
+        repeated_m,
+    }
+}
+
+/// The first fault is "camera sees no row".
+fn assert_the_camera_sees_no_row(sim: &Lockstep) {
+    let faults = sim.supervisor.faults();
+    assert!(
+        matches!(
+            faults.first().map(|f| f.cause),
+            Some(FaultCause::CameraSeesNoRow { .. })
+        ),
+        "{faults:?}"
+    );
 }
 
 #[test]
@@ -233,7 +259,7 @@ fn through_gaps_of_one_and_a_half_metres_the_camera_steered_tool_stays_on_the_ro
     // one of them stopping; held, 2 to 4 cm).
     let s = gappy_row(1.5, 10.0);
     let mut sim = Lockstep::new(&s, Mode::Autonomous);
-    let (worst_m, _) = drive_through_gaps(&mut sim, 120.0);
+    let worst_m = drive_through_gaps(&mut sim, 120.0, f64::INFINITY).worst_m;
     let faults = sim.supervisor.faults();
     assert!(faults.is_empty(), "{faults:?}");
     assert!(
@@ -249,15 +275,9 @@ fn a_gap_longer_than_the_hold_stops_the_robot_naming_the_camera() {
     let s = gappy_row(10.0, 12.0);
     assert_eq!(s.camera.gap_hold_m, 3.0);
     let mut sim = Lockstep::new(&s, Mode::Autonomous);
-    let (worst_m, repeated_m) = drive_through_gaps(&mut sim, 120.0);
-    let faults = sim.supervisor.faults();
-    assert!(
-        matches!(
-            faults.first().map(|f| f.cause),
-            Some(FaultCause::CameraSeesNoRow { .. })
-        ),
-        "{faults:?}"
-    );
+    let gaps = drive_through_gaps(&mut sim, 120.0, f64::INFINITY);
+    let (worst_m, repeated_m) = (gaps.worst_m, gaps.repeated_m);
+    assert_the_camera_sees_no_row(&sim);
     assert!(!sim.robot.truth().row_done, "it stopped in the gap");
     // 3 m held, then braking from 1 m/s.
     assert!(
@@ -274,19 +294,8 @@ fn stopped_in_a_gap_and_started_again_the_robot_waits_for_a_new_image() {
     // line would steer the robot on for the rest of the hold.
     let s = gappy_row(10.0, 12.0);
     let mut sim = Lockstep::new(&s, Mode::Autonomous);
-    let (mut numbers, mut new_at_m) = ((f64::NAN, f64::NAN), 0.0);
-    loop {
-        sim.tick();
-        let last = sim.link.status().last_usable;
-        let distance_m = sim.robot.truth().distance_m;
-        if (last.offset_m, last.angle_rad) != numbers {
-            (numbers, new_at_m) = ((last.offset_m, last.angle_rad), distance_m);
-        }
-        if distance_m - new_at_m > 1.0 {
-            break;
-        }
-        assert!(sim.now_s() < 60.0, "no gap came");
-    }
+    let gaps = drive_through_gaps(&mut sim, 60.0, 1.0);
+    assert!(gaps.repeated_m > 1.0, "no gap came");
     sim.request(Request::Mode(Mode::Halt)).unwrap();
     sim.run_for(2.0);
     assert!(sim.robot.truth().speed_mps.abs() < 1e-3, "stopped");
@@ -294,18 +303,15 @@ fn stopped_in_a_gap_and_started_again_the_robot_waits_for_a_new_image() {
     let restarted_at_m = sim.robot.truth().distance_m;
     sim.run_for(3.0);
     let (last, driven_m) = (sim.link.status().last_usable, sim.robot.truth().distance_m);
-    assert_eq!((last.offset_m, last.angle_rad), numbers, "still in the gap");
+    assert_eq!(
+        (last.offset_m, last.angle_rad),
+        gaps.numbers,
+        "still in the gap"
+    );
     assert!(
         driven_m - restarted_at_m < 0.02,
         "drove {} m",
         driven_m - restarted_at_m
     );
-    let faults = sim.supervisor.faults();
-    assert!(
-        matches!(
-            faults.first().map(|f| f.cause),
-            Some(FaultCause::CameraSeesNoRow { .. })
-        ),
-        "{faults:?}"
-    );
+    assert_the_camera_sees_no_row(&sim);
 }

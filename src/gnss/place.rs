@@ -14,7 +14,6 @@
 use mechweed_hw::geo::{Geodetic, LocalFrame};
 use mechweed_hw::nmea::Fix;
 
-use crate::rowmap::map::ROW_END_MARGIN_M;
 use crate::rowmap::{LocalMap, MapRow, RowMap};
 
 /// The row map's line seen from the robot.
@@ -119,10 +118,7 @@ impl RowPlace {
                 antenna.north_m - self.antenna_ahead_m * sin - self.antenna_left_m * cos;
             foot = line.project(axle_east_m, axle_north_m, &mut self.hint)?;
         }
-        // The line is only known along the row: past its end (the headland) the map
-        // tells nothing, however far its last segment would reach.
-        let beside = -ROW_END_MARGIN_M..=line.length_m() + ROW_END_MARGIN_M;
-        if !beside.contains(&foot.s_m) {
+        if !line.is_beside(foot.s_m) {
             return None;
         }
         Some(MapView {

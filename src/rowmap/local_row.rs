@@ -82,6 +82,11 @@ fn cross(a: (f64, f64), b: (f64, f64)) -> f64 {
     a.0 * b.1 - a.1 * b.0
 }
 
+/// Before a row's first point and after its last, a position still counts as on the
+/// row within this distance along it, m: the tool reaches the row's end a little
+/// before the taught line does, and the robot lines up before the first point.
+pub const ROW_END_MARGIN_M: f64 = 1.0;
+
 impl LocalRow {
     /// The row in `frame`. Points repeated within a micrometre are dropped; a row
     /// needs two distinct points on the earth.
@@ -155,6 +160,13 @@ impl LocalRow {
     /// Arclength from the first point to the last, m.
     pub fn length_m(&self) -> f64 {
         self.s_m.last().copied().unwrap_or(0.0)
+    }
+
+    /// A point `s_m` along the row (from its first point) lies beside it: within
+    /// ROW_END_MARGIN_M of its ends. Past that (the headland) the map tells nothing,
+    /// however far the last segment would reach.
+    pub fn is_beside(&self, s_m: f64) -> bool {
+        (-ROW_END_MARGIN_M..=self.length_m() + ROW_END_MARGIN_M).contains(&s_m)
     }
 
     /// (east, north) of the row's points, m, without repeated points.

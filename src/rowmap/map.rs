@@ -5,11 +5,6 @@
 use crate::rowmap::local_row::{Foot, LocalRow, RowError};
 use mechweed_hw::geo::LocalFrame;
 
-/// Before a row's first point and after its last, a position still counts as on the
-/// row within this distance along it, m: the tool reaches the row's end a little
-/// before the taught line does, and the robot lines up before the first point.
-pub const ROW_END_MARGIN_M: f64 = 1.0;
-
 /// The rows of a field, in the order of the file.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct RowMap {
@@ -60,8 +55,7 @@ impl LocalMap {
             let Some(foot) = row.project_scan(east_m, north_m) else {
                 continue;
             };
-            let beside =
-                foot.s_m >= -ROW_END_MARGIN_M && foot.s_m <= row.length_m() + ROW_END_MARGIN_M;
+            let beside = row.is_beside(foot.s_m);
             let nearer = best
                 .as_ref()
                 .is_none_or(|(_, b)| foot.offset_m.abs() < b.offset_m.abs());

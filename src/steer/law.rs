@@ -90,34 +90,6 @@ impl RowFollower {
         self.last_t_s = None;
     }
 
-    /// The wheel angle for `estimate`, which arrived at `arrived_s`, at time `now_s`.
-    pub fn update(
-        &mut self,
-        estimate: &RowEstimate,
-        arrived_s: f64,
-        now_s: f64,
-        motion: &Motion,
-    ) -> LawOutput {
-        let age_s = self.s.latency_s + (now_s - arrived_s).max(0.0);
-        self.update_aged(estimate, age_s, now_s, motion)
-    }
-
-    /// The wheel angle for `estimate` of an image taken `age_s` ago, at time `now_s`,
-    /// the robot taken to have moved since as it moves now.
-    pub fn update_aged(
-        &mut self,
-        estimate: &RowEstimate,
-        age_s: f64,
-        now_s: f64,
-        motion: &Motion,
-    ) -> LawOutput {
-        let since = Travel {
-            travelled_m: motion.speed_mps * age_s,
-            turned_rad: motion.yaw_rate_rps * age_s,
-        };
-        self.update_moved(estimate, since, false, now_s, motion)
-    }
-
     /// The wheel angle for `estimate` of an image taken where the robot stood before it
     /// drove and turned `since`, at time `now_s`; `repeated`: the camera sent that
     /// image's estimate again (a gap in the row).
@@ -194,6 +166,22 @@ impl RowFollower {
 mod tests {
     use super::*;
     use crate::config::Settings;
+
+    impl RowFollower {
+        /// The law for `estimate`, which arrived at `arrived_s`, at time `now_s`, the
+        /// robot taken to have moved since the image as it moves now.
+        fn update(
+            &mut self,
+            estimate: &RowEstimate,
+            arrived_s: f64,
+            now_s: f64,
+            motion: &Motion,
+        ) -> LawOutput {
+            let age_s = self.s.latency_s + (now_s - arrived_s).max(0.0);
+            let since = Travel::at_rates(motion.speed_mps, motion.yaw_rate_rps, age_s);
+            self.update_moved(estimate, since, false, now_s, motion)
+        }
+    }
 
     fn follower() -> RowFollower {
         let s = Settings::shipped();

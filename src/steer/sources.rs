@@ -258,7 +258,7 @@ impl RowSources {
                 since: if known {
                     since
                 } else {
-                    moving_as_now(m, age_s)
+                    Travel::at_rates(m.speed_mps, m.yaw_rate_rps, age_s)
                 },
                 repeated: held.repeated,
                 speed_mps: cruise_mps,
@@ -302,7 +302,7 @@ impl RowSources {
                 offset_m,
                 quality: 100,
             },
-            since: moving_as_now(m, self.law_age_s),
+            since: Travel::at_rates(m.speed_mps, m.yaw_rate_rps, self.law_age_s),
             repeated: false,
             speed_mps,
         })
@@ -384,13 +384,5 @@ impl RowSources {
             _ => fix.quality.typical_sd_m(),
         };
         self.filter.update_gnss(view.offset_m, sd_m.max(0.005));
-    }
-}
-
-/// The robot's motion over `age_s` if it moved all along as it moves now.
-fn moving_as_now(m: &Measured, age_s: f64) -> Travel {
-    Travel {
-        travelled_m: m.speed_mps * age_s,
-        turned_rad: m.yaw_rate_rps * age_s,
     }
 }
