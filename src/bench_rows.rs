@@ -74,7 +74,7 @@ pub fn row_name(row: RowShape) -> &'static str {
 
 /// Drive one benchmark row in autonomous mode to its end; the controller's settings
 /// are `settings`' (its [sim] section is replaced by the benchmark's plant, but for
-/// the realistic field's [sim] field_*).
+/// the realistic field's [sim] field_*, field_gnss_* among them).
 pub fn run_row(
     settings: &Settings,
     field: FieldKind,
@@ -96,6 +96,9 @@ pub fn run_row(
     };
     if field == FieldKind::Realistic {
         gear_for_the_field(&mut s);
+        // The receiver's float episodes are the field's too ([sim] field_gnss_float_*).
+        s.sim.gnss.float_every_m = settings.sim.gnss.float_every_m;
+        s.sim.gnss.float_s = settings.sim.gnss.float_s;
     }
     s.steer.speed_mps = speed_mps;
     let limit_s = s.sim.row_length_m / speed_mps.max(0.05) + 30.0;

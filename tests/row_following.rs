@@ -187,6 +187,37 @@ fn the_benchmark_splits_the_fused_tools_error_into_the_filters_part_and_gives_th
     );
 }
 
+#[test]
+fn the_realistic_benchmark_takes_the_fields_gnss_float_episodes_from_the_settings() {
+    // [sim] field_gnss_float_* are the field's, like the other field_* settings: a field
+    // whose receiver floats all along must steer GNSS alone worse than the shipped one,
+    // whose one float episode per 200 m may not even fall on this 60 m row.
+    let run = |s: &Settings| {
+        run_row(
+            s,
+            FieldKind::Realistic,
+            SteerSource::Gnss,
+            RowShape::Straight,
+            1.0,
+            1,
+        )
+    };
+    let shipped = run(&settings_with("", &[]));
+    let floating = run(&settings_with(
+        "",
+        &[
+            "sim.field_gnss_float_every_m=1",
+            "sim.field_gnss_float_s=10000",
+        ],
+    ));
+    let (calm, wild) = (shipped.cross_track_cm.sd_cm, floating.cross_track_cm.sd_cm);
+    assert!(
+        !floating.faults.is_empty() || wild > 2.0 * calm,
+        "s.d. {calm:.2} cm fixed, {wild:.2} cm floating; faults {:?}",
+        floating.faults
+    );
+}
+
 /// The straight benchmark row at 1 m/s on a field whose only disturbance is gaps of
 /// `gap_m`, one every `every_m` on average, in which the camera repeats its last estimate
 /// at quality 40 (usable: [camera] min_quality is 30).
