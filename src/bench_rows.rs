@@ -72,6 +72,33 @@ pub fn row_name(row: RowShape) -> &'static str {
     }
 }
 
+/// The `--set` overrides of [sim] that the benchmark would not use, each as a message:
+/// it drives its own plant and takes of [sim] only the realistic field's field_*.
+/// Refused by name, since a setting that silently changes nothing misleads.
+pub fn unused_overrides(set: &[String], field: FieldKind) -> Vec<String> {
+    let keys = set.iter().filter_map(|one| one.split('=').next());
+    keys.filter_map(|key| {
+        let name = key.trim().strip_prefix("sim.")?;
+        match (name.starts_with("field_"), field) {
+            (true, FieldKind::Realistic) => None,
+            (true, FieldKind::Clean) => Some(format!(
+                "--set {key}: the clean field has none of the realistic field's \
+                 disturbances: add --field realistic"
+            )),
+            (false, _) => Some(format!(
+                "--set {key}: bench rows drives its own simulated robot; of [sim] it \
+                 takes only the realistic field's field_* settings{}",
+                match name {
+                    "seed" => " (its seed: --seed N)",
+                    "field" => " (its field: --field clean|realistic)",
+                    _ => "",
+                }
+            )),
+        }
+    })
+    .collect()
+}
+
 /// Drive one benchmark row in autonomous mode to its end; the controller's settings
 /// are `settings`' (its [sim] section is replaced by the benchmark's plant, but for
 /// the realistic field's [sim] field_*, field_gnss_* among them).

@@ -297,18 +297,18 @@ fn bench(command: BenchCommand) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    // Said, since the figures depend on the controller's settings in it.
-    match settings_file(config.as_deref()) {
-        Some(path) => println!(
-            "settings: {} ([sim] is the benchmark's own)",
-            path.display()
-        ),
-        None => println!("settings: the built-in robot.ini ([sim] is the benchmark's own)"),
-    }
     let field = match field {
         cli::BenchField::Clean => FieldKind::Clean,
         cli::BenchField::Realistic => FieldKind::Realistic,
     };
+    let unused = bench_rows::unused_overrides(&set, field);
+    unused.iter().for_each(|message| eprintln!("{message}"));
+    if !unused.is_empty() {
+        return ExitCode::FAILURE;
+    }
+    let file = settings_file(config.as_deref()) // said: the figures depend on it
+        .map_or("the built-in robot.ini".into(), |p| p.display().to_string());
+    println!("settings: {file} ([sim] is the benchmark's own)");
     let sources: Vec<SteerSource> = (sources.iter())
         .map(|source| match source {
             cli::BenchSource::Camera => SteerSource::Camera,

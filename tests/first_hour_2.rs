@@ -196,6 +196,30 @@ fn bench_rows_takes_config_and_set_and_says_which_settings_file_it_used() {
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert!(text(&out.stderr).contains("--set steer.nonsense=1"));
+    // A [sim] setting the benchmark would not use is refused by name, not ignored: its
+    // plant is its own, but for the realistic field's field_* settings.
+    let refused = |args: &[&str], says: &str| {
+        let out = mechweed()
+            .args(["bench", "rows"])
+            .args(args)
+            .output()
+            .unwrap();
+        let stderr = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(stderr.contains(says), "{args:?}: {stderr}");
+    };
+    let noise = "sim.camera_noise_offset_m=0.05";
+    refused(
+        &["--set", noise],
+        "--set sim.camera_noise_offset_m: bench rows drives its own",
+    );
+    let gaps = "sim.field_gap_every_m=5";
+    refused(&["--set", gaps], "add --field realistic");
+    let out = mechweed()
+        .args(["bench", "rows", "--field", "realistic", "--set", gaps])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
 }
 
 #[test]
