@@ -257,3 +257,19 @@ fn an_rtk_float_episode_moves_the_maps_bias_and_not_the_row() {
         "{during:.2} cm in float, {without:.2} cm in RTK fixed"
     );
 }
+
+#[test]
+fn gnss_alone_takes_each_fix_where_the_robot_was_when_the_receiver_measured_it() {
+    // A receiver whose sentences come 0.3 s after it measured ([gnss] latency_s says
+    // so): each fix is 0.3-0.4 s old when the filter takes it, 30-40 cm back at 1 m/s.
+    // Taken as of its arrival (latency_s = 0), the robot swung 25 cm off its row and
+    // stopped; taking 0.05 s of the 0.3, likewise (18 cm off when it stopped).
+    let mut s = settings(SteerSource::Gnss, FieldKind::Clean, 1.0, "");
+    s.sim.gnss.latency_s = 0.3;
+    s.gnss.latency_s = 0.3;
+    let run = drive(&s, 120.0);
+    let faults = run.sim.supervisor.faults();
+    assert!(faults.is_empty(), "{faults:?}");
+    let worst = worst_cm(&run.errors_m, 0.0, 120.0);
+    assert!(worst < 5.0, "{worst:.2} cm at worst");
+}

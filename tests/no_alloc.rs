@@ -182,8 +182,8 @@ fn the_row_filter_predicts_and_updates_without_allocating() {
         for k in 0..1000 {
             f.predict(0.01, 0.0002);
             f.update_camera(0.01 * (k % 7) as f64, 0.001, 0.8, 0.01, 0.01, since);
-            f.update_gnss(if k % 50 < 25 { 0.0 } else { 0.6 }, 0.01);
-            f.update_gnss(f64::NAN, 0.01);
+            f.update_gnss(if k % 50 < 25 { 0.0 } else { 0.6 }, 0.01, Travel::default());
+            f.update_gnss(f64::NAN, 0.01, Travel::default());
         }
     });
     assert_eq!(allocations, 0);

@@ -40,6 +40,8 @@ pub struct GnssSettings {
     pub trusted: u16,
     /// No trusted fix for this long: GNSS is lost, s.
     pub timeout_s: f64,
+    /// From the receiver measuring a position to its sentences arriving, s.
+    pub latency_s: f64,
 }
 
 impl GnssSettings {
@@ -102,6 +104,7 @@ pub(super) fn load(r: &mut Reader) -> GnssSettings {
         origin: r.parsed(s, "origin", origin).unwrap_or(None),
         trusted: r.parsed(s, "trust", trusted_codes).unwrap_or(1 << 4),
         timeout_s: r.f64(s, "timeout_s", 0.05, 10.0),
+        latency_s: r.f64(s, "latency_s", 0.0, 1.0),
     }
 }
 

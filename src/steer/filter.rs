@@ -55,14 +55,16 @@
 //!
 //! # GNSS update
 //! z = where the map's row line lies from the rear axle, robot frame (positive: left), so
-//! h(x) = offset + map_bias. map_bias learns the map's planting error and the live
+//! h(x) = offset + map_bias, at the pose where the receiver measured it: like the camera's,
+//! expressed at that pose with H' = H F(-s) and Q_s (the receiver's latency and the wait
+//! for the next steer tick are 0.05-0.15 s: 10-30 cm at 2 m/s). map_bias learns the map's planting error and the live
 //! receiver's slow error together, which is what lets GNSS hold the row when the camera is
 //! lost. A GNSS heading update did not earn its place: in 50 m without the camera a course
 //! over ground at 0.5° s.d. changed the offset's RMS error by -1.8 mm (of 11.5) when the
 //! map drifts and by +1.9 mm (of 3.2) when it does not; a body heading by under 0.5 mm.
 //!
 //! # Update, gate and lock-out
-//! y = z - h(x), S = H P Hᵀ + R' + H C + Cᵀ Hᵀ (for GNSS C = 0, R' = R), NIS = yᵀ S⁻¹ y.
+//! y = z - h(x), S = H P Hᵀ + R' + H C + Cᵀ Hᵀ, NIS = yᵀ S⁻¹ y.
 //! If NIS exceeds the chi-square quantile of the gate probability for the measurement's
 //! dimension, or one number's own y_i²/S_ii exceeds the quantile for one (a weed patch
 //! moves the camera's offset and not its angle), the update is rejected: state and
@@ -290,17 +292,26 @@ impl RowFilter {
         )
     }
 
-    /// Where the map's row line lies from the rear axle, robot frame, from GNSS (positive: left).
-    pub fn update_gnss(&mut self, offset_m: f64, sd_m: f64) -> Outcome {
-        if !offset_m.is_finite() || !sd_ok(sd_m) {
+    /// Where the map's row line lay from the rear axle, robot frame, from GNSS (positive:
+    /// left), as the robot stood when the receiver measured it; `since_fix` is the robot's
+    /// motion from then to now (the receiver's latency and the wait for a steer tick).
+    pub fn update_gnss(&mut self, offset_m: f64, sd_m: f64, since_fix: Travel) -> Outcome {
+        let Travel {
+            travelled_m: since_m,
+            turned_rad: since_rad,
+        } = since_fix;
+        if !offset_m.is_finite() || !sd_ok(sd_m) || !motion_ok(since_m, since_rad) {
             return self.refuse(false);
         }
-        let mut h = SMatrix::<f64, 1, N>::zeros();
-        h[OFFSET] = 1.0;
-        h[MAP_BIAS] = 1.0;
-        let y = SVector::<f64, 1>::new(offset_m - (h * self.x)[0]);
+        let mut h_fix = SMatrix::<f64, 1, N>::zeros();
+        h_fix[OFFSET] = 1.0;
+        h_fix[MAP_BIAS] = 1.0;
+        let length_m = self.settings.camera_bias_length_m;
+        let h = h_fix * transition(-since_m, length_m);
+        let predicted = (h_fix * moved(&self.x, -since_m, -since_rad, length_m))[0];
+        let y = SVector::<f64, 1>::new(offset_m - predicted);
         let r = SMatrix::<f64, 1, 1>::new(sd_m * sd_m);
-        let q_since = Covariance::zeros();
+        let q_since = self.process_noise(since_m);
         self.update(Sensor::Gnss, Measurement { y, h, r, q_since })
     }
 
@@ -379,3 +390,7 @@ impl RowFilter {
 #[cfg(test)]
 #[path = "filter_tests.rs"]
 mod tests;
+
+#[cfg(test)]
+#[path = "filter_gnss_tests.rs"]
+mod gnss_tests;

@@ -90,7 +90,7 @@ impl Sim {
 
     pub fn gnss(&mut self, f: &mut RowFilter, error_m: f64) -> Outcome {
         let z = self.truth.offset_m + self.truth.map_bias_m + error_m + self.gauss(SD_GNSS_M);
-        f.update_gnss(z, SD_GNSS_M)
+        f.update_gnss(z, SD_GNSS_M, Travel::default())
     }
 
     /// `steps` steps with both sensors.

@@ -63,7 +63,7 @@ mod tests {
 
     #[test]
     fn widened_the_maps_bias_takes_a_jump_of_the_receiver_and_the_row_stays() {
-        use crate::steer::filter::{FilterSettings, Outcome, RowFilter};
+        use crate::steer::filter::{FilterSettings, Outcome, RowFilter, Travel};
         // The row well known from the camera; then the receiver's error jumps by 15 cm
         // (fixed to float) and its fixes say so, 10 cm s.d. each, ten of them.
         let run = |widen: bool| {
@@ -71,14 +71,14 @@ mod tests {
             for _ in 0..50 {
                 f.predict(0.1, 0.0);
                 f.update_camera(0.0, 0.0, 0.8, 0.01, 0.01, Default::default());
-                f.update_gnss(0.0, 0.01);
+                f.update_gnss(0.0, 0.01, Travel::default());
             }
             if widen {
                 let float_m = FixQuality::RtkFloat.typical_sd_m();
                 assert_eq!(f.widen_map_bias(float_m), Outcome::Used);
             }
             for _ in 0..10 {
-                f.update_gnss(0.15, 0.10);
+                f.update_gnss(0.15, 0.10, Travel::default());
             }
             f.state()
         };

@@ -357,10 +357,16 @@ impl RowSources {
         if !self.gnss.trusts(fix.quality) {
             return;
         }
+        // The fix is of the pose the receiver measured at, its latency before it came (a
+        // fix older than the odometry kept is placed at the oldest tick kept); the row's
+        // heading from the robot then locates the rear axle from the antenna.
+        let (since, _) = self.odometry.since(gnss.last_fix_s - self.gnss.latency_s);
         let row: RowState = self.filter.state();
+        let heading_then_rad =
+            row.heading_rad - row.curvature_per_m * since.travelled_m + since.turned_rad;
         // A fix beside no row of the map (another field's map, a headland) is no GNSS
         // to steer by: the robot must not drive on the filter's guess.
-        let Some(view) = place.locate(&fix, row.heading_rad) else {
+        let Some(view) = place.locate(&fix, heading_then_rad) else {
             return;
         };
         // Fused with the camera in the filter: the receiver's own error, which the map's
@@ -383,6 +389,7 @@ impl RowSources {
             (Some(east), Some(north)) => east.max(north),
             _ => fix.quality.typical_sd_m(),
         };
-        self.filter.update_gnss(view.offset_m, sd_m.max(0.005));
+        self.filter
+            .update_gnss(view.offset_m, sd_m.max(0.005), since);
     }
 }
