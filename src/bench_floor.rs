@@ -135,8 +135,13 @@ pub fn floor_cm(
 /// the variance less that of the mean, (1/n) (V + 2 sum over lags k of (1 - k/n) C(k)),
 /// C(k) = tool . a^k p . tool. The error's slow part (the map's, the slope's) is largely
 /// a row's own mean, which the s.d. leaves out.
-fn within_stretch_variance(p: &Matrix, a: &Matrix, tool: &SVector<f64, N>, frames: usize) -> f64 {
-    let at_tool = |m: &Matrix| (tool.transpose() * m * tool)[0];
+pub(crate) fn within_stretch_variance<const S: usize>(
+    p: &SMatrix<f64, S, S>,
+    a: &SMatrix<f64, S, S>,
+    tool: &SVector<f64, S>,
+    frames: usize,
+) -> f64 {
+    let at_tool = |m: &SMatrix<f64, S, S>| (tool.transpose() * m * tool)[0];
     let n = frames as f64;
     let variance = at_tool(p);
     let (mut lagged, mut sum) = (*p, variance);

@@ -9,6 +9,7 @@
 use mechweed_hw::sim::{CrossTrackSummary, FieldKind, RowShape, SimParams};
 use serde::Serialize;
 
+use crate::bench_bound::bound_cm;
 use crate::bench_floor::{Geometry, floor_cm};
 use crate::config::{CameraPort, GnssPort, Settings, SteerSource};
 use crate::lockstep::Lockstep;
@@ -60,6 +61,11 @@ pub struct RowRun {
     /// average over such fields, cm (bench_floor.rs): what the sensors allow before any
     /// steering. One field's draw can fall either side of it.
     pub filter_floor_cm: Option<f64>,
+    /// On the realistic field: the tool's s.d. that the best steering of a linear model
+    /// of the field, the robot and these sensors leaves over a stretch this long, cm
+    /// (bench_bound.rs): what any steering law can hope for. Like the floor, an
+    /// expectation over such fields.
+    pub steering_bound_cm: Option<f64>,
     pub faults: Vec<String>,
     pub sim_time_s: f64,
 }
@@ -150,8 +156,13 @@ pub fn run_row(
         camera_x_m: s.robot.camera_lookahead_m,
         antenna_x_m: s.gnss.antenna_ahead_m,
     };
-    let filter_floor_cm = (field == FieldKind::Realistic)
-        .then(|| floor_cm(&s.sim, at, source, speed_mps, cross_track_cm.distance_m))
+    let measured_m = cross_track_cm.distance_m;
+    let realistic = field == FieldKind::Realistic;
+    let filter_floor_cm = realistic
+        .then(|| floor_cm(&s.sim, at, source, speed_mps, measured_m))
+        .flatten();
+    let steering_bound_cm = realistic
+        .then(|| bound_cm(&s.sim, at, &s.pid_steer, source, speed_mps, measured_m))
         .flatten();
     RowRun {
         field: field_name(field).to_string(),
@@ -161,6 +172,7 @@ pub fn run_row(
         cross_track_cm,
         filter_error_cm: sim.filter_error().map(|e| e.summary()),
         filter_floor_cm,
+        steering_bound_cm,
         faults: sim
             .supervisor
             .faults()
@@ -218,13 +230,13 @@ fn gear_for_the_field(s: &mut Settings) {
 /// The table `mechweed bench rows` prints.
 pub fn table(runs: &[RowRun]) -> String {
     let mut out = String::from(
-        "source  row       speed   mean    s.d.    RMS     p95     max    >2cm  filter  floor  faults\n",
+        "source  row       speed   mean    s.d.    RMS     p95     max    >2cm  filter  floor  bound  faults\n",
     );
-    out += "                  m/s     cm      cm      cm      cm      cm     %     s.d. cm   cm\n";
+    out += "                  m/s     cm      cm      cm      cm      cm     %     s.d. cm   cm     cm\n";
     for r in runs {
         let c = &r.cross_track_cm;
         out += &format!(
-            "{:<7} {:<9} {:4.1} {:7.2} {:7.2} {:7.2} {:7.2} {:7.2} {:6.1} {:>7} {:>6}  {}\n",
+            "{:<7} {:<9} {:4.1} {:7.2} {:7.2} {:7.2} {:7.2} {:7.2} {:6.1} {:>7} {:>6} {:>6}  {}\n",
             r.source,
             r.row,
             r.speed_mps,
@@ -238,6 +250,8 @@ pub fn table(runs: &[RowRun]) -> String {
                 .map_or("-".to_string(), |e| format!("{:.2}", e.sd_cm)),
             r.filter_floor_cm
                 .map_or("-".to_string(), |f| format!("{f:.2}")),
+            r.steering_bound_cm
+                .map_or("-".to_string(), |b| format!("{b:.2}")),
             if r.faults.is_empty() {
                 "none".to_string()
             } else {

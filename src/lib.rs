@@ -7,6 +7,7 @@
 //! the rest stays inside.
 
 mod backend;
+pub mod bench_bound;
 pub mod bench_floor;
 mod bench_halt;
 pub mod bench_loop;

@@ -143,7 +143,7 @@ fn benchmark_scurve_at_half_a_metre_per_second_stays_on_the_row() {
 }
 
 #[test]
-fn the_benchmark_splits_the_fused_tools_error_into_the_filters_part_and_gives_the_floor() {
+fn the_benchmark_splits_the_fused_tools_error_into_the_filters_part_and_gives_floor_and_bound() {
     let s = settings_with("", &[]);
     let row = |source| run_row(&s, FieldKind::Realistic, source, RowShape::Straight, 1.0, 1);
     let camera = row(SteerSource::Camera);
@@ -173,6 +173,13 @@ fn the_benchmark_splits_the_fused_tools_error_into_the_filters_part_and_gives_th
             .is_some_and(|(f, c)| 0.1 < f && f < c),
         "{fused_floor:?} {camera_floor:?}"
     );
+    // What the best steering of the field's model leaves: above the floor, which it
+    // adds to (the robot moves before the sensors see it).
+    let bound = fused.steering_bound_cm;
+    assert!(
+        bound.zip(fused_floor).is_some_and(|(b, f)| f < b),
+        "{bound:?} {fused_floor:?}"
+    );
     let clean = run_row(
         &s,
         FieldKind::Clean,
@@ -182,8 +189,9 @@ fn the_benchmark_splits_the_fused_tools_error_into_the_filters_part_and_gives_th
         1,
     );
     assert_eq!(
-        clean.filter_floor_cm, None,
-        "a floor of the realistic field only"
+        (clean.filter_floor_cm, clean.steering_bound_cm),
+        (None, None),
+        "a floor and a bound of the realistic field only"
     );
 }
 
