@@ -192,7 +192,15 @@ fn a_real_run_replays_exactly_a_changed_limit_shows_its_fault_and_edits_are_caug
         serde_json::from_str(&std::fs::read_to_string(&same).unwrap()).unwrap();
     let commands = same["steer"]["commands"].as_u64().unwrap();
     let beyond = same["steer"]["beyond_tolerance"].as_u64().unwrap();
-    assert!(commands > 40 && beyond * 4 <= commands, "{said}");
+    // A missed command moves the law's integral and filters for a while: in one full
+    // run of the suite 71 of 108 commands were beyond the tolerance, none by more than
+    // 0.23 deg. Replayed with [steer] ki_per_m2 1.0 instead of 0.8, 65 of 102 were
+    // beyond, up to 0.57 deg; with lookahead_m 0.7 instead of 0.8, 87, up to 1.6 deg.
+    let worst_deg = same["steer"]["max_angle_diff_deg"].as_f64().unwrap();
+    assert!(
+        commands > 40 && (beyond * 4 <= commands || worst_deg < 0.4),
+        "{said}"
+    );
 
     // With the battery limit at 23 V the sag to 22 V at 3 s trips "battery low" after
     // [faults] battery_low_s (1 s): at the tick 1 s after the first tick below 23 V.
