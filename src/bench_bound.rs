@@ -31,7 +31,7 @@ use mechweed_hw::sim::SimParams;
 use mechweed_hw::sim::gnss_model::RTK_FIXED_WHITE_SD_M;
 use nalgebra::{SMatrix, SVector};
 
-use crate::bench_floor::{Geometry, within_stretch_variance};
+use crate::bench_floor::{DOUBLINGS, Geometry, riccati, within_stretch_variance};
 use crate::config::{PdSettings, SteerSource};
 
 const N: usize = 8;
@@ -51,9 +51,6 @@ type Loop = SMatrix<f64, { 2 * N }, { 2 * N }>;
 /// The price of the commanded wheel angle against the tool's offset, m² per rad²: small
 /// enough that the steering is as fast as the model lets it be.
 const ANGLE_PRICE: f64 = 1e-5;
-/// Rounds of doubling for the Riccati equations and the closed loop's covariance: 2⁴⁰
-/// steps, far beyond the slowest part's thousands.
-const DOUBLINGS: usize = 40;
 /// The crab's own drift back to level, in slope lengths: slow, only so that the model
 /// has a steady state.
 const CRAB_RETURN_LENGTHS: f64 = 20.0;
@@ -246,83 +243,19 @@ fn optimal_gain(a: &Matrix, b: &Column, tool_x_m: f64) -> Option<SMatrix<f64, 1,
     k.iter().all(|v| v.is_finite()).then_some(k)
 }
 
-/// The steady solution S of the Riccati equation S = Aᵀ S (I + G S)⁻¹ A + H (control:
-/// G = B R⁻¹ Bᵀ, H the cost; the filter: Aᵀ for A, G = Cᵀ R⁻¹ C, H the process noise),
-/// by the doubling algorithm: each round doubles the steps of the recursion it stands
-/// for, so the slow parts of the field (the crab, the map's error: thousands of frames)
-/// settle in a few dozen rounds.
-fn riccati(a: &Matrix, g: &Matrix, h: &Matrix) -> Option<Matrix> {
-    let (mut a, mut g, mut h) = (*a, *g, *h);
-    for _ in 0..DOUBLINGS {
-        let w = (Matrix::identity() + g * h).try_inverse()?;
-        let (a_w, w_a) = (a * w, w * a);
-        (a, g, h) = (
-            a_w * a,
-            g + a_w * g * a.transpose(),
-            h + a.transpose() * h * w_a,
-        );
-        (g, h) = ((g + g.transpose()) / 2.0, (h + h.transpose()) / 2.0);
-    }
-    h.iter().all(|v| v.is_finite()).then_some(h)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bench_floor::tests::{AT, realistic, still};
     use crate::config::Settings;
-    use mechweed_hw::sim::FieldKind;
-
-    fn realistic() -> SimParams {
-        SimParams {
-            field: FieldKind::Realistic,
-            ..SimParams::default()
-        }
-    }
-
-    const AT: Geometry = Geometry {
-        tool_x_m: -0.4,
-        camera_x_m: 0.8,
-        antenna_x_m: 0.5,
-    };
 
     fn bound(plant: &SimParams, steering: &PdSettings, source: SteerSource) -> f64 {
         bound_cm(plant, AT, steering, source, 1.0, 55.0).unwrap()
     }
 
     #[test]
-    fn the_doubling_riccati_solves_each_scalar_equation_in_closed_form() {
-        // Diagonal A, G, H are independent scalar equations s = a² s / (1 + g s) + h,
-        // g s² + (1 - a² - g h) s - h = 0: a random walk seen through noise (the filter's
-        // case, a = 1), a stable and an unstable state under control.
-        let (a, g, h) = ([1.0, 0.9, 1.1], [2.0, 0.5, 1.0], [0.3, 1.0, 0.01]);
-        let diagonal = |v: [f64; 3]| {
-            let mut m = Matrix::identity() * 0.5;
-            (0..3).for_each(|i| m[(i, i)] = v[i]);
-            m
-        };
-        let s = riccati(&diagonal(a), &diagonal(g), &diagonal(h)).unwrap();
-        for i in 0..3 {
-            let p = 1.0 - a[i] * a[i] - g[i] * h[i];
-            let want = (-p + (p * p + 4.0 * g[i] * h[i]).sqrt()) / (2.0 * g[i]);
-            assert!(
-                (s[(i, i)] - want).abs() < 1e-12,
-                "{i}: {} {want}",
-                s[(i, i)]
-            );
-        }
-    }
-
-    #[test]
     fn with_nothing_moving_the_robot_and_no_lasting_errors_the_bound_vanishes() {
-        let mut plant = realistic();
-        let t = &mut plant.tier;
-        (
-            t.camera_bias_sd_m,
-            t.slope_max_deg,
-            t.bump_heading_sd_deg,
-            t.bump_side_sd_m,
-        ) = (0.0, 0.0, 0.0, 0.0);
-        plant.gnss.map_error_sd_m = 0.0;
+        let plant = still();
         let steering = Settings::shipped().pid_steer;
         let b = bound(&plant, &steering, SteerSource::Fused);
         assert!(b < 0.05, "{b} cm");

@@ -34,9 +34,9 @@ const CAMERA_BIAS: usize = 3;
 const MAP_BIAS: usize = 4;
 type Matrix = SMatrix<f64, N, N>;
 
-/// Frames the steady state is sought over: some hundreds of the longest correlation
-/// length (the map's 20 m is 200 frames at 1 m/s).
-const FRAMES: usize = 20_000;
+/// Rounds of doubling for a Riccati equation: 2⁴⁰ frames, far beyond the thousands the
+/// longest correlation length needs (the map's 20 m is 200 frames at 1 m/s).
+pub(crate) const DOUBLINGS: usize = 40;
 
 /// Where the robot's sensors and tool are, ahead of the rear axle, m.
 #[derive(Debug, Clone, Copy)]
@@ -162,39 +162,94 @@ fn steady_posterior<const S: usize, const M: usize>(
     h: &SMatrix<f64, M, S>,
     r: &SMatrix<f64, M, M>,
 ) -> Option<(SMatrix<f64, S, S>, SMatrix<f64, S, S>)> {
-    // Wide at the start: a metre, a radian.
-    let mut p = SMatrix::<f64, S, S>::identity();
-    let mut carried = *f;
-    for _ in 0..FRAMES {
-        let prior = f * p * f.transpose() + q;
-        let s = h * prior * h.transpose() + r;
-        let k = prior * h.transpose() * s.try_inverse()?;
-        let i_kh = SMatrix::<f64, S, S>::identity() - k * h;
-        // Joseph's form keeps p symmetric and positive through thousands of steps.
-        p = i_kh * prior * i_kh.transpose() + k * r * k.transpose();
-        carried = i_kh * f;
-    }
+    // The prior's Riccati equation is the control's with fᵀ for A.
+    let prior = riccati(&f.transpose(), &(h.transpose() * r.try_inverse()? * h), q)?;
+    let k = prior * h.transpose() * (h * prior * h.transpose() + r).try_inverse()?;
+    let i_kh = SMatrix::<f64, S, S>::identity() - k * h;
+    // Joseph's form keeps the posterior symmetric and positive.
+    let p = i_kh * prior * i_kh.transpose() + k * r * k.transpose();
+    let carried = i_kh * f;
     let finite = p.iter().chain(carried.iter()).all(|v| v.is_finite());
     finite.then_some((p, carried))
 }
 
+/// The steady solution X of the Riccati equation X = Aᵀ X (I + G X)⁻¹ A + H (control:
+/// G = B R⁻¹ Bᵀ, H the cost; a Kalman filter's prior: Fᵀ for A, G = Hᵀ R⁻¹ H, H the
+/// process noise), by the doubling algorithm: each round doubles the steps of the
+/// recursion it stands for, so the field's slow errors (the slope's, the map's:
+/// thousands of frames) settle in a few dozen rounds.
+pub(crate) fn riccati<const S: usize>(
+    a: &SMatrix<f64, S, S>,
+    g: &SMatrix<f64, S, S>,
+    h: &SMatrix<f64, S, S>,
+) -> Option<SMatrix<f64, S, S>> {
+    let (mut a, mut g, mut h) = (*a, *g, *h);
+    for _ in 0..DOUBLINGS {
+        let w = (SMatrix::<f64, S, S>::identity() + g * h).try_inverse()?;
+        let (a_w, w_a) = (a * w, w * a);
+        (a, g, h) = (
+            a_w * a,
+            g + a_w * g * a.transpose(),
+            h + a.transpose() * h * w_a,
+        );
+        (g, h) = ((g + g.transpose()) / 2.0, (h + h.transpose()) / 2.0);
+    }
+    h.iter().all(|v| v.is_finite()).then_some(h)
+}
+
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use mechweed_hw::sim::FieldKind;
 
-    fn realistic() -> SimParams {
+    /// The default plant on the realistic field (also bench_bound.rs's).
+    pub(crate) fn realistic() -> SimParams {
         SimParams {
             field: FieldKind::Realistic,
             ..SimParams::default()
         }
     }
 
-    const AT: Geometry = Geometry {
+    /// The realistic field with nothing that moves the robot unseen and no lasting
+    /// error of a sensor: only the sensors' white noise is left.
+    pub(crate) fn still() -> SimParams {
+        let mut plant = realistic();
+        let t = &mut plant.tier;
+        (
+            t.camera_bias_sd_m,
+            t.slope_max_deg,
+            t.bump_heading_sd_deg,
+            t.bump_side_sd_m,
+        ) = (0.0, 0.0, 0.0, 0.0);
+        plant.gnss.map_error_sd_m = 0.0;
+        plant
+    }
+
+    /// The shipped robot's tool, camera and antenna.
+    pub(crate) const AT: Geometry = Geometry {
         tool_x_m: -0.4,
         camera_x_m: 0.8,
         antenna_x_m: 0.5,
     };
+
+    #[test]
+    fn the_doubling_riccati_solves_each_scalar_equation_in_closed_form() {
+        // Diagonal A, G, H are independent scalar equations x = a² x / (1 + g x) + h,
+        // g x² + (1 - a² - g h) x - h = 0: a random walk seen through noise (a filter's
+        // case, a = 1), a stable and an unstable state under control.
+        let (a, g, h) = ([1.0, 0.9, 1.1], [2.0, 0.5, 1.0], [0.3, 1.0, 0.01]);
+        let diagonal = |v: [f64; 3]| SMatrix::<f64, 3, 3>::from_diagonal(&SVector::from(v));
+        let x = riccati(&diagonal(a), &diagonal(g), &diagonal(h)).unwrap();
+        for i in 0..3 {
+            let p = 1.0 - a[i] * a[i] - g[i] * h[i];
+            let want = (-p + (p * p + 4.0 * g[i] * h[i]).sqrt()) / (2.0 * g[i]);
+            assert!(
+                (x[(i, i)] - want).abs() < 1e-12,
+                "{i}: {} {want}",
+                x[(i, i)]
+            );
+        }
+    }
 
     #[test]
     fn a_random_walk_seen_through_white_noise_settles_where_the_closed_form_says() {
@@ -228,15 +283,7 @@ mod tests {
 
     #[test]
     fn with_nothing_moving_the_robot_and_no_lasting_errors_the_floor_vanishes() {
-        let mut plant = realistic();
-        let t = &mut plant.tier;
-        (
-            t.camera_bias_sd_m,
-            t.slope_max_deg,
-            t.bump_heading_sd_deg,
-            t.bump_side_sd_m,
-        ) = (0.0, 0.0, 0.0, 0.0);
-        plant.gnss.map_error_sd_m = 0.0;
+        let plant = still();
         let floor = floor_cm(&plant, AT, SteerSource::Fused, 1.0, 55.0).unwrap();
         assert!(floor < 0.05, "{floor} cm");
         assert_eq!(floor_cm(&plant, AT, SteerSource::Fused, 0.0, 55.0), None);
