@@ -88,13 +88,7 @@ pub fn floor_cm(
         t.camera_bias_sd_m.powi(2) * (1.0 - a_camera * a_camera),
         plant.gnss.map_error_sd_m.powi(2) * (1.0 - a_map * a_map),
     ]));
-    let camera_r = [
-        plant.camera_noise_offset_m.powi(2),
-        plant.camera_noise_angle_deg.to_radians().powi(2),
-    ];
-    // Fewer fixes than frames: each frame's share of GNSS is as good as that many fixes.
-    let fixes_per_frame = plant.gnss.rate_hz / plant.camera_rate_hz;
-    let gnss_r = RTK_FIXED_WHITE_SD_M.powi(2) / fixes_per_frame.max(f64::MIN_POSITIVE);
+    let (camera_r, gnss_r) = sensor_variances(plant);
     let camera_h = [
         [1.0, at.camera_x_m, 0.0, 1.0, 0.0],
         [0.0, 1.0, 0.0, 0.0, 0.0],
@@ -128,6 +122,19 @@ pub fn floor_cm(
     let frames = ((measured_m / ds).round() as usize).max(1);
     let variance = within_stretch_variance(&p, &a, &tool, frames);
     (variance >= 0.0).then(|| variance.sqrt() * 100.0)
+}
+
+/// Per camera frame, the variances of the camera's offset (m²) and angle (rad²) and of
+/// RTK fixed GNSS's position across the row (m²), white.
+pub(crate) fn sensor_variances(plant: &SimParams) -> ([f64; 2], f64) {
+    let camera = [
+        plant.camera_noise_offset_m.powi(2),
+        plant.camera_noise_angle_deg.to_radians().powi(2),
+    ];
+    // Fewer fixes than frames: each frame's share of GNSS is as good as that many fixes.
+    let fixes_per_frame = plant.gnss.rate_hz / plant.camera_rate_hz;
+    let gnss = RTK_FIXED_WHITE_SD_M.powi(2) / fixes_per_frame.max(f64::MIN_POSITIVE);
+    (camera, gnss)
 }
 
 /// The expected variance of tool . e over `frames` successive frames about their own

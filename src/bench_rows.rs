@@ -61,10 +61,9 @@ pub struct RowRun {
     /// average over such fields, cm (bench_floor.rs): what the sensors allow before any
     /// steering. One field's draw can fall either side of it.
     pub filter_floor_cm: Option<f64>,
-    /// On the realistic field: the tool's s.d. that the best steering of a linear model
-    /// of the field, the robot and these sensors leaves over a stretch this long, cm
-    /// (bench_bound.rs): what any steering law can hope for. Like the floor, an
-    /// expectation over such fields.
+    /// On the realistic field: the tool's s.d. that the best linear (LQG) steering of a
+    /// linear model of the field, the robot and these sensors leaves over a stretch this
+    /// long, cm (bench_bound.rs). Like the floor, an expectation over such fields.
     pub steering_bound_cm: Option<f64>,
     pub faults: Vec<String>,
     pub sim_time_s: f64,
