@@ -276,6 +276,21 @@ fn gnss_settings_that_cannot_work_are_named() {
         errors(SHIPPED, &["steer.source=fused", "gnss.port=sim"]),
         Vec::<String>::new()
     );
+    // A receiver so late that, at the top speed, the filter could place no fix: each
+    // would be refused and the robot would steer on odometry alone until GNSS timed out.
+    let late = ["steer.source=gnss", "gnss.port=sim", "gnss.latency_s=0.9"];
+    let got = errors(SHIPPED, &late);
+    assert_eq!(got.len(), 1, "{got:?}");
+    assert!(
+        got[0].contains("[gnss] latency_s = 0.9 and a steer period of [steer] rate_hz = 10")
+            && got[0].contains("beyond the 1 m the filter relates a fix over"),
+        "{got:?}"
+    );
+    assert_eq!(
+        errors(SHIPPED, &late[1..]),
+        Vec::<String>::new(),
+        "the camera steers"
+    );
 }
 
 #[test]

@@ -1,4 +1,5 @@
-//! GNSS that must not move the robot: fixes beside no row of the map, and no fix yet when
+//! GNSS that must not move the robot: fixes beside no row of the map, fixes too old for the
+//! row filter to place, and no fix yet when
 //! autonomous mode begins. Each starts from what used to drive the robot blind: the row
 //! filter's first guess (the row straight ahead) steering at the cruising speed.
 
@@ -98,6 +99,26 @@ fn no_fix_when_autonomous_mode_begins_keeps_the_robot_standing() {
         "the robot drove {driven_m:.2} m with no fix"
     );
     stopped_with_no_row(&sim);
+}
+
+#[test]
+fn fixes_the_filter_cannot_place_do_not_keep_gnss_alive() {
+    // A receiver 0.9 s late at 1.2 m/s: once the robot is up to speed, each fix is more
+    // than the filter's metre of travel old and refused. The settings check refuses such
+    // a receiver; set here behind its back, GNSS must still count as lost. When refused
+    // fixes counted as heard, the robot drove 31 m in 30 s on odometry alone, 101 fixes
+    // refused, and no fault.
+    let mut s = gnss_alone("");
+    (s.sim.gnss.latency_s, s.gnss.latency_s) = (0.9, 0.9);
+    s.steer.speed_mps = 1.2;
+    let mut sim = Lockstep::new(&s, Mode::Autonomous);
+    let driven_m = run(&mut sim, 30.0);
+    assert!(driven_m < 10.0, "the robot drove {driven_m:.2} m");
+    // Stopped by a fault: GNSS lost ("no row to steer by"), or the robot off its row
+    // while the few fixes it could place steered it.
+    let faults = sim.supervisor.faults();
+    assert!(!faults.is_empty(), "{faults:?}");
+    assert!(sim.robot.outputs().is_safe());
 }
 
 #[test]

@@ -7,8 +7,8 @@
 
 use mechweed_hw::wiring::AnalogOut;
 
-use super::Settings;
 use super::reader::Reader;
+use super::{FILTER_MAX_STEP_M, Settings};
 
 /// `[section] key = value`, as the errors name a setting.
 fn named(section: &str, key: &str, value: impl std::fmt::Display) -> String {
@@ -31,6 +31,37 @@ pub(super) fn across(s: &Settings, r: &mut Reader) {
     threads(s, r);
     no_script_on_the_real_robot(s, r);
     rows_need_the_bus(s, r);
+    gnss_fix_age(s, r);
+}
+
+/// A GNSS fix reaches the row filter up to its latency and a steer period after it was
+/// measured, and the filter relates it to the robot now over at most
+/// FILTER_MAX_STEP_M of travel: at the top speed every fix would otherwise be refused.
+fn gnss_fix_age(s: &Settings, r: &mut Reader) {
+    let age_s = s.gnss.latency_s + 1.0 / s.steer.rate_hz;
+    let travel_m = age_s * s.supervisor.max_speed_mps;
+    let keys = [
+        ("steer", "source"),
+        ("gnss", "latency_s"),
+        ("steer", "rate_hz"),
+        ("supervisor", "max_speed_mps"),
+    ];
+    let camera_alone = s.sources.source == super::SteerSource::Camera;
+    require(
+        r,
+        camera_alone || travel_m < FILTER_MAX_STEP_M,
+        &keys,
+        || {
+            format!(
+                "{} and a steer period of {} make a GNSS fix {age_s:.2} s old when the row \
+             filter takes it: at {} that is {travel_m:.2} m of travel, beyond the \
+             {FILTER_MAX_STEP_M} m the filter relates a fix over",
+                named("gnss", "latency_s", s.gnss.latency_s),
+                named("steer", "rate_hz", s.steer.rate_hz),
+                named("supervisor", "max_speed_mps", s.supervisor.max_speed_mps)
+            )
+        },
+    );
 }
 
 /// Row estimates from the bus need the bus.

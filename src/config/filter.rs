@@ -3,6 +3,10 @@
 
 use super::reader::Reader;
 
+/// Longest travel the row filter relates a measurement to the present over (and the
+/// longest predict step): its parabola and small angles hold over about a metre.
+pub const FILTER_MAX_STEP_M: f64 = 1.0;
+
 /// The row filter's settings, in SI units.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FilterConfig {

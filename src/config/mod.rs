@@ -19,7 +19,7 @@ use std::path::Path;
 
 pub use bus::{AcceptRequests, BusSettings, parse_endpoints, parse_prefix};
 pub use camera_port::{BAUD_RATES, CameraPort};
-pub use filter::FilterConfig;
+pub use filter::{FILTER_MAX_STEP_M, FilterConfig};
 pub use gnss::{GnssPort, GnssSettings, MapSource, SourceSettings, SteerSource};
 pub use joystick::{GamepadDevice, GamepadSettings, JoystickSettings, JoystickSource};
 pub use lines::read_text;

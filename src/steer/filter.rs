@@ -55,13 +55,14 @@
 //!
 //! # GNSS update
 //! z = where the map's row line lies from the rear axle, robot frame (positive: left), so
-//! h(x) = offset + map_bias, at the pose where the receiver measured it: like the camera's,
-//! expressed at that pose with H' = H F(-s) and Q_s (the receiver's latency and the wait
-//! for the next steer tick are 0.05-0.15 s: 10-30 cm at 2 m/s). map_bias learns the map's planting error and the live
-//! receiver's slow error together, which is what lets GNSS hold the row when the camera is
-//! lost. A GNSS heading update did not earn its place: in 50 m without the camera a course
-//! over ground at 0.5° s.d. changed the offset's RMS error by -1.8 mm (of 11.5) when the
-//! map drifts and by +1.9 mm (of 3.2) when it does not; a body heading by under 0.5 mm.
+//! h(x) = offset + map_bias, at the pose where the receiver measured it: like the
+//! camera's, expressed at that pose with H' = H F(-s) and Q_s (the receiver's latency
+//! and the wait for the next steer tick are 0.05-0.15 s: 10-30 cm at 2 m/s). map_bias
+//! learns the map's planting error and the live receiver's slow error together, which is
+//! what lets GNSS hold the row when the camera is lost. A GNSS heading update did not
+//! earn its place: in 50 m without the camera a course over ground at 0.5° s.d. changed
+//! the offset's RMS error by -1.8 mm (of 11.5) when the map drifts and by +1.9 mm (of
+//! 3.2) when it does not; a body heading by under 0.5 mm.
 //!
 //! # Update, gate and lock-out
 //! y = z - h(x), S = H P Hᵀ + R' + H C + Cᵀ Hᵀ, NIS = yᵀ S⁻¹ y.
@@ -108,9 +109,9 @@ const MAP_BIAS: usize = 3;
 const SLIP: usize = 4;
 const CAMERA_BIAS: usize = 5;
 
-/// Longest step predict and latency compensation take: the parabola and small angles
-/// hold over about a metre; a longer step is a missed call or a wrong input.
-const MAX_STEP_M: f64 = 1.0;
+/// Longest step predict and latency compensation take: a longer step is a missed call
+/// or a wrong input ([gnss] latency_s is checked against it with the top speed).
+const MAX_STEP_M: f64 = crate::config::FILTER_MAX_STEP_M;
 const MAX_TURN_RAD: f64 = 0.5;
 /// A sensor rejected this many times in a row is suspect: it is trusted again only
 /// after `TRUSTED_AGAIN_AFTER` measurements in a row pass the gate. A weed patch's

@@ -20,11 +20,13 @@
 
 use mechweed_hw::camproto::RowEstimate;
 
+#[path = "sources_fuse.rs"]
+mod fuse;
+
 use super::camera_hold::{CameraHold, Held};
-use super::filter::{RowFilter, RowState, Travel};
+use super::filter::{RowFilter, Travel};
 use super::filter_config::filter_settings;
 use super::odometry::OdometryHistory;
-use super::receiver::receiver_moved_sd_m;
 use crate::camlink::LinkStatus;
 use crate::config::{GnssSettings, Settings, SourceSettings, SteerSource};
 use crate::gnss::GnssStatus;
@@ -324,72 +326,5 @@ impl RowSources {
             (SteerSource::Fused, false, true) => Steering::FilterGnss,
             _ => Steering::Nothing,
         }
-    }
-
-    /// A new usable camera estimate into the filter, at its capture pose.
-    fn fuse_camera(&mut self, link: &LinkStatus) {
-        let estimate = link.last_usable;
-        if estimate.quality < self.fuse_min_quality {
-            return;
-        }
-        // An image older than the odometry kept is placed at the oldest tick kept.
-        let (since, _) = self.odometry.since(link.last_usable_s - self.latency_s);
-        // A rejected row (a weed patch) is counted by the filter; nothing else to do.
-        self.filter.update_camera(
-            estimate.offset_m,
-            estimate.angle_rad,
-            self.camera_x_m,
-            self.camera_sd_offset_m,
-            self.camera_sd_angle_rad,
-            since,
-        );
-    }
-
-    /// A new trusted fix into the filter, against the row map.
-    fn fuse_gnss(&mut self, gnss: &GnssStatus) {
-        let (Some(fix), Some(place)) = (gnss.last_fix, &mut self.place) else {
-            return;
-        };
-        if gnss.last_fix_s <= self.used_fix_s {
-            return;
-        }
-        self.used_fix_s = gnss.last_fix_s;
-        if !self.gnss.trusts(fix.quality) {
-            return;
-        }
-        // The fix is of the pose the receiver measured at, its latency before it came (a
-        // fix older than the odometry kept is placed at the oldest tick kept); the row's
-        // heading from the robot then locates the rear axle from the antenna.
-        let (since, _) = self.odometry.since(gnss.last_fix_s - self.gnss.latency_s);
-        let row: RowState = self.filter.state();
-        let heading_then_rad =
-            row.heading_rad - row.curvature_per_m * since.travelled_m + since.turned_rad;
-        // A fix beside no row of the map (another field's map, a headland) is no GNSS
-        // to steer by: the robot must not drive on the filter's guess.
-        let Some(view) = place.locate(&fix, heading_then_rad) else {
-            return;
-        };
-        // Fused with the camera in the filter: the receiver's own error, which the map's
-        // bias carries, may have moved since the last fix used. (GNSS alone, the map is
-        // the row: a wider bias would take part of each fix from the robot's offset.)
-        let last = self.last_fix_used.replace((fix.quality, gnss.last_fix_s));
-        let camera_in = matches!(self.steering, Steering::Fused | Steering::FilterCamera);
-        if self.s.source == SteerSource::Fused && camera_in {
-            let (used, since_s) = match last {
-                Some((quality, t_s)) => (Some(quality), gnss.last_fix_s - t_s),
-                None => (None, f64::INFINITY),
-            };
-            if let Some(sd_m) = receiver_moved_sd_m(used, fix.quality, since_s) {
-                self.filter.widen_map_bias(sd_m);
-            }
-        }
-        // GNSS is there while located fixes come, whether or not the gate takes them.
-        self.gnss_good_s = gnss.last_fix_s;
-        let sd_m = match (fix.sd_east_m, fix.sd_north_m) {
-            (Some(east), Some(north)) => east.max(north),
-            _ => fix.quality.typical_sd_m(),
-        };
-        self.filter
-            .update_gnss(view.offset_m, sd_m.max(0.005), since);
     }
 }
