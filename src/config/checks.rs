@@ -46,22 +46,17 @@ fn gnss_fix_age(s: &Settings, r: &mut Reader) {
         ("steer", "rate_hz"),
         ("supervisor", "max_speed_mps"),
     ];
-    let camera_alone = s.sources.source == super::SteerSource::Camera;
-    require(
-        r,
-        camera_alone || travel_m < FILTER_MAX_STEP_M,
-        &keys,
-        || {
-            format!(
-                "{} and a steer period of {} make a GNSS fix {age_s:.2} s old when the row \
+    let ok = s.sources.source == super::SteerSource::Camera || travel_m < FILTER_MAX_STEP_M;
+    require(r, ok, &keys, || {
+        format!(
+            "{} and a steer period of {} make a GNSS fix {age_s:.2} s old when the row \
              filter takes it: at {} that is {travel_m:.2} m of travel, beyond the \
              {FILTER_MAX_STEP_M} m the filter relates a fix over",
-                named("gnss", "latency_s", s.gnss.latency_s),
-                named("steer", "rate_hz", s.steer.rate_hz),
-                named("supervisor", "max_speed_mps", s.supervisor.max_speed_mps)
-            )
-        },
-    );
+            named("gnss", "latency_s", s.gnss.latency_s),
+            named("steer", "rate_hz", s.steer.rate_hz),
+            named("supervisor", "max_speed_mps", s.supervisor.max_speed_mps)
+        )
+    });
 }
 
 /// Row estimates from the bus need the bus.

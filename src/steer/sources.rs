@@ -4,7 +4,8 @@
 //! did (the law moves it through the camera's latency). gnss or fused: the row filter
 //! (filter.rs) runs at every steer tick, predicted by the robot's odometry, updated by
 //! each new camera estimate at the pose where its image was taken and by each new
-//! trusted GNSS fix against the row map; the law steers by the filter's row now.
+//! trusted GNSS fix against the row map at the pose where the receiver measured it
+//! (sources_fuse.rs); the law steers by the filter's row now.
 //!
 //! Fused falls back as a controller manager's fallback controllers do:
 //! - no trusted fix for `gnss_fallback_s`: the filter goes on with the camera alone;
