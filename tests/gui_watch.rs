@@ -122,6 +122,26 @@ fn the_same_panels_show_the_recorded_flows_and_the_header_names_the_robot() {
 }
 
 #[test]
+fn the_watched_robots_gnss_and_row_filter_are_shown_from_its_ticks() {
+    // A robot steering by the fused row: its fix, which sensors steer and the filter's
+    // row come in the tick flow, as its own Status tab shows them.
+    let harness = watching(Duration::from_millis(100), |flow, payload| {
+        if flow == Flow::Tick {
+            payload["steering"] = "gnss_alone".into();
+            (payload["gnss_quality"], payload["gnss_satellites"]) = (4.into(), 17.into());
+            payload["gnss_sd_m"] = 0.012.into();
+            payload["filter_offset_m"] = 0.034.into();
+            payload["filter_offset_sd_m"] = 0.008.into();
+            payload["filter_gnss_rejected"] = 3.into();
+        }
+    });
+    assert!(shows(&harness, "GNSS alone (the camera lost)"));
+    assert!(shows(&harness, "RTK fixed  17 satellites  s.d. 1.2 cm"));
+    assert!(shows(&harness, "row +3.4 cm +- 0.8 cm at the rear axle"));
+    assert!(shows(&harness, "camera 0  GNSS 3"));
+}
+
+#[test]
 fn the_header_turns_red_with_the_age_when_the_status_is_older_than_a_second() {
     let harness = watching(Duration::from_secs(3), |_, _| {});
     assert!(shows(
