@@ -258,14 +258,10 @@ impl RowFilter {
         sd_angle_rad: f64,
         since_capture: Travel,
     ) -> Outcome {
-        let Travel {
-            travelled_m: since_m,
-            turned_rad: since_rad,
-        } = since_capture;
         let finite = [offset_m, angle_rad, camera_x_m]
             .iter()
             .all(|v| v.is_finite());
-        if !(finite && sd_ok(sd_offset_m) && sd_ok(sd_angle_rad) && motion_ok(since_m, since_rad)) {
+        if !(finite && sd_ok(sd_offset_m) && sd_ok(sd_angle_rad)) {
             return self.refuse(false);
         }
         let (x_c, half_sq) = (camera_x_m, camera_x_m * camera_x_m / 2.0);
@@ -275,45 +271,52 @@ impl RowFilter {
             0.0, 1.0, x_c, 0.0, 0.0, 0.0,
         ];
         let h_capture = SMatrix::<f64, 2, N>::from_row_slice(&h_rows);
-        let length_m = self.settings.camera_bias_length_m;
-        let h = h_capture * transition(-since_m, length_m);
-        let predicted = h_capture * moved(&self.x, -since_m, -since_rad, length_m);
         let z = SVector::<f64, 2>::new(offset_m, angle_rad);
         let variances = SVector::<f64, 2>::new(sd_offset_m.powi(2), sd_angle_rad.powi(2));
         let r = SMatrix::<f64, 2, 2>::from_diagonal(&variances);
-        let q_since = self.process_noise(since_m);
-        self.update(
-            Sensor::Camera,
-            Measurement {
-                y: z - predicted,
-                h,
-                r,
-                q_since,
-            },
-        )
+        self.update_before(Sensor::Camera, h_capture, z, r, since_capture)
     }
 
     /// Where the map's row line lay from the rear axle, robot frame, from GNSS (positive:
     /// left), as the robot stood when the receiver measured it; `since_fix` is the robot's
     /// motion from then to now (the receiver's latency and the wait for a steer tick).
     pub fn update_gnss(&mut self, offset_m: f64, sd_m: f64, since_fix: Travel) -> Outcome {
-        let Travel {
-            travelled_m: since_m,
-            turned_rad: since_rad,
-        } = since_fix;
-        if !offset_m.is_finite() || !sd_ok(sd_m) || !motion_ok(since_m, since_rad) {
+        if !offset_m.is_finite() || !sd_ok(sd_m) {
             return self.refuse(false);
         }
         let mut h_fix = SMatrix::<f64, 1, N>::zeros();
         h_fix[OFFSET] = 1.0;
         h_fix[MAP_BIAS] = 1.0;
-        let length_m = self.settings.camera_bias_length_m;
-        let h = h_fix * transition(-since_m, length_m);
-        let predicted = (h_fix * moved(&self.x, -since_m, -since_rad, length_m))[0];
-        let y = SVector::<f64, 1>::new(offset_m - predicted);
+        let z = SVector::<f64, 1>::new(offset_m);
         let r = SMatrix::<f64, 1, 1>::new(sd_m * sd_m);
+        self.update_before(Sensor::Gnss, h_fix, z, r, since_fix)
+    }
+
+    /// The state as it was before the robot moved `since`: predict run backwards, exactly.
+    pub fn state_before(&self, since: Travel) -> RowState {
+        let (since_m, length_m) = (since.travelled_m, self.settings.camera_bias_length_m);
+        RowState::from_vector(&moved(&self.x, -since_m, -since.turned_rad, length_m))
+    }
+
+    /// Update by z = h x + v taken before the robot moved `since` (module doc, "Camera
+    /// update, expressed at the capture pose": H' = H F(-s), the process noise since).
+    fn update_before<const M: usize>(
+        &mut self,
+        sensor: Sensor,
+        h: SMatrix<f64, M, N>,
+        z: SVector<f64, M>,
+        r: SMatrix<f64, M, M>,
+        since: Travel,
+    ) -> Outcome {
+        let (since_m, since_rad) = (since.travelled_m, since.turned_rad);
+        if !motion_ok(since_m, since_rad) {
+            return self.refuse(false);
+        }
+        let length_m = self.settings.camera_bias_length_m;
+        let y = z - h * moved(&self.x, -since_m, -since_rad, length_m);
+        let h = h * transition(-since_m, length_m);
         let q_since = self.process_noise(since_m);
-        self.update(Sensor::Gnss, Measurement { y, h, r, q_since })
+        self.update(sensor, Measurement { y, h, r, q_since })
     }
 
     fn refuse(&mut self, singular: bool) -> Outcome {

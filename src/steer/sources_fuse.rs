@@ -6,7 +6,7 @@ use super::RowSources;
 use crate::camlink::LinkStatus;
 use crate::config::SteerSource;
 use crate::gnss::GnssStatus;
-use crate::steer::filter::{Outcome, RowState};
+use crate::steer::filter::Outcome;
 use crate::steer::receiver::receiver_moved_sd_m;
 use crate::steering::Steering;
 
@@ -50,12 +50,10 @@ impl RowSources {
         if !known {
             return;
         }
-        let row: RowState = self.filter.state();
-        let heading_then_rad =
-            row.heading_rad - row.curvature_per_m * since.travelled_m + since.turned_rad;
+        let then = self.filter.state_before(since);
         // A fix beside no row of the map (another field's map, a headland) is no GNSS
         // to steer by: the robot must not drive on the filter's guess.
-        let Some(view) = place.locate(&fix, heading_then_rad) else {
+        let Some(view) = place.locate(&fix, then.heading_rad) else {
             return;
         };
         // Fused with the camera in the filter: the receiver's own error, which the map's
