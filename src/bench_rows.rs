@@ -11,7 +11,7 @@ use serde::Serialize;
 
 use crate::bench_bound::bound_cm;
 use crate::bench_floor::{Geometry, floor_cm};
-use crate::config::{CameraPort, GnssPort, Settings, SteerSource};
+use crate::config::{CameraPort, GnssPort, Settings, SteerSource, override_parts};
 use crate::lockstep::Lockstep;
 use crate::modes::Mode;
 
@@ -81,17 +81,19 @@ pub fn row_name(row: RowShape) -> &'static str {
 /// it drives its own plant and takes of [sim] only the realistic field's field_*.
 /// Refused by name, since a setting that silently changes nothing misleads.
 pub fn unused_overrides(set: &[String], field: FieldKind) -> Vec<String> {
-    let keys = set.iter().filter_map(|one| one.split('=').next());
-    keys.filter_map(|key| {
-        let name = key.trim().strip_prefix("sim.")?;
-        match (name.starts_with("field_"), field) {
+    let sim_keys = set.iter().filter_map(|item| match override_parts(item)? {
+        ("sim", name, _) => Some(name),
+        _ => None,
+    });
+    sim_keys
+        .filter_map(|name| match (name.starts_with("field_"), field) {
             (true, FieldKind::Realistic) => None,
             (true, FieldKind::Clean) => Some(format!(
-                "--set {key}: the clean field has none of the realistic field's \
+                "--set sim.{name}: the clean field has none of the realistic field's \
                  disturbances: add --field realistic"
             )),
             (false, _) => Some(format!(
-                "--set {key}: bench rows drives its own simulated robot; of [sim] it \
+                "--set sim.{name}: bench rows drives its own simulated robot; of [sim] it \
                  takes only the realistic field's field_* settings{}",
                 match name {
                     "seed" => " (its seed: --seed N)",
@@ -99,9 +101,8 @@ pub fn unused_overrides(set: &[String], field: FieldKind) -> Vec<String> {
                     _ => "",
                 }
             )),
-        }
-    })
-    .collect()
+        })
+        .collect()
 }
 
 /// Drive one benchmark row in autonomous mode to its end; the controller's settings

@@ -23,7 +23,7 @@ pub use filter::{FILTER_MAX_STEP_M, FilterConfig};
 pub use gnss::{GnssPort, GnssSettings, MapSource, SourceSettings, SteerSource};
 pub use joystick::{GamepadDevice, GamepadSettings, JoystickSettings, JoystickSource};
 pub use lines::read_text;
-pub use reader::{ConfigError, Place, Reader};
+pub use reader::{ConfigError, Place, Reader, override_parts};
 pub use record::{RecordFormats, RecordSettings};
 pub use source::SettingsSource;
 

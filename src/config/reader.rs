@@ -124,14 +124,8 @@ impl Reader {
     }
 
     fn apply_override(&mut self, item: &str) {
-        let parsed = item.split_once('=').and_then(|(path, value)| {
-            let (section, key) = path.trim().rsplit_once('.')?;
-            Some((
-                section.to_string(),
-                key.to_string(),
-                value.trim().to_string(),
-            ))
-        });
+        let parsed = override_parts(item)
+            .map(|(section, key, value)| (section.to_string(), key.to_string(), value.to_string()));
         let Some((section, key, value)) = parsed else {
             self.push(
                 Origin::Override(item.to_string()),
@@ -387,4 +381,12 @@ impl Reader {
         }
         self.errors
     }
+}
+
+/// A `--set SECTION.KEY=VALUE` item's (section, key, value), or None if it is not one.
+/// The section is everything before the last dot: `pid.steer.kp` is [pid.steer] kp.
+pub fn override_parts(item: &str) -> Option<(&str, &str, &str)> {
+    let (path, value) = item.split_once('=')?;
+    let (section, key) = path.trim().rsplit_once('.')?;
+    Some((section, key, value.trim()))
 }
