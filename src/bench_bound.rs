@@ -130,7 +130,9 @@ fn discrete(
     period_s: f64,
 ) -> (Matrix, Column, Matrix) {
     let t = &plant.tier;
-    let forget = |length_m: f64| if length_m > 0.0 { v / length_m } else { 1e3 };
+    // How fast a Gauss-Markov process over `length_m` forgets at this speed, 1/s (the
+    // floor's `forget` is the share kept over a frame instead).
+    let forget_per_s = |length_m: f64| if length_m > 0.0 { v / length_m } else { 1e3 };
     // The regulator's volts move the wheel at rate_rps_per_v through the motor's lag.
     let rate_rps_per_v = plant.steer_rate_dps_per_v.to_radians();
     let lag_s = plant.steer_lag_s.max(1e-3);
@@ -146,9 +148,9 @@ fn discrete(
     let slope_m = t.slope_length_m.max(1e-3);
     a[(CRAB, CRAB)] = -v / (CRAB_RETURN_LENGTHS * slope_m);
     a[(CRAB, CRAB_RATE)] = v;
-    a[(CRAB_RATE, CRAB_RATE)] = -forget(slope_m / 2.0);
-    a[(CAMERA_BIAS, CAMERA_BIAS)] = -forget(t.camera_bias_length_m);
-    a[(MAP_BIAS, MAP_BIAS)] = -forget(plant.gnss.map_error_length_m);
+    a[(CRAB_RATE, CRAB_RATE)] = -forget_per_s(slope_m / 2.0);
+    a[(CAMERA_BIAS, CAMERA_BIAS)] = -forget_per_s(t.camera_bias_length_m);
+    a[(MAP_BIAS, MAP_BIAS)] = -forget_per_s(plant.gnss.map_error_length_m);
     let crab_rate_sd_per_m =
         t.slope_max_deg.to_radians() * std::f64::consts::PI / 48f64.sqrt() / slope_m;
     let bumps_per_s = v / t.bump_every_m.max(f64::MIN_POSITIVE);
@@ -156,11 +158,11 @@ fn discrete(
     qc[(Y, Y)] = t.bump_side_sd_m.powi(2) * bumps_per_s;
     qc[(HEADING, HEADING)] = t.bump_heading_sd_deg.to_radians().powi(2) * bumps_per_s;
     // A Gauss-Markov process of s.d. sd forgetting at rate k has white noise 2 k sd².
-    qc[(CRAB_RATE, CRAB_RATE)] = 2.0 * forget(slope_m / 2.0) * crab_rate_sd_per_m.powi(2);
+    qc[(CRAB_RATE, CRAB_RATE)] = 2.0 * forget_per_s(slope_m / 2.0) * crab_rate_sd_per_m.powi(2);
     qc[(CAMERA_BIAS, CAMERA_BIAS)] =
-        2.0 * forget(t.camera_bias_length_m) * t.camera_bias_sd_m.powi(2);
+        2.0 * forget_per_s(t.camera_bias_length_m) * t.camera_bias_sd_m.powi(2);
     qc[(MAP_BIAS, MAP_BIAS)] =
-        2.0 * forget(plant.gnss.map_error_length_m) * plant.gnss.map_error_sd_m.powi(2);
+        2.0 * forget_per_s(plant.gnss.map_error_length_m) * plant.gnss.map_error_sd_m.powi(2);
     // Exact over the period: A and B from one exponential, Q from Van Loan's.
     let mut ab = SMatrix::<f64, { N + 1 }, { N + 1 }>::zeros();
     ab.fixed_view_mut::<N, N>(0, 0).copy_from(&(a * period_s));
