@@ -82,16 +82,21 @@
 //! (the camera is the reference of the row: the robot really drifted), GNSS's map_bias (an
 //! RTK jump must not move the row; GNSS alone, the map the row: offset, heading). Resetting
 //! rather than only reporting keeps the truth from being locked out; each is counted.
+//! Both sensors rejected at once say the filter is off, not either sensor: then the third
+//! rejection in a row resets (filter_gate.rs).
 //!
 //! Bad input (not finite, a s.d. not above zero or too large to square, a step beyond the
 //! linear model) and an S not positive definite are refused and counted, the state kept.
 
 use nalgebra::{SMatrix, SVector};
 
+#[path = "filter_gate.rs"]
+mod gate;
 #[path = "filter_measurement.rs"]
 mod measurement;
 #[path = "filter_types.rs"]
 mod types;
+use gate::{GateMemory, Verdict};
 use measurement::Measurement;
 use types::Sensor;
 pub use types::{FilterCounters, FilterSettings, GateProbability, Outcome, RowState, Travel};
@@ -113,12 +118,6 @@ const CAMERA_BIAS: usize = 5;
 /// or a wrong input ([gnss] latency_s is checked against it with the top speed).
 const MAX_STEP_M: f64 = crate::config::FILTER_MAX_STEP_M;
 const MAX_TURN_RAD: f64 = 0.5;
-/// A sensor rejected this many times in a row is suspect: it is trusted again only
-/// after `TRUSTED_AGAIN_AFTER` measurements in a row pass the gate. A weed patch's
-/// frames are 5 to 10 cm off with 1 cm of noise: now and then one comes close enough to
-/// pass, and taken alone it would pull the row towards the weeds and let the next in.
-const SUSPECT_AFTER: u32 = 3;
-const TRUSTED_AGAIN_AFTER: u32 = 3;
 /// A reset widens a part to this many times its initial s.d.: wide enough that the
 /// measurement alone sets it, narrow enough to keep S well conditioned.
 const RESET_WIDEN: f64 = 10.0;
@@ -130,11 +129,9 @@ pub struct RowFilter {
     x: Vector,
     p: Covariance,
     counters: FilterCounters,
-    /// Per `Sensor`: the last NIS, and how many rejections in a row.
+    /// Per `Sensor`: the last NIS.
     last_nis: [Option<f64>; 2],
-    streak: [u32; 2],
-    /// Per `Sensor`: while suspect, how many measurements in a row passed the gate.
-    agreed: [u32; 2],
+    gate: GateMemory,
 }
 
 /// F(ds) of the module doc; the camera's bias keeps exp(-ds/L) of itself over ds
@@ -186,8 +183,7 @@ impl RowFilter {
             p: Covariance::zeros(),
             counters: FilterCounters::default(),
             last_nis: [None; 2],
-            streak: [0; 2],
-            agreed: [0; 2],
+            gate: GateMemory::new(),
         };
         filter.reset(RowState::default(), settings.initial_sd);
         filter
@@ -202,8 +198,7 @@ impl RowFilter {
         }
         self.x = x;
         self.p = Covariance::from_diagonal(&sd.component_mul(&sd));
-        self.streak = [0; 2];
-        self.agreed = [0; 2];
+        self.gate = GateMemory::new();
         Outcome::Used
     }
 
@@ -223,6 +218,7 @@ impl RowFilter {
         }
         self.x = x;
         self.p = p;
+        self.gate.travelled(travelled_m);
         Outcome::Used
     }
 
@@ -336,34 +332,30 @@ impl RowFilter {
         let (i, mut p) = (sensor as usize, self.p);
         self.last_nis[i] = Some(nis);
         let gate = &self.settings.gate;
-        let outcome = if nis <= gate.threshold(M) && single <= gate.threshold(1) {
-            if self.streak[i] >= SUSPECT_AFTER {
-                self.agreed[i] += 1;
-                if self.agreed[i] < TRUSTED_AGAIN_AFTER {
-                    return self.counters.count(sensor, Outcome::Rejected);
-                }
-            }
-            Outcome::Used
+        let verdict = if nis <= gate.threshold(M) && single <= gate.threshold(1) {
+            self.gate.passed(sensor)
         } else {
-            self.agreed[i] = 0;
-            self.streak[i] = self.streak[i].saturating_add(1);
             let limit = match sensor {
                 Sensor::Camera => self.settings.camera_rejections_to_reset,
                 Sensor::Gnss => self.settings.gnss_rejections_to_reset,
             };
-            if self.streak[i] < limit.max(1) {
-                return self.counters.count(sensor, Outcome::Rejected);
-            }
-            let initial_sd = self.settings.initial_sd.to_vector();
-            for &k in sensor.part(initial_sd[MAP_BIAS] > 0.0) {
-                p.row_mut(k).fill(0.0);
-                p.column_mut(k).fill(0.0);
-                p[(k, k)] = (RESET_WIDEN * initial_sd[k]).powi(2);
-            }
-            Outcome::Reset
+            // The map's bias is estimated only where the camera steers beside GNSS.
+            let fused = self.settings.initial_sd.map_bias_m > 0.0;
+            self.gate.failed(sensor, limit, fused)
         };
-        self.streak[i] = 0;
-        self.agreed[i] = 0;
+        let outcome = match verdict {
+            Verdict::Use => Outcome::Used,
+            Verdict::Reject => return self.counters.count(sensor, Outcome::Rejected),
+            Verdict::Reset(part) => {
+                let initial_sd = self.settings.initial_sd.to_vector();
+                for &k in part {
+                    p.row_mut(k).fill(0.0);
+                    p.column_mut(k).fill(0.0);
+                    p[(k, k)] = (RESET_WIDEN * initial_sd[k]).powi(2);
+                }
+                Outcome::Reset
+            }
+        };
         let Some((x, p)) = m.corrected(&self.x, &p) else {
             return self.refuse(true);
         };

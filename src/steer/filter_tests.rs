@@ -4,6 +4,9 @@ use super::*;
 mod sim;
 use sim::{EVERY, STEP_M, Sim};
 
+#[path = "filter_gate_tests.rs"]
+mod gate_tests;
+
 /// A row state from its parts in the filter's order.
 fn row(offset_m: f64, heading_rad: f64, curvature_per_m: f64, map_bias_m: f64) -> RowState {
     let slip_rad = 0.0;
