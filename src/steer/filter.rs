@@ -341,7 +341,7 @@ impl RowFilter {
             };
             // The map's bias is estimated only where the camera steers beside GNSS.
             let fused = self.settings.initial_sd.map_bias_m > 0.0;
-            self.gate.failed(sensor, limit, fused)
+            self.gate.failed(sensor, m.y[0], limit, fused)
         };
         let outcome = match verdict {
             Verdict::Use => Outcome::Used,

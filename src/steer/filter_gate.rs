@@ -8,16 +8,20 @@
 //!   next in.
 //! - After `*_rejections_to_reset` rejections in a row the sensor's part of the state is
 //!   reset from it (`Sensor::part`): the truth must not stay locked out.
-//! - Both sensors suspect at once (the other's last rejection within `BOTH_WITHIN_M` of
-//!   travel): the camera and GNSS agree against the filter, so the filter is what is off.
-//!   A bump kicks the robot's heading and position, odometry does not feel it, and the
-//!   first camera row after it can fall outside the gate; the rows and fixes after it fall
-//!   further out as the robot steers by the wrong row, until every one is rejected. Then
-//!   the sensor's third rejection in a row resets at once: the camera its offset, heading
-//!   and bias, GNSS the row's offset alone. A fix is one number: with the heading widened
-//!   too, it set the heading anywhere along the line it allows, and the robot swung off.
-//!   (Without this rule GNSS, after its 20 rejections, took the filter's own error into
-//!   the map's bias and the robot steered 25 cm off the row on a realistic field.)
+//! - Both sensors rejected at once, and on the same side of the filter's row: the camera
+//!   and GNSS agree against the filter, so the filter is what is off. A bump kicks the
+//!   robot's heading and position, odometry does not feel it, and the first camera row
+//!   after it can fall outside the gate; the rows and fixes after it fall further out as
+//!   the robot steers by the wrong row, until every one is rejected. Then each sensor's
+//!   own third rejection in a row, the other's being rejected too, resets at once: the
+//!   camera's its offset, heading and bias, GNSS's the row's offset alone (a fix is one
+//!   number: with the heading widened too, it set the heading anywhere along the line it
+//!   allows, and the robot swung off). The other sensor is then no longer suspect: its
+//!   rejections were the filter's fault. "At once": the other is not passing on
+//!   probation, and its last rejection came within `BOTH_WITHIN_M` of travel. A weed
+//!   patch during an RTK jump (with no change of the fix's quality) passes for this
+//!   only where both put the row on the same side; the row then follows the fix, as it
+//!   does with GNSS alone.
 
 use super::OFFSET;
 use super::types::Sensor;
@@ -46,8 +50,10 @@ pub(super) struct GateMemory {
     streak: [u32; 2],
     /// ... while suspect, measurements in a row that passed the gate ...
     agreed: [u32; 2],
-    /// ... and the robot's travel since its last rejection, m.
+    /// ... the robot's travel since its last rejection, m ...
     since_rejected_m: [f64; 2],
+    /// ... and on which side of the filter's row that rejection put the row's offset.
+    rejected_side: [f64; 2],
 }
 
 impl GateMemory {
@@ -56,6 +62,7 @@ impl GateMemory {
             streak: [0; 2],
             agreed: [0; 2],
             since_rejected_m: [f64::INFINITY; 2],
+            rejected_side: [0.0; 2],
         }
     }
 
@@ -79,24 +86,41 @@ impl GateMemory {
         Verdict::Use
     }
 
-    /// `sensor`'s measurement failed the gate; `limit` rejections in a row reset its
-    /// part. `fused`: both sensors feed the filter and the map's bias is estimated.
-    pub fn failed(&mut self, sensor: Sensor, limit: u32, fused: bool) -> Verdict {
+    /// `sensor`'s measurement failed the gate, its row's offset `offset_innovation_m`
+    /// from the filter's; `limit` rejections in a row reset its part. `fused`: both
+    /// sensors feed the filter and the map's bias is estimated.
+    pub fn failed(
+        &mut self,
+        sensor: Sensor,
+        offset_innovation_m: f64,
+        limit: u32,
+        fused: bool,
+    ) -> Verdict {
         let (i, other) = (sensor as usize, 1 - sensor as usize);
         self.agreed[i] = 0;
         self.streak[i] = self.streak[i].saturating_add(1);
         self.since_rejected_m[i] = 0.0;
+        self.rejected_side[i] = offset_innovation_m.signum();
+        // The other sensor is being rejected now (not passing on probation, not silent
+        // since), and puts the row on the same side.
         let filter_off = fused
             && self.streak[other] >= SUSPECT_AFTER
-            && self.since_rejected_m[other] <= BOTH_WITHIN_M;
+            && self.agreed[other] == 0
+            && self.since_rejected_m[other] <= BOTH_WITHIN_M
+            && self.rejected_side[other] == self.rejected_side[i];
         let limit = match filter_off {
-            true => SUSPECT_AFTER,
+            true => limit.clamp(1, SUSPECT_AFTER),
             false => limit.max(1),
         };
         if self.streak[i] < limit {
             return Verdict::Reject;
         }
         (self.streak[i], self.agreed[i]) = (0, 0);
+        if filter_off {
+            // The other's rejections were the filter's fault: its next measurement is
+            // judged afresh against the row reset, not on probation.
+            (self.streak[other], self.agreed[other]) = (0, 0);
+        }
         Verdict::Reset(match (sensor, filter_off) {
             (Sensor::Gnss, true) => &[OFFSET],
             _ => sensor.part(fused),

@@ -102,7 +102,7 @@ pub struct FilterSettings {
     pub initial_sd: RowState,
     pub gate: GateProbability,
     /// Rejections in a row after which that sensor's part is reset (0 acts as 1,
-    /// u32::MAX never resets).
+    /// u32::MAX never resets); fewer where both sensors are rejected (filter_gate.rs).
     pub camera_rejections_to_reset: u32,
     pub gnss_rejections_to_reset: u32,
 }
