@@ -13,11 +13,11 @@
 //!   robot's heading and position, odometry does not feel it, and the first camera row
 //!   after it can fall outside the gate; the rows and fixes after it fall further out as
 //!   the robot steers by the wrong row, until every one is rejected. Then each sensor's
-//!   own third rejection in a row, the other's being rejected too, resets at once: the
-//!   camera's its offset, heading and bias, GNSS's the row's offset alone (a fix is one
-//!   number: with the heading widened too, it set the heading anywhere along the line it
-//!   allows, and the robot swung off). The other sensor is then no longer suspect: its
-//!   rejections were the filter's fault. "At once": the other is not passing on
+//!   own third rejection in a row (the other's being rejected too) resets at once: a
+//!   camera row resets the row's offset and heading and the camera's bias, a fix the
+//!   row's offset alone (a fix is one number: with the heading widened too, it set the
+//!   heading anywhere along the line it allows, and the robot swung off). The other
+//!   sensor is then no longer suspect: its rejections were the filter's fault. "At once": the other is not passing on
 //!   probation, and its last rejection came within `BOTH_WITHIN_M` of travel. A weed
 //!   patch during an RTK jump (with no change of the fix's quality) passes for this
 //!   only where both put the row on the same side; the row then follows the fix, as it
