@@ -20,11 +20,17 @@ fn exchange(
         .collect()
 }
 
-#[test]
-fn a_bump_both_sensors_see_resets_the_row_at_once_not_the_maps_bias() {
-    let mut sim = Sim::new(7, FilterSettings::default());
+/// A filter settled on the row by 20 m of both sensors.
+fn settled(seed: u64) -> (Sim, RowFilter) {
+    let mut sim = Sim::new(seed, FilterSettings::default());
     let mut f = RowFilter::new(FilterSettings::default());
     sim.settle(&mut f, 2000);
+    (sim, f)
+}
+
+#[test]
+fn a_bump_both_sensors_see_resets_the_row_at_once_not_the_maps_bias() {
+    let (mut sim, mut f) = settled(7);
     // A clod knocks the robot 5 cm right and 1 degree right, unseen by odometry: the row
     // is 5 cm further left and heads 1 degree further left. Camera and GNSS both say so,
     // and both fall outside the gate.
@@ -64,9 +70,7 @@ fn a_bump_both_sensors_see_resets_the_row_at_once_not_the_maps_bias() {
 
 #[test]
 fn a_weed_patch_the_gnss_does_not_see_resets_nothing() {
-    let mut sim = Sim::new(8, FilterSettings::default());
-    let mut f = RowFilter::new(FilterSettings::default());
-    sim.settle(&mut f, 2000);
+    let (mut sim, mut f) = settled(8);
     // Nine frames of weeds 8 cm beside the row (one fewer than the camera's reset count),
     // while every fix agrees with the filter.
     let outcomes = exchange(&mut sim, &mut f, 9, 0.08, 0.0);
@@ -83,9 +87,7 @@ fn a_weed_patch_the_gnss_does_not_see_resets_nothing() {
 
 #[test]
 fn a_bump_gnss_saw_first_resets_the_row_from_the_camera() {
-    let mut sim = Sim::new(9, FilterSettings::default());
-    let mut f = RowFilter::new(FilterSettings::default());
-    sim.settle(&mut f, 2000);
+    let (mut sim, mut f) = settled(9);
     sim.truth.offset_m += 0.05;
     sim.truth.heading_rad += 1f64.to_radians();
     // The fix comes first in each exchange here: the camera's third rejection resets its
@@ -112,9 +114,7 @@ fn a_bump_gnss_saw_first_resets_the_row_from_the_camera() {
 
 #[test]
 fn weeds_and_a_receivers_jump_to_either_side_reset_nothing_early() {
-    let mut sim = Sim::new(10, FilterSettings::default());
-    let mut f = RowFilter::new(FilterSettings::default());
-    sim.settle(&mut f, 2000);
+    let (mut sim, mut f) = settled(10);
     // Weeds 8 cm to the left, the receiver jumped 10 cm to the right: both rejected, but
     // they do not agree with each other, so neither is reset before its own count.
     let outcomes = exchange(&mut sim, &mut f, 9, 0.08, -0.10);
@@ -131,9 +131,7 @@ fn weeds_and_a_receivers_jump_to_either_side_reset_nothing_early() {
 
 #[test]
 fn a_receiver_silent_since_its_rejections_does_not_count_as_disagreeing_now() {
-    let mut sim = Sim::new(11, FilterSettings::default());
-    let mut f = RowFilter::new(FilterSettings::default());
-    sim.settle(&mut f, 2000);
+    let (mut sim, mut f) = settled(11);
     // Three fixes 10 cm off are rejected, then the receiver falls silent for a metre ...
     exchange(&mut sim, &mut f, 3, 0.0, 0.10);
     (0..100).for_each(|_| sim.drive(&mut f));
