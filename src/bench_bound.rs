@@ -33,7 +33,9 @@
 use mechweed_hw::sim::SimParams;
 use nalgebra::{SMatrix, SVector};
 
-use crate::bench_floor::{DOUBLINGS, Geometry, riccati, sensor_variances, within_stretch_variance};
+use crate::bench_floor::{
+    DOUBLINGS, Geometry, riccati, sensor_variances, steady_filter, within_stretch_variance,
+};
 use crate::config::{PdSettings, SteerSource};
 
 const N: usize = 8;
@@ -199,10 +201,7 @@ fn closed_loop<const M: usize>(
 ) -> Option<(Loop, Loop)> {
     let h = SMatrix::<f64, M, N>::from_row_slice(rows.as_flattened());
     let r = SMatrix::<f64, M, M>::from_diagonal(&SVector::from(variances));
-    // The filter's predicted covariance, the dual of the control's Riccati equation.
-    let r_inv = r.try_inverse()?;
-    let prior = riccati(&a.transpose(), &(h.transpose() * r_inv * h), q)?;
-    let l = prior * h.transpose() * (h * prior * h.transpose() + r).try_inverse()?;
+    let (_, l) = steady_filter(a, q, &h, &r)?;
     let k = optimal_gain(a, b, tool_x_m)?;
     // u = -K x̂, x̂ = x - (I - L H) e + L v, e the predicted estimate's error.
     let i_lh = Matrix::identity() - l * h;
@@ -252,8 +251,8 @@ fn optimal_gain(a: &Matrix, b: &Column, tool_x_m: f64) -> Option<SMatrix<f64, 1,
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bench_floor::sensor_variances;
     use crate::bench_floor::tests::{AT, realistic, still};
-    use crate::bench_floor::{riccati, sensor_variances};
     use crate::config::Settings;
 
     fn bound(plant: &SimParams, steering: &PdSettings, source: SteerSource) -> f64 {
@@ -278,14 +277,8 @@ mod tests {
         let (x, _) = closed_loop::<3>((&a, &b, &q), AT.tool_x_m, rows, variances).unwrap();
         let h = SMatrix::<f64, 3, N>::from_row_slice(rows.as_flattened());
         let r = SMatrix::<f64, 3, 3>::from_diagonal(&SVector::from(variances));
-        let predicted = riccati(
-            &a.transpose(),
-            &(h.transpose() * r.try_inverse().unwrap() * h),
-            &q,
-        )
-        .unwrap();
+        let (predicted, l) = steady_filter(&a, &q, &h, &r).unwrap();
         let innovations = h * predicted * h.transpose() + r;
-        let l = predicted * h.transpose() * innovations.try_inverse().unwrap();
         let steered = a - b * optimal_gain(&a, &b, AT.tool_x_m).unwrap();
         let mut y = Matrix::zeros();
         for _ in 0..100_000 {

@@ -169,15 +169,28 @@ fn steady_posterior<const S: usize, const M: usize>(
     h: &SMatrix<f64, M, S>,
     r: &SMatrix<f64, M, M>,
 ) -> Option<(SMatrix<f64, S, S>, SMatrix<f64, S, S>)> {
-    // The prior's Riccati equation is the control's with fᵀ for A.
-    let prior = riccati(&f.transpose(), &(h.transpose() * r.try_inverse()? * h), q)?;
-    let k = prior * h.transpose() * (h * prior * h.transpose() + r).try_inverse()?;
+    let (prior, k) = steady_filter(f, q, h, r)?;
     let i_kh = SMatrix::<f64, S, S>::identity() - k * h;
     // Joseph's form keeps the posterior symmetric and positive.
     let p = i_kh * prior * i_kh.transpose() + k * r * k.transpose();
     let carried = i_kh * f;
     let finite = p.iter().chain(carried.iter()).all(|v| v.is_finite());
     finite.then_some((p, carried))
+}
+
+/// The steady Kalman filter of predict (f, q) and update (h, r): its predicted
+/// covariance and its gain.
+#[allow(clippy::type_complexity)]
+pub(crate) fn steady_filter<const S: usize, const M: usize>(
+    f: &SMatrix<f64, S, S>,
+    q: &SMatrix<f64, S, S>,
+    h: &SMatrix<f64, M, S>,
+    r: &SMatrix<f64, M, M>,
+) -> Option<(SMatrix<f64, S, S>, SMatrix<f64, S, M>)> {
+    // The prior's Riccati equation is the control's with fᵀ for A.
+    let prior = riccati(&f.transpose(), &(h.transpose() * r.try_inverse()? * h), q)?;
+    let gain = prior * h.transpose() * (h * prior * h.transpose() + r).try_inverse()?;
+    Some((prior, gain))
 }
 
 /// The steady solution X of the Riccati equation X = Aᵀ X (I + G X)⁻¹ A + H (control:

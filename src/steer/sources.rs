@@ -170,7 +170,7 @@ impl RowSources {
         if let Some(fix) = gnss.last_fix {
             f.gnss_quality = fix.quality.code();
             f.gnss_satellites = fix.satellites.unwrap_or(0);
-            f.gnss_sd_m = fix.sd_east_m.zip(fix.sd_north_m).map(|(e, n)| e.max(n));
+            f.gnss_sd_m = fix.sd_m();
             f.gnss_position = Some((fix.lat_deg, fix.lon_deg));
         }
         if self.s.source != SteerSource::Camera {

@@ -70,10 +70,7 @@ impl RowSources {
                 self.filter.widen_map_bias(sd_m);
             }
         }
-        let sd_m = match (fix.sd_east_m, fix.sd_north_m) {
-            (Some(east), Some(north)) => east.max(north),
-            _ => fix.quality.typical_sd_m(),
-        };
+        let sd_m = fix.sd_m().unwrap_or(fix.quality.typical_sd_m());
         // GNSS is there while located fixes come, whether or not the gate takes them, but
         // not while the filter refuses them (a fix it cannot relate to now): then GNSS is
         // lost after its time-out, and the robot stops saying so.

@@ -40,6 +40,14 @@ pub struct Fix {
     pub course_deg: Option<f64>,
 }
 
+impl Fix {
+    /// The receiver's own s.d. in the worse of east and north, m: what it allows across
+    /// a row of any direction (None without a GST).
+    pub fn sd_m(&self) -> Option<f64> {
+        self.sd_east_m.zip(self.sd_north_m).map(|(e, n)| e.max(n))
+    }
+}
+
 /// What the consumer gets per epoch.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Epoch {
