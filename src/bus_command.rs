@@ -6,11 +6,12 @@ use mechweed::bus_tools::Tool;
 
 use crate::cli::{BusArgs, BusCommand, BusRequest};
 
-/// SECTION.KEY as the config port's key: SECTION/KEY (sections may hold dots).
-fn config_key(setting: &str) -> Result<String, String> {
+/// SECTION.KEY as a settings port's key, `PORT/SECTION/KEY` (sections may hold dots):
+/// `config` reads a setting, `set` changes it (only an operator may ask that one).
+fn config_key(port: &str, setting: &str) -> Result<String, String> {
     match setting.rsplit_once('.') {
         Some((section, key)) if !section.is_empty() && !key.is_empty() => {
-            Ok(format!("config/{section}/{key}"))
+            Ok(format!("{port}/{section}/{key}"))
         }
         _ => Err(format!(
             "'{setting}' is not SECTION.KEY (for example pid.left.kp)"
@@ -40,6 +41,12 @@ fn request_payload(request: BusRequest, mode: Option<String>) -> Result<String, 
 
 /// A request's or a set's answer: `accepted`, or `refused: REASON` (exit 1).
 fn decided(answer: &str) -> Result<String, String> {
+    if answer.trim().is_empty() {
+        return Err(
+            "the robot program answered with nothing: whether it took the request is not known; look at its status (bus echo status --count 1)"
+                .to_string(),
+        );
+    }
     let value: serde_json::Value = serde_json::from_str(answer).unwrap_or_default();
     match value.get("accepted").and_then(serde_json::Value::as_bool) {
         Some(true) => Ok("accepted".to_string()),
@@ -91,8 +98,9 @@ fn latency_line(mut ages_s: Vec<f64>) -> String {
 pub fn bus(args: BusArgs) -> ExitCode {
     // A flow is waited for, as a subscriber does; a question needs the robot there now.
     let wait = matches!(args.command, BusCommand::Echo { .. });
-    let result =
-        Tool::connect(&args.connect, &args.robot, wait).and_then(|tool| match args.command {
+    let tls = args.identity.files();
+    let result = Tool::connect(&args.connect, &args.robot, wait, tls.as_ref()).and_then(|tool| {
+        match args.command {
             BusCommand::Echo {
                 key,
                 count,
@@ -108,18 +116,25 @@ pub fn bus(args: BusArgs) -> ExitCode {
                 })
             }
             BusCommand::Request { request, mode } => {
+                // HALT on the key every identity that may stop the robot may ask; the
+                // others on the operator's own.
+                let key = match request {
+                    BusRequest::Halt => "request",
+                    _ => "request/operator",
+                };
                 let payload = request_payload(request, mode)?;
-                decided(&tool.ask("request", Some(payload))?)
+                decided(&tool.ask(key, Some(payload))?)
             }
-            BusCommand::Get { setting } => {
-                Ok(setting_line(&tool.ask(&config_key(&setting)?, None)?))
-            }
+            BusCommand::Get { setting } => Ok(setting_line(
+                &tool.ask(&config_key("config", &setting)?, None)?,
+            )),
             BusCommand::Set { setting, value } => {
                 let payload = serde_json::json!({ "set": value }).to_string();
-                decided(&tool.ask(&config_key(&setting)?, Some(payload))?)
+                decided(&tool.ask(&config_key("set", &setting)?, Some(payload))?)
             }
             BusCommand::List { seconds } => tool.list(seconds),
-        });
+        }
+    });
     match result {
         Ok(text) => {
             if !text.is_empty() {

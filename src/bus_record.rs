@@ -29,11 +29,13 @@ pub struct Options {
     /// Stop after this long (None: at Ctrl-C).
     pub seconds: Option<f64>,
     pub record: RecordSettings,
+    /// This program's identity on a secured bus; None, plain TCP.
+    pub tls: Option<crate::config::TlsFiles>,
 }
 
 /// Record until `stop` (Ctrl-C) or `seconds`; returns the closing summary.
 pub fn record(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
-    let tool = Tool::connect(&opts.connect, &opts.robot, true)?;
+    let tool = Tool::connect(&opts.connect, &opts.robot, true, opts.tls.as_ref())?;
     let (tx, rx) = crossbeam_channel::bounded::<(bool, Vec<u8>)>(QUEUE);
     let dropped_here = Arc::new(AtomicU64::new(0));
     let mut subscribers = Vec::new();

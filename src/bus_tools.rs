@@ -10,6 +10,7 @@ use zenoh::{Session, Wait};
 use crate::bus::payload::{row_json, wall_s};
 use crate::bus::session::{Role, open};
 use crate::camsim::{CamSim, CamSimOptions};
+use crate::config::TlsFiles;
 
 /// Where the robot program listens with the shipped settings.
 pub const DEFAULT_ENDPOINT: &str = "tcp/127.0.0.1:7447";
@@ -21,21 +22,33 @@ pub struct Tool {
     session: Session,
     robot: String,
     endpoint: String,
+    /// TLS with the cluster's identities: the rules allow only named flows.
+    secured: bool,
+    /// This program's identity and its role in the roster, on a secured bus.
+    identity: String,
 }
 
 impl Tool {
     /// Connect to `endpoint`, to the flows of robot `robot` (the key prefix).
     /// `wait`: keep trying until the robot program is there (camsim may start first).
-    pub fn connect(endpoint: &str, robot: &str, wait: bool) -> Result<Tool, String> {
+    /// `tls`: this program's identity in the cluster; None, plain TCP.
+    pub fn connect(
+        endpoint: &str,
+        robot: &str,
+        wait: bool,
+        tls: Option<&TlsFiles>,
+    ) -> Result<Tool, String> {
         let role = Role::Tool {
             connect: vec![endpoint.to_string()],
             wait,
         };
-        let session = open(role).map_err(|e| e.to_string())?;
+        let session = open(role, tls).map_err(|e| e.to_string())?;
         Ok(Tool {
             session,
             robot: robot.to_string(),
             endpoint: endpoint.to_string(),
+            secured: tls.is_some(),
+            identity: tls.map(identity_of).unwrap_or_default(),
         })
     }
 
@@ -86,9 +99,17 @@ impl Tool {
             get = get.payload(payload);
         }
         let replies = get.wait().map_err(|e| e.to_string())?;
-        let reply = replies
-            .recv()
-            .map_err(|_| format!("no answer from {key} within {} s", ANSWER_WAIT.as_secs()))?;
+        let reply = replies.recv().map_err(|_| {
+            let mut why = format!("no answer from {key} within {} s", ANSWER_WAIT.as_secs());
+            if self.secured {
+                // The robot's access rules drop what an identity may not ask, unanswered.
+                why += &format!(
+                    ": on a secured bus the access rules let only an operator's identity ask for more than HALT and set settings, and this program is {}",
+                    self.identity
+                );
+            }
+            why
+        })?;
         match reply.result() {
             Ok(sample) => Ok(text(&sample.payload().to_bytes())),
             // {"error": WHY}: the reason, as the robot program says it.
@@ -164,6 +185,24 @@ impl Tool {
         Ok(ages_s)
     }
 
+    /// What the robot's status says of its bus: secured and by whom, who came.
+    fn robot_says_of_its_bus(&self) -> Option<String> {
+        let subscriber = self
+            .session
+            .declare_subscriber(self.key("status"))
+            .wait()
+            .ok()?;
+        let sample = subscriber.recv_timeout(ANSWER_WAIT).ok()??;
+        let status: serde_json::Value =
+            serde_json::from_slice(&sample.payload().to_bytes()).ok()?;
+        let bus = &status["bus"];
+        let mut line = bus["security"].as_str()?.to_string();
+        if let Some(ids) = bus["identities"].as_str().filter(|i| !i.is_empty()) {
+            line += &format!("; identities: {ids}");
+        }
+        Some(line)
+    }
+
     /// Who is present (liveliness tokens) and which flows carry messages, with their
     /// rates over `seconds`.
     pub fn list(&self, seconds: f64) -> Result<String, String> {
@@ -175,7 +214,19 @@ impl Tool {
             .timeout(ANSWER_WAIT)
             .wait()
             .map_err(|e| e.to_string())?;
-        let mut out = String::from("present:\n");
+        let mut out = match self.robot_says_of_its_bus() {
+            Some(line) => format!("the robot's bus: {line}\n"),
+            None => "the robot's bus: no status within 3 s\n".to_string(),
+        };
+        out += &format!(
+            "this program: {}\n",
+            if self.secured {
+                format!("TLS, as {}", self.identity)
+            } else {
+                "plain TCP, no identity".to_string()
+            }
+        );
+        out += "present:\n";
         let mut present = Vec::new();
         while let Ok(reply) = replies.recv() {
             if let Ok(sample) = reply.result() {
@@ -189,20 +240,34 @@ impl Tool {
         for name in present {
             out += &format!("  {name}\n");
         }
-        let subscriber = self
-            .session
-            .declare_subscriber(self.key("**"))
-            .wait()
-            .map_err(|e| e.to_string())?;
+        // On a secured bus a rule allows named flows, not all of ROBOT/** at once.
+        let keys: Vec<String> = if self.secured {
+            ["status", "tick", "event"].map(|k| self.key(k)).to_vec()
+        } else {
+            vec![self.key("**")]
+        };
+        let (tx, samples) = crossbeam_channel::bounded::<String>(1024);
+        let mut subscribers = Vec::new();
+        for key in keys {
+            let tx = tx.clone();
+            let subscriber = self
+                .session
+                .declare_subscriber(key)
+                .callback(move |sample| {
+                    let _ = tx.try_send(sample.key_expr().as_str().to_string());
+                })
+                .wait()
+                .map_err(|e| e.to_string())?;
+            subscribers.push(subscriber);
+        }
         let start = Instant::now();
         let mut counts: BTreeMap<String, u64> = BTreeMap::new();
         while start.elapsed().as_secs_f64() < seconds {
-            if let Ok(Some(sample)) = subscriber.recv_timeout(Duration::from_millis(50)) {
-                *counts
-                    .entry(sample.key_expr().as_str().to_string())
-                    .or_default() += 1;
+            if let Ok(key) = samples.recv_timeout(Duration::from_millis(50)) {
+                *counts.entry(key).or_default() += 1;
             }
         }
+        drop(subscribers);
         out += &format!("flows over {seconds:.0} s:\n");
         if counts.is_empty() {
             out += "  none\n";
@@ -243,7 +308,9 @@ impl Tool {
         loop {
             let now_s = clock.elapsed().as_secs_f64();
             while let Some(row) = sim.next_row(now_s) {
-                let payload = row_json(&row, now_s).to_string();
+                // Stamped with this computer's clock, as a vision program stamps its
+                // capture time: the robot takes its age from it where the clocks agree.
+                let payload = row_json(&row, wall_s()).to_string();
                 publisher.put(payload).wait().map_err(|e| e.to_string())?;
             }
             if now_s >= next_line_s {
@@ -259,6 +326,19 @@ impl Tool {
             std::thread::sleep(Duration::from_millis(5));
         }
     }
+}
+
+/// "NAME (ROLE)" for the identity in `files`, as the roster beside its authority says.
+fn identity_of(files: &TlsFiles) -> String {
+    let name = files
+        .cert
+        .file_stem()
+        .map_or(String::new(), |s| s.to_string_lossy().into_owned());
+    let role = crate::keys::Roster::read(&files.roster())
+        .ok()
+        .and_then(|r| r.role_of(&name))
+        .map_or("not in the roster".to_string(), |r| r.to_string());
+    format!("{name} ({role})")
 }
 
 fn text(bytes: &[u8]) -> String {

@@ -152,6 +152,9 @@ pub struct CamsimArgs {
         requires = "bus"
     )]
     pub robot: String,
+    /// With --bus: this program's identity on a secured bus (--keys DIR --as camera).
+    #[command(flatten)]
+    pub identity: crate::keys::args::IdentityArgs,
     /// Serial line speed.
     #[arg(long, default_value_t = 115200, value_parser = parse_baud)]
     pub baud: u32,
@@ -195,7 +198,12 @@ pub fn run(args: CamsimArgs) -> Result<(), String> {
     };
     if args.bus {
         // The robot program may start after the camera: keep trying to reach it.
-        let tool = crate::bus_tools::Tool::connect(&args.connect, &args.robot, true)?;
+        let tool = crate::bus_tools::Tool::connect(
+            &args.connect,
+            &args.robot,
+            true,
+            args.identity.files().as_ref(),
+        )?;
         return tool.publish_rows(options);
     }
     match (args.port, args.listen) {

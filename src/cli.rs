@@ -64,9 +64,12 @@ pub enum Command {
     Bus(BusArgs),
     /// The virtual cluster: one graph file starts the programs of several machines.
     #[command(subcommand)]
-    Cluster(ClusterCommand),
+    Cluster(crate::cluster_command::ClusterCommand),
     /// The operator GUI on another computer, fed by the robot's flows on the bus.
-    Watch(WatchArgs),
+    Watch(crate::cluster_command::WatchArgs),
+    /// The cluster's certificates: who may do what on the bus and the cluster.
+    #[command(subcommand)]
+    Keys(mechweed::keys::command::KeysCommand),
 }
 
 #[derive(clap::Args)]
@@ -91,22 +94,6 @@ pub struct TeachArgs {
 }
 
 #[derive(clap::Args)]
-pub struct WatchArgs {
-    /// Where the robot program listens ([bus] listen on the robot).
-    #[arg(long, value_name = "ENDPOINT", default_value = mechweed::bus_tools::DEFAULT_ENDPOINT)]
-    pub connect: String,
-    /// The robot's name on the bus ([bus] robot on the robot).
-    #[arg(long, value_name = "NAME", default_value = "mechweed")]
-    pub robot: String,
-    /// Close the window after this many seconds.
-    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
-    pub duration: Option<f64>,
-    /// The tab at start.
-    #[arg(long, value_enum, default_value = "status")]
-    pub tab: Tab,
-}
-
-#[derive(clap::Args)]
 #[command(args_conflicts_with_subcommands = true)]
 pub struct RecordArgs {
     #[command(subcommand)]
@@ -127,7 +114,7 @@ pub struct RecordArgs {
     )]
     pub robot: String,
     /// Stop after this many seconds.
-    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds, requires = "bus")]
+    #[arg(long, value_name = "SECONDS", value_parser = mechweed::config::parse_seconds, requires = "bus")]
     pub seconds: Option<f64>,
     /// Settings file (its [record] folder and formats) [default: config/robot.ini, or the built-in copy]
     #[arg(long, value_name = "FILE", requires = "bus")]
@@ -135,47 +122,9 @@ pub struct RecordArgs {
     /// Override one setting, e.g. --set record.folder=field-records (repeatable).
     #[arg(long = "set", value_name = "SECTION.KEY=VALUE", requires = "bus")]
     pub set: Vec<String>,
-}
-
-#[derive(Subcommand)]
-pub enum ClusterCommand {
-    /// Serve a graph file to the launchers and wait; Ctrl-C stops the cluster, the
-    /// controller first.
-    Master {
-        /// The graph file, e.g. config/cluster.ini.
-        graph: PathBuf,
-    },
-    /// Start, watch and stop the processes the master's graph gives this machine.
-    Launcher {
-        /// This machine's name in the graph ([machine NAME]).
-        #[arg(long, value_name = "NAME")]
-        machine: String,
-        /// Where the master listens ([cluster] master in the graph).
-        #[arg(long, value_name = "ENDPOINT", default_value = mechweed::cluster::DEFAULT_MASTER)]
-        connect: String,
-        /// The robot's name ([cluster] robot in the graph).
-        #[arg(long, value_name = "NAME", default_value = "mechweed")]
-        robot: String,
-    },
-    /// Print the cluster: machines, processes and their states, flows and their rates.
-    Status {
-        /// Where the master listens ([cluster] master in the graph).
-        #[arg(long, value_name = "ENDPOINT", default_value = mechweed::cluster::DEFAULT_MASTER)]
-        connect: String,
-        /// The robot's name ([cluster] robot in the graph).
-        #[arg(long, value_name = "NAME", default_value = "mechweed")]
-        robot: String,
-        /// How long to count each flow's messages.
-        #[arg(long, value_name = "SECONDS", default_value_t = 2.0, value_parser = parse_seconds)]
-        seconds: f64,
-        /// Print JSON instead of text.
-        #[arg(long)]
-        json: bool,
-    },
-    /// Print the graph as a Graphviz picture (DOT): `... | dot -Tsvg > cluster.svg`.
-    Dot { graph: PathBuf },
-    /// Check a graph file: prints "ok", or every error found (exit 1).
-    Check { graph: PathBuf },
+    /// With --bus: this program's identity on a secured bus (--keys DIR --as recorder).
+    #[command(flatten)]
+    pub identity: mechweed::keys::args::IdentityArgs,
 }
 
 #[derive(clap::Args)]
@@ -188,6 +137,9 @@ pub struct BusArgs {
     /// The robot's name on the bus ([bus] robot on the robot).
     #[arg(long, global = true, value_name = "NAME", default_value = "mechweed")]
     pub robot: String,
+    /// This program's identity on a secured bus (--keys DIR --as operator).
+    #[command(flatten)]
+    pub identity: mechweed::keys::args::IdentityArgs,
 }
 
 #[derive(Subcommand)]
@@ -199,10 +151,10 @@ pub enum BusCommand {
         #[arg(long, value_name = "N")]
         count: Option<u64>,
         /// Stop after this many seconds.
-        #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+        #[arg(long, value_name = "SECONDS", value_parser = mechweed::config::parse_seconds)]
         seconds: Option<f64>,
         /// Take this long over each message: a slow receiver, for tests and measurements.
-        #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = parse_seconds)]
+        #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = mechweed::config::parse_seconds)]
         slow: f64,
         /// At the end, print how old the messages were on arrival (p50, p99, max), from
         /// the time each was sent (status carries it; needs the same clock).
@@ -230,7 +182,7 @@ pub enum BusCommand {
     /// Who is on the bus, and which flows carry messages at what rate.
     List {
         /// How long to count messages.
-        #[arg(long, default_value_t = 2.0, value_name = "SECONDS", value_parser = parse_seconds)]
+        #[arg(long, default_value_t = 2.0, value_name = "SECONDS", value_parser = mechweed::config::parse_seconds)]
         seconds: f64,
     },
 }
@@ -375,14 +327,6 @@ pub enum RecordCommand {
         #[arg(long, value_name = "METRES", default_value_t = 5.0, value_parser = parse_metres)]
         from_m: f64,
     },
-}
-
-/// A time of 0 to a day, s.
-fn parse_seconds(text: &str) -> Result<f64, String> {
-    match text.parse::<f64>() {
-        Ok(s) if (0.0..=86_400.0).contains(&s) => Ok(s),
-        _ => Err(format!("'{text}' is not a time in s (0 to 86400)")),
-    }
 }
 
 pub fn parse_metres(text: &str) -> Result<f64, String> {

@@ -1,14 +1,89 @@
 //! `mechweed cluster ...`: the master, the launcher, the cluster's status and its
 //! picture (src/cluster/); and `mechweed watch`, the operator view on another computer.
 
+use std::path::PathBuf;
 use std::process::ExitCode;
+
+use clap::Subcommand;
 
 use mechweed::cluster::graph::Graph;
 use mechweed::cluster::{dot, launcher, master, status};
 
-use crate::cli::{ClusterCommand, WatchArgs};
 use crate::print_errors;
-use crate::record_command::ctrl_c;
+use mechweed::config::parse_seconds;
+use mechweed::console::ctrl_c;
+use mechweed::gui::Tab;
+
+#[derive(Subcommand)]
+pub enum ClusterCommand {
+    /// Serve a graph file to the launchers and wait; Ctrl-C stops the cluster, the
+    /// controller first.
+    Master {
+        /// The graph file, e.g. config/cluster.ini.
+        graph: PathBuf,
+    },
+    /// Start, watch and stop the processes the master's graph gives this machine.
+    Launcher {
+        /// This machine's name in the graph ([machine NAME]).
+        #[arg(long, value_name = "NAME")]
+        machine: String,
+        /// Where the master listens ([cluster] master in the graph).
+        #[arg(long, value_name = "ENDPOINT", default_value = mechweed::cluster::DEFAULT_MASTER)]
+        connect: String,
+        /// The robot's name ([cluster] robot in the graph).
+        #[arg(long, value_name = "NAME", default_value = "mechweed")]
+        robot: String,
+        /// An executable besides mechweed that plans may run here (repeatable); nothing
+        /// else is run, whatever a plan says.
+        #[arg(long, value_name = "PATH")]
+        allow: Vec<String>,
+        /// On a secured cluster: --keys DIR --as MACHINE (the launcher's identity is its
+        /// machine's name); each program it starts gets its role's identity from DIR.
+        #[command(flatten)]
+        identity: mechweed::keys::args::IdentityArgs,
+    },
+    /// Print the cluster: machines, processes and their states, flows and their rates.
+    Status {
+        /// Where the master listens ([cluster] master in the graph).
+        #[arg(long, value_name = "ENDPOINT", default_value = mechweed::cluster::DEFAULT_MASTER)]
+        connect: String,
+        /// The robot's name ([cluster] robot in the graph).
+        #[arg(long, value_name = "NAME", default_value = "mechweed")]
+        robot: String,
+        /// How long to count each flow's messages.
+        #[arg(long, value_name = "SECONDS", default_value_t = 2.0, value_parser = parse_seconds)]
+        seconds: f64,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+        /// On a secured cluster: --keys DIR --as operator (or viewer).
+        #[command(flatten)]
+        identity: mechweed::keys::args::IdentityArgs,
+    },
+    /// Print the graph as a Graphviz picture (DOT): `... | dot -Tsvg > cluster.svg`.
+    Dot { graph: PathBuf },
+    /// Check a graph file: prints "ok", or every error found (exit 1).
+    Check { graph: PathBuf },
+}
+
+#[derive(clap::Args)]
+pub struct WatchArgs {
+    /// Where the robot program listens ([bus] listen on the robot).
+    #[arg(long, value_name = "ENDPOINT", default_value = mechweed::bus_tools::DEFAULT_ENDPOINT)]
+    pub connect: String,
+    /// The robot's name on the bus ([bus] robot on the robot).
+    #[arg(long, value_name = "NAME", default_value = "mechweed")]
+    pub robot: String,
+    /// Close the window after this many seconds.
+    #[arg(long, value_name = "SECONDS", value_parser = mechweed::config::parse_seconds)]
+    pub duration: Option<f64>,
+    /// The tab at start.
+    #[arg(long, value_enum, default_value = "status")]
+    pub tab: Tab,
+    /// This program's identity on a secured bus (--keys DIR --as operator).
+    #[command(flatten)]
+    pub identity: mechweed::keys::args::IdentityArgs,
+}
 
 /// Read the graph, or print every error in it.
 fn graph(path: &std::path::Path) -> Result<Graph, ExitCode> {
@@ -43,13 +118,34 @@ pub fn cluster(command: ClusterCommand) -> ExitCode {
             machine,
             connect,
             robot,
-        } => done(launcher::run(&machine, &connect, &robot, &ctrl_c())),
+            allow,
+            identity,
+        } => {
+            let tls = identity.files();
+            let admission = mechweed::cluster::admit::Admission {
+                allowed: allow,
+                keys: tls.as_ref().map(|t| {
+                    t.ca.parent()
+                        .unwrap_or(std::path::Path::new("."))
+                        .to_path_buf()
+                }),
+            };
+            done(launcher::run(
+                &machine,
+                &connect,
+                &robot,
+                tls.as_ref(),
+                &admission,
+                &ctrl_c(),
+            ))
+        }
         ClusterCommand::Status {
             connect,
             robot,
             seconds,
             json,
-        } => match status::fetch(&connect, &robot, seconds) {
+            identity,
+        } => match status::fetch(&connect, &robot, seconds, identity.files().as_ref()) {
             Ok(found) if json => {
                 println!("{found}");
                 ExitCode::SUCCESS
@@ -86,7 +182,11 @@ pub fn watch(args: WatchArgs) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    let remote = match mechweed::gui::remote::RemoteView::connect(&args.connect, &args.robot) {
+    let remote = match mechweed::gui::remote::RemoteView::connect(
+        &args.connect,
+        &args.robot,
+        args.identity.files().as_ref(),
+    ) {
         Ok(remote) => remote,
         Err(why) => return done(Err(why)),
     };

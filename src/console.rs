@@ -19,7 +19,7 @@ use crate::state::Reader;
 pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, RunError> {
     let (handles, running) = start(opts, stop.clone())?;
     if let Some(warning) = &handles.not_realtime {
-        println!("{warning}");
+        crate::say!("{warning}");
     }
     operate(opts, &handles, &stop, || running.any_thread_ended());
     Ok(running.finish())
@@ -66,11 +66,11 @@ pub fn operate(
             return;
         }
         while let Some(event) = events.next_if(|e| e.t_s <= now_s) {
-            println!("{now_s:7.2} s  scripted event: {}", event.action);
+            crate::say!("{now_s:7.2} s  scripted event: {}", event.action);
         }
         let status = supervisor.status.snapshot();
         if status.mode != mode_seen {
-            println!("{now_s:7.2} s  mode: {mode_seen} -> {}", status.mode);
+            crate::say!("{now_s:7.2} s  mode: {mode_seen} -> {}", status.mode);
             mode_seen = status.mode;
         }
         if let Some(request) = script.due(now_s, &status)
@@ -84,12 +84,12 @@ pub fn operate(
             && faults_seen != Some(fault.tick_seen)
         {
             faults_seen = Some(fault.tick_seen);
-            println!("{:7.2} s  FAULT: {}", fault.t_s, fault.cause);
+            crate::say!("{:7.2} s  FAULT: {}", fault.t_s, fault.cause);
         }
         if status.notice != notice_seen {
             notice_seen = status.notice;
             if let Some(notice) = status.notice {
-                println!("{now_s:7.2} s  {}", notice);
+                crate::say!("{now_s:7.2} s  {}", notice);
             }
         }
         if opts.status_every_s > 0.0 && now_s >= next_line_s {
@@ -108,7 +108,7 @@ pub fn operate(
                     c.seq_gaps, c.duplicates
                 ),
             };
-            println!(
+            crate::say!(
                 "{now_s:7.2} s  {:<10} speed {:5.2} m/s  wheel {:5.1} deg  tool off row {:5.1} cm  camera {link_state}",
                 status.mode.name(),
                 status.measured.speed_mps,
@@ -118,7 +118,7 @@ pub fn operate(
             let steer = handles.steer.snapshot();
             let r = &steer.row;
             if let Some(f) = &r.filter {
-                println!(
+                crate::say!(
                     "           steering by {}; GNSS {}, {} satellites; row filter {:+.1} +- {:.1} cm, gate rejected {} camera rows, {} fixes",
                     steer.sources.steering.words(),
                     mechweed_hw::nmea::FixQuality::from_code(r.gnss_quality).words(),
@@ -131,7 +131,7 @@ pub fn operate(
             }
             let [supervisor_loop, steer_loop] = loops.each_ref().map(Reader::snapshot);
             let check = liu_layland(&[supervisor_loop, steer_loop]);
-            println!(
+            crate::say!(
                 "           supervisor late p99 {} us, max {} us, exec max {} us, {} overruns; steer exec max {} us; Liu-Layland load {:.3} of {:.3}",
                 supervisor_loop.late_us.p99,
                 supervisor_loop.late_us.max,
@@ -142,9 +142,19 @@ pub fn operate(
                 check.bound,
             );
             if let Some(warning) = &handles.not_realtime {
-                println!("           {warning}");
+                crate::say!("           {warning}");
             }
             next_line_s += opts.status_every_s;
         }
     }
+}
+
+/// A flag that Ctrl-C (or SIGTERM) sets.
+pub fn ctrl_c() -> Arc<AtomicBool> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = stop.clone();
+    if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed)) {
+        eprintln!("cannot catch Ctrl-C ({e})");
+    }
+    stop
 }

@@ -36,6 +36,8 @@ pub enum FaultCause {
     CameraSeesNoRow {
         for_s: f64,
     },
+    /// Rows from the bus: two programs with the camera's identity send them.
+    TwoRowSources,
     /// [steer] source = gnss or fused: neither sensor gives a row to steer by.
     NoRowSource {
         camera_s: f64,
@@ -149,6 +151,10 @@ impl fmt::Display for FaultCause {
             FaultCause::CameraSeesNoRow { for_s } => {
                 write!(f, "camera sees no row: no usable estimate for {for_s:.2} s")
             }
+            FaultCause::TwoRowSources => write!(
+                f,
+                "two programs send camera rows (the console names both): the rows of neither are taken"
+            ),
             FaultCause::OffTheRow { offset_m } => write!(
                 f,
                 "the robot is off its row: the row is {:.0} cm to its {} (steering by GNSS or the fused row)",

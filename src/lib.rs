@@ -29,6 +29,7 @@ pub mod gnsssim;
 pub mod gui;
 pub mod health;
 pub mod inject;
+pub mod keys;
 pub mod lockstep;
 mod measure;
 pub mod modes;
@@ -49,3 +50,14 @@ pub mod steering;
 mod supervisor;
 pub mod teach_command;
 mod threads;
+
+/// `println!` for what a run prints on stdout, where a closed stdout (a pipe to `head`
+/// that has ended) is no error: the run goes on, and ends with its report and a whole
+/// record, instead of a thread panicking on the broken pipe.
+#[macro_export]
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}

@@ -25,9 +25,7 @@ use mechweed_hw::sim::FieldKind;
 use cli::{BenchCommand, Cli, Command, RunArgs, StartMode};
 
 pub(crate) fn print_errors(errors: &[ConfigError]) {
-    for e in errors {
-        eprintln!("{e}");
-    }
+    errors.iter().for_each(|e| eprintln!("{e}"));
 }
 
 /// The settings file: the one named, else config/robot.ini here, else the built-in copy.
@@ -69,7 +67,7 @@ fn teach(args: cli::TeachArgs) -> ExitCode {
         ));
     }
     if args.record.is_none() {
-        println!(
+        mechweed::say!(
             "teaching row {}: drive it in joystick mode with the weeding tool on the row, then end the run (close the window, Ctrl-C, or --duration)",
             args.row
         );
@@ -86,7 +84,7 @@ fn teach(args: cli::TeachArgs) -> ExitCode {
         _ => mechweed::record::keep::latest(&settings.record.folder), // the run just made
     };
     said(record.and_then(|record| {
-        println!("teaching row {} from {}", args.row, record.display());
+        mechweed::say!("teaching row {} from {}", args.row, record.display());
         mechweed::teach_command::teach_into_map(&record, &args.row, &args.map, &settings)
     }))
 }
@@ -96,7 +94,7 @@ fn said(result: Result<String, String>) -> ExitCode {
     match result {
         Ok(line) => {
             if !line.is_empty() {
-                println!("{line}");
+                mechweed::say!("{line}");
             }
             ExitCode::SUCCESS
         }
@@ -160,16 +158,16 @@ fn run_command(args: RunArgs) -> ExitCode {
         StartMode::Autonomous => Mode::Autonomous,
     };
     match settings.backend {
-        Backend::Sim => println!(
+        Backend::Sim => mechweed::say!(
             "mechweed on the simulated robot: {} row, {} m/s, seed {}; start mode {start_mode}",
             bench_rows::row_name(settings.sim.row),
             settings.steer.speed_mps,
             settings.sim.seed
         ),
-        Backend::Cards => println!("mechweed on the I/O cards; start mode {start_mode}"),
+        Backend::Cards => mechweed::say!("mechweed on the I/O cards; start mode {start_mode}"),
     }
     if (settings.camera_port).is_outside_of(settings.backend) {
-        println!(
+        mechweed::say!(
             "camera: {}; {}",
             settings.camera_port.describe(),
             mechweed::report::OUTSIDE_CAMERA
@@ -211,12 +209,12 @@ fn run_command(args: RunArgs) -> ExitCode {
     };
     if interrupted.load(Ordering::Relaxed) {
         // The threads have ended: the supervisor wrote the safe outputs as it stopped.
-        println!(
+        mechweed::say!(
             "run stopped by the operator (Ctrl-C); the outputs are safe: amplifiers 0 V, motor power off, brakes on, tool off"
         );
     }
     let report = Report::from_run(&outcome);
-    print!("{}", report.human());
+    mechweed::say!("{}", report.human().trim_end());
     if let Some(path) = args.report {
         let json = serde_json::to_string_pretty(&report).expect("the report is plain data");
         if let Err(e) = std::fs::write(&path, json) {
@@ -246,7 +244,7 @@ fn check_config(file: Option<PathBuf>) -> ExitCode {
     let path = file.unwrap_or_else(|| PathBuf::from("config/robot.ini"));
     match Settings::load(&path, &[]) {
         Ok(_) => {
-            println!("ok");
+            mechweed::say!("ok");
             ExitCode::SUCCESS
         }
         Err(errors) => {
@@ -308,7 +306,7 @@ fn bench(command: BenchCommand) -> ExitCode {
     }
     let file = settings_file(config.as_deref()) // said: the figures depend on it
         .map_or("the built-in robot.ini".into(), |p| p.display().to_string());
-    println!("settings: {file} ([sim] is the benchmark's own)");
+    mechweed::say!("settings: {file} ([sim] is the benchmark's own)");
     let sources: Vec<SteerSource> = (sources.iter())
         .map(|source| match source {
             cli::BenchSource::Camera => SteerSource::Camera,
@@ -396,5 +394,6 @@ fn main() -> ExitCode {
         Some(Command::Bus(args)) => bus_command::bus(args),
         Some(Command::Cluster(command)) => cluster_command::cluster(command),
         Some(Command::Watch(args)) => cluster_command::watch(args),
+        Some(Command::Keys(command)) => said(mechweed::keys::command::run(command)),
     }
 }

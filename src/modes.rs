@@ -113,6 +113,8 @@ pub enum Refusal {
     PanelHasThePower,
     OnlyInHalt,
     NotStarted,
+    /// A person drives in joystick mode, dead-man held: the bus may not take over.
+    PersonAtTheRobot,
 }
 
 impl fmt::Display for Refusal {
@@ -139,6 +141,10 @@ impl fmt::Display for Refusal {
                 "in test the panel's main power relay switch is the power switch"
             ),
             Refusal::NotStarted => write!(f, "the robot's inputs have not been read yet"),
+            Refusal::PersonAtTheRobot => write!(
+                f,
+                "a person at the robot holds the joystick's dead-man: a request over the bus never takes the robot from them (rule: a person at the robot first)"
+            ),
             Refusal::OnlyInHalt => write!(
                 f,
                 "gains and steering-law parameters are changed only in halt, so that nothing jumps while moving"

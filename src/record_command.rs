@@ -1,11 +1,10 @@
 //! `mechweed record ...`: a record's summary, and the off-board recorder.
 
 use std::process::ExitCode;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::cli::{RecordArgs, RecordCommand};
 use crate::{load_settings, print_errors};
+use mechweed::console::ctrl_c;
 
 pub fn record(args: RecordArgs) -> ExitCode {
     match (args.bus, args.command) {
@@ -16,6 +15,7 @@ pub fn record(args: RecordArgs) -> ExitCode {
             args.seconds,
             args.config,
             &args.set,
+            args.identity.files(),
         ),
         (false, None) => {
             eprintln!(
@@ -26,22 +26,13 @@ pub fn record(args: RecordArgs) -> ExitCode {
     }
 }
 
-/// A flag that Ctrl-C (or SIGTERM) sets.
-pub fn ctrl_c() -> Arc<AtomicBool> {
-    let stop = Arc::new(AtomicBool::new(false));
-    let flag = stop.clone();
-    if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed)) {
-        eprintln!("cannot catch Ctrl-C ({e})");
-    }
-    stop
-}
-
 fn from_bus(
     connect: String,
     robot: String,
     seconds: Option<f64>,
     config: Option<std::path::PathBuf>,
     set: &[String],
+    tls: Option<mechweed::config::TlsFiles>,
 ) -> ExitCode {
     let settings = match load_settings(config.as_deref(), set) {
         Ok(settings) => settings,
@@ -55,6 +46,7 @@ fn from_bus(
         robot,
         seconds,
         record: settings.record,
+        tls,
     };
     match mechweed::bus_record::record(&opts, &ctrl_c()) {
         Ok(summary) => {

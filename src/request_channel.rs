@@ -23,6 +23,8 @@ pub type Answer = (Request, Result<(), Refusal>);
 pub struct Envelope {
     pub request: Request,
     pub reply: Sender<Answer>,
+    /// Asked by another program over the bus: a person at the robot comes first.
+    pub from_bus: bool,
 }
 
 /// Requests waiting for the supervisor at most; more is a program that floods it.
@@ -47,9 +49,23 @@ pub fn channel(status: Reader<Status>) -> (SupervisorHandle, RequestReceiver) {
 impl SupervisorHandle {
     /// Ask, and wait (at most a second) for the answer.
     pub fn request(&self, request: Request) -> Result<(), String> {
+        self.ask(request, false)
+    }
+
+    /// Ask for another program on the bus, and wait (at most a second) for the answer.
+    pub fn request_from_bus(&self, request: Request) -> Result<(), String> {
+        self.ask(request, true)
+    }
+
+    fn ask(&self, request: Request, from_bus: bool) -> Result<(), String> {
         let (reply, answers) = bounded(1);
+        let envelope = Envelope {
+            request,
+            reply,
+            from_bus,
+        };
         self.requests
-            .send_timeout(Envelope { request, reply }, Duration::from_secs(1))
+            .send_timeout(envelope, Duration::from_secs(1))
             .map_err(|_| "the supervisor is not taking requests".to_string())?;
         match answers.recv_timeout(Duration::from_secs(1)) {
             Ok((_, answer)) => answer.map_err(|refusal| refusal.to_string()),
@@ -63,6 +79,7 @@ impl SupervisorHandle {
         let envelope = Envelope {
             request,
             reply: reply.clone(),
+            from_bus: false,
         };
         self.requests.try_send(envelope).map_err(|e| match e {
             TrySendError::Full(_) => "the supervisor has too many requests waiting".to_string(),

@@ -145,8 +145,13 @@ impl SupervisorThread {
             periodic.wait();
             let now_s = clock.elapsed().as_secs_f64();
             let lock_start = rt::monotonic_ns();
-            while let Ok(Envelope { request, reply }) = requests.try_recv() {
-                let answer = core.handle(request);
+            while let Ok(Envelope {
+                request,
+                reply,
+                from_bus,
+            }) = requests.try_recv()
+            {
+                let answer = core.handle_from(request, from_bus);
                 // Recorded with the tick it precedes, so that a replay gives it there.
                 record.requested(now_s, core.status().tick + 1, request, answer);
                 if let Some(accepted) = core.take_steer_settings() {
@@ -291,6 +296,13 @@ impl SteerThread {
         }
         let mut periodic = Periodic::new(self.rate_hz);
         let mut figures_pending = false;
+        // Written by threads of normal priority (the camera link, GNSS) and read by
+        // them (the bus, the GUI): never waited for, as the supervisor does not.
+        let (mut status, mut link, mut gnss) = (
+            Latest::new(self.wires.status.clone()),
+            Latest::new(self.wires.link.clone()),
+            Latest::new(self.wires.gnss.clone()),
+        );
         while !self.wires.stop.load(Ordering::Relaxed) {
             let scheduled = select! {
                 recv(self.wires.new_estimate) -> _ => false,
@@ -302,9 +314,10 @@ impl SteerThread {
                 periodic.woke_now();
             }
             let now_s = self.clock.elapsed().as_secs_f64();
+            let busy = &mut periodic.stats.locks_busy;
             if let Ok(new_settings) = self.wires.new_settings.try_recv() {
                 self.core.set_law_settings(&new_settings);
-                self.wires.settings.publish(&self.core.law_settings());
+                publish_soon(&self.wires.settings, &self.core.law_settings(), busy);
             }
             if let Some(injection) = self.inject
                 && injection.thread == ThreadName::Steer
@@ -312,13 +325,14 @@ impl SteerThread {
             {
                 injection.strike(&self.wires.stop);
             }
-            let command = self.core.tick(
-                now_s,
-                &self.wires.status.snapshot(),
-                &self.wires.link.snapshot(),
-                &self.wires.gnss.snapshot(),
+            let (status_now, link_now, gnss_now) =
+                (status.get(busy), link.get(busy), gnss.get(busy));
+            let command = self.core.tick(now_s, &status_now, &link_now, &gnss_now);
+            publish_soon(
+                &self.wires.command,
+                &command,
+                &mut periodic.stats.locks_busy,
             );
-            self.wires.command.publish(&command);
             if scheduled {
                 periodic.done();
                 publish_figures_now_and_then(
@@ -331,6 +345,19 @@ impl SteerThread {
             }
         }
         periodic.stats.summary()
+    }
+}
+
+/// Publish `value` without blocking on a reader of lower priority that holds the lock:
+/// tried again after a short sleep (the reader then runs and lets go), for at most a
+/// millisecond; a value still not published is replaced by the next tick's.
+fn publish_soon<T: Copy>(writer: &Writer<T>, value: &T, busy: &mut u64) {
+    for _ in 0..10 {
+        if writer.try_publish(value) {
+            return;
+        }
+        *busy += 1;
+        std::thread::sleep(Duration::from_micros(100));
     }
 }
 

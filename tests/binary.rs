@@ -302,3 +302,52 @@ fn a_moving_start_mode_on_the_real_robot_waits_for_a_yes_at_the_console() {
     );
     assert!(said.contains("not confirmed: starting in halt"), "{said}");
 }
+
+/// `mechweed run --headless | head -c 300`: the console's reader goes away early. The
+/// run must go on to its end, write its report, and close its record whole (an MCAP
+/// file with its footer, read back by the program's own reader).
+#[test]
+fn a_closed_stdout_does_not_end_the_run_or_spoil_its_record() {
+    use std::io::Read;
+    use std::process::Stdio;
+    let dir = tempfile::tempdir().unwrap();
+    let report_path = dir.path().join("report.json");
+    let mut child = mechweed()
+        .args([
+            "run",
+            "--headless",
+            "--mode",
+            "autonomous",
+            "--duration",
+            "4",
+        ])
+        .args(common::test_run_settings(dir.path()))
+        .arg("--report")
+        .arg(&report_path)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = [0u8; 300];
+    let mut stdout = child.stdout.take().unwrap();
+    stdout.read_exact(&mut first).unwrap();
+    drop(stdout); // as `head -c 300` does
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report_path).unwrap()).unwrap();
+    assert_eq!(report["mode_final"], "autonomous", "{report:#}");
+    let mcap = std::fs::read_dir(dir.path())
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .find(|p| p.extension().is_some_and(|x| x == "mcap"))
+        .expect("an MCAP record");
+    let read = mechweed::record::read::read(&mcap, &["t_s", "mode"]).unwrap();
+    assert!(
+        read.ticks.rows.len() > 300,
+        "{} ticks",
+        read.ticks.rows.len()
+    );
+}

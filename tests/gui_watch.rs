@@ -241,7 +241,8 @@ fn the_view_reads_a_real_robots_flows_and_its_halt_is_answered() {
         .unwrap()
         .port();
     let (_folder, mut child) = robot(port, &["--set", "bus.accept_requests=operator"]);
-    let mut remote = RemoteView::connect(&format!("tcp/127.0.0.1:{port}"), "mechweed").unwrap();
+    let mut remote =
+        RemoteView::connect(&format!("tcp/127.0.0.1:{port}"), "mechweed", None).unwrap();
     let end = Instant::now() + Duration::from_secs(30);
     let view = loop {
         let view = remote.view();

@@ -9,14 +9,20 @@
 //! safety channel: the e-stops are wired, and rows from the bus go through the camera
 //! link's time-out and fault like a camera computer's.
 
+pub mod acl;
+pub mod identities;
 pub mod payload;
 pub mod peers;
 pub mod queries;
+pub mod refusals;
+pub mod row_clock;
 pub mod rows;
 pub mod session;
 pub mod thread;
 
 pub use session::{BusError, Role};
+
+use crate::gamepad::Label;
 
 /// The bus as the GUI and the report show it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
@@ -52,6 +58,10 @@ pub struct BusFigures {
     /// Row estimates received on ROBOT/camera/row, and those refused as impossible.
     pub rows_received: u64,
     pub rows_rejected: u64,
+    /// Whether the bus is secured, and by which authority, in words.
+    pub security: Label,
+    /// The identities linked so far, and those refused (secured bus only).
+    pub identities: Label,
 }
 
 /// The run's session: None when the bus is off, or when it could not start and the
@@ -61,17 +71,24 @@ pub fn open_for_run(s: &crate::config::Settings) -> Result<Option<zenoh::Session
     if !s.bus.enabled {
         return Ok(None);
     }
-    match session::open(Role::Robot(&s.bus)) {
+    match session::open(Role::Robot(&s.bus), s.bus.tls.as_ref()) {
         Ok(session) => {
-            println!(
-                "bus: {}, keys {}/...; requests accepted: {}",
+            crate::say!(
+                "bus: {}, keys {}/...; requests accepted: {}; {}",
                 s.bus.endpoints(),
                 s.bus.robot,
                 match s.bus.accept_requests {
                     crate::config::AcceptRequests::Halt => "halt only",
                     crate::config::AcceptRequests::Operator => "halt, power up, modes, settings",
-                }
+                },
+                security_line(&s.bus)
             );
+            if s.bus.tls.is_none() && !s.bus.listen.iter().all(|e| crate::config::is_loopback(e)) {
+                crate::say!(
+                    "bus: OPEN TO ANYONE on the network of {} ([bus] trusted_network = yes, no TLS): whoever reaches it may use the bus as this robot allows",
+                    s.bus.listen.join(", ")
+                );
+            }
             Ok(Some(session))
         }
         Err(e) if s.bus.required || s.camera_port == crate::config::CameraPort::Bus => Err(e),
@@ -79,6 +96,18 @@ pub fn open_for_run(s: &crate::config::Settings) -> Result<Option<zenoh::Session
             tracing::warn!("{e}; the robot runs without the bus ([bus] required = no)");
             Ok(None)
         }
+    }
+}
+
+/// Whether the bus is secured, and by which authority, in words.
+pub fn security_line(bus: &crate::config::BusSettings) -> String {
+    match &bus.tls {
+        Some(files) => format!(
+            "secured: TLS, identities of the authority {}, rights from {}",
+            files.authority(),
+            files.roster().display()
+        ),
+        None => "not secured: plain TCP, no identities".to_string(),
     }
 }
 
@@ -105,6 +134,10 @@ impl BusFigures {
                 ""
             },
         );
+        line += &format!("; {}", self.security.as_str());
+        if !self.identities.as_str().is_empty() {
+            line += &format!("; identities: {}", self.identities.as_str());
+        }
         if self.rows_received > 0 {
             line += &format!(
                 "; row estimates: {} received, {} refused",

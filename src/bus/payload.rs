@@ -168,7 +168,7 @@ pub fn parse_set(bytes: &[u8]) -> Result<String, String> {
 
 /// `ROBOT/camera/row`: `{"seq", "angle_rad", "offset_m", "quality", "t_s"}` from a vision
 /// program; the ranges are the row camera's (beyond them no camera sees a row).
-pub fn parse_row(bytes: &[u8]) -> Result<RowEstimate, String> {
+pub fn parse_row(bytes: &[u8]) -> Result<(RowEstimate, Option<f64>), String> {
     let map = object(bytes, &["seq", "angle_rad", "offset_m", "quality", "t_s"])?;
     let number = |key: &str| match map.get(key) {
         Some(Value::Number(n)) => n
@@ -196,17 +196,20 @@ pub fn parse_row(bytes: &[u8]) -> Result<RowEstimate, String> {
             "offset_m {offset_m} is beyond what the camera can see (at most {MAX_OFFSET_M} m either way)"
         ));
     }
-    if let Some(t) = map.get("t_s")
-        && !t.as_f64().is_some_and(f64::is_finite)
-    {
-        return Err(format!("\"t_s\" must be a number of seconds, not {t}"));
-    }
-    Ok(RowEstimate {
+    let t_s = match map.get("t_s") {
+        None => None,
+        Some(t) => match t.as_f64().filter(|t| t.is_finite()) {
+            Some(t) => Some(t),
+            None => return Err(format!("\"t_s\" must be a number of seconds, not {t}")),
+        },
+    };
+    let estimate = RowEstimate {
         seq: whole("seq", 255)? as u8,
         angle_rad,
         offset_m,
         quality: whole("quality", 100)? as u8,
-    })
+    };
+    Ok((estimate, t_s))
 }
 
 /// A row estimate as a vision program publishes it (camsim --bus, tests).
@@ -254,9 +257,10 @@ mod tests {
 
     #[test]
     fn row_estimates_beyond_the_camera_s_view_are_refused() {
-        let ok = parse_row(br#"{"seq":3,"angle_rad":0.1,"offset_m":-0.02,"quality":90,"t_s":1.5}"#)
-            .unwrap();
-        assert_eq!((ok.seq, ok.quality), (3, 90));
+        let (ok, t_s) =
+            parse_row(br#"{"seq":3,"angle_rad":0.1,"offset_m":-0.02,"quality":90,"t_s":1.5}"#)
+                .unwrap();
+        assert_eq!((ok.seq, ok.quality, t_s), (3, 90, Some(1.5)));
         let bad = [
             (
                 &br#"{"seq":3,"angle_rad":2.0,"offset_m":0,"quality":90}"#[..],

@@ -1,15 +1,17 @@
-//! Answers to what other programs ask on the bus: requests (`ROBOT/request`) and the
-//! configuration ports (`ROBOT/config/SECTION/KEY`). The supervisor decides, with the
-//! same rules and the same words as for the GUI; the bus only adds who may ask what
-//! (`[bus] accept_requests`). Every answer is JSON; bad input is answered with what is
-//! wrong and changes nothing.
+//! Answers to what other programs ask on the bus: requests (`ROBOT/request`, HALT;
+//! `ROBOT/request/operator`, every request) and the settings ports
+//! (`ROBOT/config/SECTION/KEY` reads, `ROBOT/set/SECTION/KEY` changes). The supervisor
+//! decides, with the same rules and the same words as for the GUI; the bus adds who
+//! may ask what (`[bus] accept_requests`, the access rules of a secured bus, and a
+//! person at the robot first). Every answer is JSON; bad input is answered with what is
+//! wrong and changes nothing; every refusal names the rule that refused.
 
 use serde_json::{Value, json};
 use zenoh::Wait;
 use zenoh::bytes::Encoding;
 use zenoh::query::Query;
 
-use crate::config::{AcceptRequests, PiSettings, Settings, SteerSettings};
+use crate::config::{AcceptRequests, Backend, PiSettings, Settings, SteerSettings};
 use crate::modes::{Gains, Mode, Request};
 use crate::request_channel::SupervisorHandle;
 use crate::state::Reader;
@@ -19,6 +21,23 @@ use super::payload::{parse_request, parse_set};
 
 /// Settings a running robot takes (the GUI's Tuning tab); the others are read at start.
 const LIVE_SECTIONS: [&str; 4] = ["pid.left", "pid.right", "pid.steer", "steer"];
+/// Of those sections, the settings read only when the threads start: the steer
+/// thread's period, and the end-switch procedure's back-off.
+const START_ONLY: [(&str, &str); 2] = [("steer", "rate_hz"), ("steer", "endswitch_back_deg")];
+
+/// Where a query came in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Port {
+    /// ROBOT/request: HALT for every identity that may stop the robot (and, on a bus
+    /// that is not secured, every request, as before the keys were split).
+    Halt,
+    /// ROBOT/request/operator: every request; only an operator's identity may ask.
+    Operator,
+    /// ROBOT/config/SECTION/KEY: read a setting (and, not secured, set it).
+    Get,
+    /// ROBOT/set/SECTION/KEY: change a setting; only an operator's identity may ask.
+    Set,
+}
 
 /// An answer: a JSON reply, or an error reply (bad input, or not allowed).
 pub type Answer = Result<Value, String>;
@@ -27,6 +46,8 @@ pub struct Queries {
     settings: Settings,
     supervisor: SupervisorHandle,
     tuning: Reader<(Gains, SteerSettings)>,
+    /// TLS and access rules: the old keys keep only what every role may do.
+    secured: bool,
 }
 
 impl Queries {
@@ -39,31 +60,45 @@ impl Queries {
             settings: settings.clone(),
             supervisor,
             tuning,
+            secured: settings.bus.tls.is_some(),
         }
     }
 
-    /// Answer `query` (a request, or a setting under `config_prefix`), counted in
-    /// `figures`. Every answer is JSON; an error answer is `{"error": WHY}`.
-    pub fn serve(
-        &mut self,
-        query: &Query,
-        is_request: bool,
-        config_prefix: &str,
-        figures: &mut BusFigures,
-    ) {
+    /// Answer `query`, which came in at `port`, counted in `figures`. Every answer is
+    /// JSON; an error answer is `{"error": WHY}`. Returns a refusal's words, for the
+    /// console (bus/refusals.rs says them at most once a second).
+    pub fn serve(&mut self, query: &Query, port: Port, figures: &mut BusFigures) -> Option<String> {
         let payload = query.payload().map(|p| p.to_bytes().into_owned());
-        let answer = if is_request {
-            self.request(payload.as_deref().unwrap_or_default())
-        } else {
-            let key = query.key_expr().as_str();
-            let path = key.strip_prefix(config_prefix).unwrap_or(key);
-            self.config(path, payload.as_deref())
+        let key = query.key_expr().as_str();
+        let answer = match port {
+            Port::Halt | Port::Operator => {
+                self.request(payload.as_deref().unwrap_or_default(), port)
+            }
+            Port::Get | Port::Set => {
+                let prefix =
+                    self.settings
+                        .bus
+                        .key(if port == Port::Get { "config/" } else { "set/" });
+                let path = key.strip_prefix(&prefix).unwrap_or(key);
+                self.config(path, payload.as_deref(), port)
+            }
         };
+        Self::reply(query, answer, figures).map(|why| format!("{key}: {why}"))
+    }
+
+    /// Refuse `query` at once without asking anyone (a flood's excess); counted.
+    pub fn refuse(query: &Query, why: &str, figures: &mut BusFigures) {
+        let _ = Self::reply(query, Self::refused(why.to_string()), figures);
+    }
+
+    fn reply(query: &Query, answer: Answer, figures: &mut BusFigures) -> Option<String> {
         figures.queries_answered += 1;
+        let mut refusal = None;
         let sent = match answer {
             Ok(reply) => {
                 if reply.get("accepted") == Some(&Value::Bool(false)) {
                     figures.queries_refused += 1;
+                    refusal = reply["reason"].as_str().map(str::to_string);
                 }
                 query
                     .reply(query.key_expr().clone(), reply.to_string())
@@ -72,23 +107,26 @@ impl Queries {
             }
             Err(why) => {
                 figures.queries_refused += 1;
-                query
+                let sent = query
                     .reply_err(json!({ "error": why }).to_string())
                     .encoding(Encoding::APPLICATION_JSON)
-                    .wait()
+                    .wait();
+                refusal = Some(why);
+                sent
             }
         };
         if let Err(e) = sent {
             tracing::debug!("bus: the answer could not be sent: {e}");
         }
+        refusal
     }
 
     fn refused(reason: String) -> Answer {
         Ok(json!({ "accepted": false, "reason": reason }))
     }
 
-    /// `ROBOT/request` with `payload`.
-    pub fn request(&self, payload: &[u8]) -> Answer {
+    /// A request with `payload`, which came in at `port`.
+    pub fn request(&self, payload: &[u8], port: Port) -> Answer {
         let request = parse_request(payload)?;
         let what = match request {
             Request::Mode(Mode::Halt) => "halt".to_string(),
@@ -97,32 +135,42 @@ impl Queries {
             // parse_request makes no other.
             _ => "a request".to_string(),
         };
-        // Said on the robot's console: the operator there sees who stopped or moved it.
-        if request != Request::Mode(Mode::Halt)
-            && self.settings.bus.accept_requests == AcceptRequests::Halt
-        {
-            tracing::warn!(
-                "bus: {what} requested by another program: refused (accept_requests = halt)"
-            );
+        let halt = request == Request::Mode(Mode::Halt);
+        if !halt && port == Port::Halt && self.secured {
+            return Self::refused(format!(
+                "{what}: on a secured bus {} takes HALT only; power up and modes go to {}, which only an operator's identity may ask (rule: HALT for everyone, the rest for operators)",
+                self.settings.bus.key("request"),
+                self.settings.bus.key("request/operator")
+            ));
+        }
+        if !halt && self.settings.bus.accept_requests == AcceptRequests::Halt {
             return Self::refused(
                 "the bus may only ask for halt here ([bus] accept_requests = halt)".to_string(),
             );
         }
-        match self.supervisor.request(request) {
+        if request == Request::PowerUp
+            && self.settings.backend == Backend::Cards
+            && !self.settings.bus.remote_power_up
+        {
+            return Self::refused(
+                "power up: on the real robot motor power comes on only from someone at it (rule: [bus] remote_power_up = no)"
+                    .to_string(),
+            );
+        }
+        // Said on the robot's console: the operator there sees who stopped or moved it.
+        match self.supervisor.request_from_bus(request) {
             Ok(()) => {
                 tracing::info!("bus: {what} requested by another program: accepted");
                 Ok(json!({ "accepted": true }))
             }
-            Err(reason) => {
-                tracing::info!("bus: {what} requested by another program: refused ({reason})");
-                Self::refused(reason)
-            }
+            Err(reason) => Self::refused(reason),
         }
     }
 
-    /// `ROBOT/config/SECTION/KEY`: `path` is SECTION/KEY; no payload gets the setting,
-    /// `{"set": VALUE}` sets it.
-    pub fn config(&mut self, path: &str, payload: Option<&[u8]>) -> Answer {
+    /// A settings port: `path` is SECTION/KEY; no payload gets the setting,
+    /// `{"set": VALUE}` sets it (at `Port::Set`, or at `Port::Get` on a bus that is
+    /// not secured).
+    pub fn config(&mut self, path: &str, payload: Option<&[u8]>, port: Port) -> Answer {
         let Some((section, key)) = path.rsplit_once('/') else {
             return Err(format!(
                 "'{path}' is not SECTION/KEY (for example config/pid.left/kp)"
@@ -133,7 +181,13 @@ impl Queries {
         let Some((value, comment)) = source.setting(section, key) else {
             return Err(format!("{name} is not a setting in {}", source.label));
         };
-        let Some(payload) = payload.filter(|p| !p.is_empty()) else {
+        let payload = payload.filter(|p| !p.is_empty());
+        if payload.is_none() && port == Port::Set {
+            return Err(format!(
+                "a set of {name} needs a payload {{\"set\": VALUE}} (bus set {section}.{key} VALUE)"
+            ));
+        }
+        let Some(payload) = payload else {
             // A gain or law parameter as in force now (the GUI or the bus may have
             // changed it since the start); any other setting as the program read it.
             let (mut gains, mut law) = self.tuning.snapshot();
@@ -147,9 +201,21 @@ impl Queries {
             }));
         };
         let new_value = parse_set(payload)?;
+        if port == Port::Get && self.secured {
+            return Self::refused(format!(
+                "{name}: on a secured bus settings are changed on {}, which only an operator's identity may ask (rule: reading for every role, changing for operators)",
+                self.settings.bus.key(&format!("set/{section}/{key}"))
+            ));
+        }
         if self.settings.bus.accept_requests == AcceptRequests::Halt {
             return Self::refused(format!(
                 "the bus may not change settings here ([bus] accept_requests = halt): {name} stays {value}"
+            ));
+        }
+        if START_ONLY.contains(&(section, key)) {
+            return Self::refused(format!(
+                "{name} is read when the threads start: set it in {} or with --set and start again; it stays {value}",
+                source.label
             ));
         }
         if !LIVE_SECTIONS.contains(&section) {

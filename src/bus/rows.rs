@@ -7,25 +7,31 @@
 
 use std::io::{self, Read, Write};
 use std::sync::Arc;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use crossbeam_channel::{Receiver, bounded};
 use mechweed_hw::camproto::{FRAME_LEN, encode_row};
 use zenoh::{Session, Wait};
 
-use super::payload::parse_row;
+use super::payload::{parse_row, wall_s};
+use super::row_clock::{RowClock, Verdict};
 
 /// Counts of what came in on `ROBOT/camera/row`.
 #[derive(Debug, Default)]
 pub struct RowCounts {
     pub received: AtomicU64,
     pub rejected: AtomicU64,
+    /// Set by the bus thread while two programs with the camera's identity are linked:
+    /// no row is taken then (identities.rs).
+    pub rivals: Arc<AtomicBool>,
 }
 
 /// The camera link's byte stream when the rows come from the bus.
 pub struct BusRows {
-    payloads: Receiver<Vec<u8>>,
+    /// Each payload with its arrival, s since 1970.
+    payloads: Receiver<(Vec<u8>, f64)>,
+    clock: RowClock,
     read_timeout: Duration,
     counts: Arc<RowCounts>,
     key: String,
@@ -38,21 +44,24 @@ const QUEUE_ROWS: usize = 8;
 
 impl BusRows {
     /// Subscribe to `key`; zenoh's callback only hands each payload on.
+    /// `max_age_s`: a row older than this by its capture time is stale (row_clock.rs).
     pub fn subscribe(
         session: &Session,
         key: &str,
         read_timeout: Duration,
+        max_age_s: f64,
         counts: Arc<RowCounts>,
     ) -> zenoh::Result<BusRows> {
         let (tx, payloads) = bounded(QUEUE_ROWS);
         let subscriber = session
             .declare_subscriber(key)
             .callback(move |sample| {
-                let _ = tx.try_send(sample.payload().to_bytes().into_owned());
+                let _ = tx.try_send((sample.payload().to_bytes().into_owned(), wall_s()));
             })
             .wait()?;
         Ok(BusRows {
             payloads,
+            clock: RowClock::new(max_age_s),
             read_timeout,
             counts,
             key: key.to_string(),
@@ -62,19 +71,32 @@ impl BusRows {
 
     /// The frame for one payload, or None for one refused (counted, and the first few
     /// logged with why).
-    fn frame(&self, payload: &[u8]) -> Option<[u8; FRAME_LEN]> {
+    fn frame(&mut self, payload: &[u8], arrived_s: f64) -> Option<[u8; FRAME_LEN]> {
         self.counts.received.fetch_add(1, Ordering::Relaxed);
-        match parse_row(payload) {
-            Ok(estimate) => Some(encode_row(&estimate)),
-            Err(why) => {
-                let n = self.counts.rejected.fetch_add(1, Ordering::Relaxed) + 1;
-                // The first few name the problem; a flood is only counted.
-                if n <= 5 {
-                    tracing::warn!("{}: row estimate refused: {why}", self.key);
-                }
-                None
-            }
+        if self.counts.rivals.load(Ordering::Relaxed) {
+            // Whose row this is cannot be told: none is taken.
+            self.counts.rejected.fetch_add(1, Ordering::Relaxed);
+            return None;
         }
+        let refused = match parse_row(payload) {
+            Ok((estimate, t_s)) => {
+                let (verdict, said) = self.clock.row(t_s, arrived_s);
+                if let Some(line) = said {
+                    tracing::info!("{line}");
+                }
+                match verdict {
+                    Verdict::Take => return Some(encode_row(&estimate)),
+                    Verdict::Stale(why) => format!("stale: {why}"),
+                }
+            }
+            Err(why) => why,
+        };
+        let n = self.counts.rejected.fetch_add(1, Ordering::Relaxed) + 1;
+        // The first few name the problem; a flood is only counted.
+        if n <= 5 {
+            tracing::warn!("{}: row estimate refused: {refused}", self.key);
+        }
+        None
     }
 }
 
@@ -97,8 +119,10 @@ impl Read for BusRows {
             } else {
                 self.payloads.try_recv().ok()
             };
-            let Some(payload) = payload else { break };
-            if let Some(frame) = self.frame(&payload) {
+            let Some((payload, arrived_s)) = payload else {
+                break;
+            };
+            if let Some(frame) = self.frame(&payload, arrived_s) {
                 buf[n..n + FRAME_LEN].copy_from_slice(&frame);
                 n += FRAME_LEN;
             }

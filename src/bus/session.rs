@@ -1,9 +1,16 @@
 //! Opening the Zenoh session: safe by default (only the endpoints robot.ini names,
-//! no multicast scouting, no gossip), and a clear error that names the setting.
+//! no multicast scouting, no gossip, messages and sessions bounded), TLS with the
+//! cluster's identities and access rules where its keys are given, and a clear error
+//! that names the setting.
 
 use zenoh::{Session, Wait};
 
-use crate::config::BusSettings;
+use crate::config::{BusSettings, TlsFiles, endpoint_address};
+use crate::keys::Roster;
+
+/// The largest message a program takes, bytes: a status or a plan is a few kilobytes.
+/// Zenoh's own limit is a gigabyte, which a flood of large payloads would fill.
+pub const MAX_MESSAGE_BYTES: usize = 128 * 1024;
 
 /// Why the bus could not start.
 #[derive(Debug, thiserror::Error)]
@@ -39,8 +46,9 @@ pub enum Role<'a> {
     Master { listen: String },
 }
 
-/// Open the session for `role`.
-pub fn open(role: Role) -> Result<Session, BusError> {
+/// Open the session for `role`; with `tls`, TLS only, both ends showing a certificate
+/// of the cluster's authority, under the access rules written from its roster.
+pub fn open(role: Role, tls: Option<&TlsFiles>) -> Result<Session, BusError> {
     let (listen, connect, multicast, setting, wait) = match &role {
         Role::Robot(s) => (
             s.listen.clone(),
@@ -58,9 +66,17 @@ pub fn open(role: Role) -> Result<Session, BusError> {
             true,
         ),
     };
+    // Sessions at once: the robot's flows need a camera, a few views and recorders and
+    // bus tools; the master one per launcher and status tool. A flood of sessions
+    // finds the door shut instead of the memory full.
+    let max_sessions = match role {
+        Role::Robot(_) => 32,
+        Role::Master { .. } => 64,
+        Role::Tool { .. } => 8,
+    };
     let mut config = zenoh::Config::default();
     let json = |items: &[String]| serde_json::to_string(items).expect("strings are JSON");
-    let settings = [
+    let mut settings = vec![
         ("mode", "\"peer\"".to_string()),
         // Explicit, also when empty: a peer's default listens on every network.
         ("listen/endpoints", json(&listen)),
@@ -79,7 +95,16 @@ pub fn open(role: Role) -> Result<Session, BusError> {
             r#"{"period_init_ms": 250, "period_max_ms": 1000, "period_increase_factor": 2}"#
                 .to_string(),
         ),
+        (
+            "transport/link/rx/max_message_size",
+            MAX_MESSAGE_BYTES.to_string(),
+        ),
+        ("transport/unicast/max_sessions", max_sessions.to_string()),
+        ("transport/unicast/accept_pending", "16".to_string()),
     ];
+    if let Some(files) = tls {
+        settings.extend(secured(files).map_err(|why| BusError::Other { setting, why })?);
+    }
     for (key, value) in settings {
         config
             .insert_json5(key, &value)
@@ -117,9 +142,47 @@ pub fn open(role: Role) -> Result<Session, BusError> {
     })
 }
 
+/// The TLS and access-control settings for `files`; an error names the file.
+fn secured(files: &TlsFiles) -> Result<Vec<(&'static str, String)>, String> {
+    let check = |path: &std::path::Path, holds: &str, what: &str| {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("cannot read {what} {}: {e}", path.display()))?;
+        if text.contains(holds) {
+            Ok(())
+        } else {
+            Err(format!("{} is not {what}", path.display()))
+        }
+    };
+    check(&files.ca, "CERTIFICATE", "the authority's certificate")?;
+    check(&files.cert, "CERTIFICATE", "a certificate")?;
+    check(&files.key, "PRIVATE KEY", "a private key")?;
+    let roster = Roster::read(&files.roster())?;
+    let path = |p: &std::path::Path| serde_json::to_string(&p.display().to_string()).expect("JSON");
+    Ok(vec![
+        // TLS only: no plain link is opened or accepted beside it.
+        ("transport/link/protocols", r#"["tls"]"#.to_string()),
+        ("transport/link/tls/root_ca_certificate", path(&files.ca)),
+        ("transport/link/tls/listen_certificate", path(&files.cert)),
+        ("transport/link/tls/listen_private_key", path(&files.key)),
+        ("transport/link/tls/connect_certificate", path(&files.cert)),
+        ("transport/link/tls/connect_private_key", path(&files.key)),
+        ("transport/link/tls/enable_mtls", "true".to_string()),
+        // Who a peer is comes from its certificate's name and the roster, not from
+        // the address it was reached at (a field's addresses change).
+        (
+            "transport/link/tls/verify_name_on_connect",
+            "false".to_string(),
+        ),
+        (
+            "access_control",
+            super::acl::access_control(&roster).to_string(),
+        ),
+    ])
+}
+
 /// The endpoint and port, if something else already listens on `endpoint`'s port.
 fn in_use(endpoint: &str) -> Option<(String, u16)> {
-    let address = endpoint.strip_prefix("tcp/")?;
+    let (address, _) = endpoint_address(endpoint)?;
     let (_, port) = address.rsplit_once(':')?;
     let port: u16 = port.parse().ok()?;
     match std::net::TcpListener::bind(address) {

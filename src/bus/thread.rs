@@ -16,14 +16,16 @@ use zenoh::qos::CongestionControl;
 use zenoh::query::Query;
 use zenoh::{Session, Wait};
 
-use super::payload::status_json;
+use super::identities::Identities;
+use super::payload::{parse_request, status_json};
 use super::peers::Peers;
-use super::queries::Queries;
+use super::queries::{Port, Queries};
+use super::refusals::{RateLimit, Refusals};
 use super::rows::RowCounts;
 use super::{BusFigures, BusState};
 use crate::camlink::LinkStatus;
 use crate::config::{Settings, SteerSettings};
-use crate::modes::Gains;
+use crate::modes::{Gains, Mode, Request};
 use crate::record::{TickFlow, tick_json};
 use crate::request_channel::SupervisorHandle;
 use crate::rt::LoopSummary;
@@ -35,8 +37,17 @@ use crate::steer::SteerCommand;
 const STATUS_PERIOD: Duration = Duration::from_millis(100);
 /// How often the bus thread fetches ticks and events from its queue.
 const DRAIN_PERIOD: Duration = Duration::from_millis(20);
-/// Queries waiting for the bus thread; more are dropped (the asker times out).
-const QUEUE_QUERIES: usize = 16;
+/// HALTs waiting for the bus thread; they are served before anything else.
+const QUEUE_HALTS: usize = 64;
+/// Other requests waiting; more are dropped (the asker times out): a flood waits in
+/// zenoh's buffers, not here.
+const QUEUE_REQUESTS: usize = 4;
+/// Settings asked or set, waiting.
+const QUEUE_SETTINGS: usize = 8;
+/// Requests other than HALT taken a second, and settings asked a second: more are
+/// refused at once, so that nobody's flood keeps the supervisor busy.
+const REQUESTS_PER_S: f64 = 5.0;
+const SETTINGS_PER_S: f64 = 20.0;
 
 pub struct BusWires {
     pub status: Reader<Status>,
@@ -67,34 +78,60 @@ pub fn run(session: Session, settings: &Settings, w: BusWires) -> zenoh::Result<
         publisher("tick")?,
         publisher("event")?,
     );
-    // Requests and settings wait in queues of their own, requests served first: a
-    // flood of settings never delays a HALT. A full queue drops the query (its asker
+    // HALT, other requests and settings wait in queues of their own, HALT served
+    // first, every one of them, before anything else: no flood delays a HALT by more
+    // than the one request being answered. A full queue drops the query (its asker
     // hears nothing and times out) and counts it.
     let dropped = Arc::new(AtomicU64::new(0));
-    let queue = |key: String| -> zenoh::Result<_> {
-        let (tx, rx) = bounded::<Query>(QUEUE_QUERIES);
+    let (halt_tx, halts) = bounded::<Query>(QUEUE_HALTS);
+    let (request_tx, requests) = bounded::<(Port, Query)>(QUEUE_REQUESTS);
+    let (setting_tx, settings_asked) = bounded::<(Port, Query)>(QUEUE_SETTINGS);
+    let queryable = |key: String, port: Port| {
+        let (halt_tx, request_tx, setting_tx) =
+            (halt_tx.clone(), request_tx.clone(), setting_tx.clone());
         let dropped = Arc::clone(&dropped);
-        let queryable = session
+        session
             .declare_queryable(key)
             .callback(move |q| {
-                if tx.try_send(q).is_err() {
+                let queued = match port {
+                    // Payloads are small (the session's message limit): telling a HALT
+                    // from the rest here keeps the two apart from the start.
+                    Port::Halt if is_halt(&q) => halt_tx.try_send(q).is_ok(),
+                    Port::Halt | Port::Operator => request_tx.try_send((port, q)).is_ok(),
+                    Port::Get | Port::Set => setting_tx.try_send((port, q)).is_ok(),
+                };
+                if !queued {
                     dropped.fetch_add(1, Ordering::Relaxed);
                 }
             })
-            .wait()?;
-        Ok((queryable, rx))
+            .wait()
     };
-    let (_requests, requests) = queue(bus.key("request"))?;
-    let (_config, configs) = queue(bus.key("config/**"))?;
+    let _queryables = [
+        queryable(bus.key("request"), Port::Halt)?,
+        queryable(bus.key("request/operator"), Port::Operator)?,
+        queryable(bus.key("config/**"), Port::Get)?,
+        queryable(bus.key("set/**"), Port::Set)?,
+    ];
+    let mut request_limit = RateLimit::new(REQUESTS_PER_S, Instant::now());
+    let mut setting_limit = RateLimit::new(SETTINGS_PER_S, Instant::now());
+    let mut refusals = Refusals::default();
     let own_token = bus.key("alive/controller");
     let _alive = session.liveliness().declare_token(&own_token).wait()?;
     let mut peers = Peers::watch(&session, &bus.key("alive/**"))?;
-    let config_prefix = bus.key("config/");
     let mut answers = Queries::new(settings, w.supervisor, w.tuning);
     let mut figures = BusFigures {
         state: BusState::Running,
+        security: crate::gamepad::Label::new(&super::security_line(bus)),
         ..BusFigures::default()
     };
+    // The roster was read when the session opened: it is there.
+    let mut identities = bus
+        .tls
+        .as_ref()
+        .and_then(|tls| crate::keys::Roster::read(&tls.roster()).ok())
+        .map(Identities::new);
+    let (link_changes, _links) = super::identities::watch_links(&session)?;
+    let mut rivals_said = false;
     let mut json = String::with_capacity(4096);
     let mut next_status = Instant::now();
     while !w.stop.load(Ordering::Relaxed) {
@@ -104,16 +141,34 @@ pub fn run(session: Session, settings: &Settings, w: BusWires) -> zenoh::Result<
         // Queries wake the thread; ticks and events are fetched on its own beat, so the
         // supervisor's try_send never has a sleeping reader to wake (a system call in
         // its tick).
-        let next = match requests.try_recv() {
-            Ok(query) => Some((true, query)),
+        let next = match halts.try_recv() {
+            Ok(query) => Some((Port::Halt, query, true)),
             Err(_) => select! {
-                recv(requests) -> q => q.ok().map(|q| (true, q)),
-                recv(configs) -> q => q.ok().map(|q| (false, q)),
+                recv(halts) -> q => q.ok().map(|q| (Port::Halt, q, true)),
+                recv(requests) -> q => q.ok().map(|(port, q)| (port, q, false)),
+                recv(settings_asked) -> q => q.ok().map(|(port, q)| (port, q, false)),
                 default(wait) => None,
             },
         };
-        if let Some((is_request, query)) = next {
-            answers.serve(&query, is_request, &config_prefix, &mut figures);
+        if let Some((port, query, halt)) = next {
+            let now = Instant::now();
+            let limit = match port {
+                Port::Get | Port::Set => &mut setting_limit,
+                _ => &mut request_limit,
+            };
+            let refused = if halt || limit.take(now) {
+                answers.serve(&query, port, &mut figures)
+            } else {
+                let why = "too many requests: the bus takes 5 requests and 20 settings a second at most (HALT always)";
+                Queries::refuse(&query, why, &mut figures);
+                Some(format!("{}: {why}", query.key_expr()))
+            };
+            if let Some(line) = refused.and_then(|why| refusals.refused(why, now)) {
+                tracing::warn!("{line}");
+            }
+        }
+        if let Some(line) = refusals.due(Instant::now()) {
+            tracing::warn!("{line}");
         }
         while let Ok(tick) = w.flow.ticks.try_recv() {
             tick_json(&tick, &mut json);
@@ -135,12 +190,18 @@ pub fn run(session: Session, settings: &Settings, w: BusWires) -> zenoh::Result<
                 next_status = now + STATUS_PERIOD;
             }
             let loops = [w.loops[0].snapshot(), w.loops[1].snapshot()];
-            let status = status_json(
+            let mut status = status_json(
                 &w.status.snapshot(),
                 &w.link.snapshot(),
                 &w.steer.snapshot(),
                 &loops,
             );
+            // Whoever watches sees whether this bus is secured, and who came.
+            status["bus"] = json!({
+                "secured": bus.tls.is_some(),
+                "security": figures.security.as_str(),
+                "identities": figures.identities.as_str(),
+            });
             if status_pub.put(status.to_string()).wait().is_ok() {
                 figures.status_published += 1;
             }
@@ -170,10 +231,34 @@ pub fn run(session: Session, settings: &Settings, w: BusWires) -> zenoh::Result<
             figures.rows_received = w.rows.received.load(Ordering::Relaxed);
             figures.rows_rejected = w.rows.rejected.load(Ordering::Relaxed);
             figures.queries_dropped = dropped.load(Ordering::Relaxed);
+            if let Some(ids) = &mut identities {
+                let look = ids.take(link_changes.try_iter());
+                for name in &look.newly_refused {
+                    tracing::warn!(
+                        "bus: {name} linked with a certificate of this authority, but the roster gives it no rights (revoked, or never in it): it may do nothing"
+                    );
+                }
+                let rivals = !look.rival_cameras.is_empty();
+                if rivals && !rivals_said {
+                    tracing::warn!(
+                        "bus: two programs send camera rows: {}; the rows of neither are taken",
+                        look.rival_cameras.join(" and ")
+                    );
+                }
+                rivals_said = rivals;
+                w.rows.rivals.store(rivals, Ordering::Relaxed);
+                figures.identities = crate::gamepad::Label::new(&ids.summary());
+            }
             w.figures.publish(&figures);
         }
     }
     figures.state = BusState::Closed;
     w.figures.publish(&figures);
     Ok(figures)
+}
+
+/// Whether a query on ROBOT/request asks for HALT.
+fn is_halt(query: &Query) -> bool {
+    let payload = query.payload().map(|p| p.to_bytes());
+    parse_request(payload.as_deref().unwrap_or_default()) == Ok(Request::Mode(Mode::Halt))
 }

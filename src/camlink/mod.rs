@@ -87,6 +87,9 @@ pub struct LinkStatus {
     pub ping_rtt_ms: f64,
     /// When the link thread last showed a sign of life, s (its heartbeat).
     pub beat_s: f64,
+    /// Rows from the bus: two programs with the camera's identity send them at once,
+    /// and the rows of neither are taken.
+    pub rival_sources: bool,
 }
 
 impl Default for LinkStatus {
@@ -107,6 +110,7 @@ impl Default for LinkStatus {
             pings_sent: 0,
             ping_rtt_ms: f64::NAN,
             beat_s: 0.0,
+            rival_sources: false,
         }
     }
 }
@@ -163,6 +167,11 @@ impl LinkCore {
     /// The link thread is alive at `now_s` (the supervisor watches this).
     pub fn beat(&mut self, now_s: f64) {
         self.status.beat_s = now_s;
+    }
+
+    /// Whether two programs send rows on the bus now.
+    pub fn rival_sources(&mut self, rivals: bool) {
+        self.status.rival_sources = rivals;
     }
 
     /// The link thread is opening the port and waits for `step`.

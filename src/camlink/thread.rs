@@ -59,6 +59,9 @@ pub struct LinkThread {
     inject: Option<Injection>,
     /// A stream made before the thread started (the bus's row estimates), used first.
     ready: Option<Box<dyn ByteStream>>,
+    /// Set while two programs send rows on the bus (bus/identities.rs): said in the
+    /// status, for the supervisor's fault.
+    rivals: Option<Arc<AtomicBool>>,
     stop: Arc<AtomicBool>,
 }
 
@@ -79,6 +82,7 @@ impl LinkThread {
             priority: 0,
             inject: None,
             ready: None,
+            rivals: None,
             stop: wires.stop,
         }
     }
@@ -99,12 +103,21 @@ impl LinkThread {
     }
 
     /// Read from `stream`, already open (row estimates from the bus), instead of opening
-    /// the port.
-    pub fn with_stream(self, stream: Box<dyn ByteStream>) -> LinkThread {
+    /// the port; `rivals` is set while two programs send them.
+    pub fn with_stream(self, stream: Box<dyn ByteStream>, rivals: Arc<AtomicBool>) -> LinkThread {
         LinkThread {
             ready: Some(stream),
+            rivals: Some(rivals),
             ..self
         }
+    }
+
+    /// Publish the link's state, with whether rows have rival sources now.
+    fn publish_status(&mut self) {
+        if let Some(rivals) = &self.rivals {
+            self.core.rival_sources(rivals.load(Ordering::Relaxed));
+        }
+        self.status.publish(self.core.status());
     }
 
     fn now_s(&self) -> f64 {
@@ -117,7 +130,7 @@ impl LinkThread {
             tracing::warn!("camera link thread: {warning}");
         }
         self.core.beat(self.now_s());
-        self.status.publish(self.core.status());
+        self.publish_status();
         let mut backoff = BACKOFF_MIN;
         let mut last_problem = None;
         while !self.stop.load(Ordering::Relaxed) {
@@ -159,7 +172,7 @@ impl LinkThread {
                     self.core.disconnected(problem);
                 }
             }
-            self.status.publish(self.core.status());
+            self.publish_status();
             self.sleep(backoff);
             backoff = (backoff * 2).min(BACKOFF_MAX);
         }
@@ -181,7 +194,7 @@ impl LinkThread {
                 Heard::Nothing => {}
             }
             self.core.beat(self.now_s());
-            self.status.publish(self.core.status());
+            self.publish_status();
         }
         Err(io::Error::new(
             ErrorKind::Interrupted,
@@ -195,7 +208,7 @@ impl LinkThread {
         while !self.stop.load(Ordering::Relaxed) && Instant::now() < end {
             std::thread::sleep(Duration::from_millis(10));
             self.core.beat(self.now_s());
-            self.status.publish(self.core.status());
+            self.publish_status();
         }
     }
 
@@ -242,7 +255,7 @@ impl LinkThread {
             self.core.beat(now_s);
             // Published before the steer thread is woken: it runs at a higher priority
             // and reads the estimate from this status at once.
-            self.status.publish(self.core.status());
+            self.publish_status();
             if usable {
                 let _ = self.new_estimate.try_send(());
             }

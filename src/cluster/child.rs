@@ -52,6 +52,14 @@ impl Child {
         }
     }
 
+    /// A process the launcher does not run (admit.rs said why).
+    pub fn refused(launch: Launch, mechweed: &Path, why: String) -> Child {
+        let mut child = Child::new(launch, mechweed);
+        child.state = "refused";
+        child.exit = Some(why);
+        child
+    }
+
     /// Start it; the error names the program.
     pub fn start(&mut self) -> Result<(), String> {
         let mut command = Command::new(&self.exe);

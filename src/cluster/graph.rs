@@ -22,7 +22,7 @@
 
 use std::collections::BTreeSet;
 
-use crate::config::{ConfigError, Reader, parse_endpoints, parse_prefix};
+use crate::config::{ConfigError, Reader, TlsFiles, listen_refusal, parse_endpoints, parse_prefix};
 
 use super::flow::flow;
 use super::program::Program;
@@ -102,6 +102,11 @@ pub struct Graph {
     /// Where the master listens for the launchers.
     pub master: String,
     pub master_lost: MasterLost,
+    /// The master's identity ([cluster] tls_ca, tls_cert, tls_key): the cluster is
+    /// secured, every endpoint tls/, every program with its own identity.
+    pub tls: Option<TlsFiles>,
+    /// Plain tcp/ beyond loopback allowed ([cluster] trusted_network = yes).
+    pub trusted_network: bool,
     pub machines: Vec<Machine>,
     pub processes: Vec<Process>,
     pub flows: Vec<Flow>,
@@ -132,7 +137,10 @@ impl Graph {
         let master = r.parsed(s, "master", one_endpoint).unwrap_or_default();
         let master_lost =
             [MasterLost::RunOn, MasterLost::Stop][r.choice(s, "master_lost", &["run_on", "stop"])];
+        let tls = crate::config::tls_files(&mut r, s, false);
+        let trusted_network = crate::config::optional_yes(&mut r, s, "trusted_network");
         let machines: Vec<Machine> = machine_names.iter().map(|n| machine(&mut r, n)).collect();
+        check_endpoints(&mut r, &master, &machines, tls.is_some(), trusted_network);
         let processes: Vec<Process> = process_names
             .iter()
             .map(|n| process(&mut r, n, &machine_names, &process_names))
@@ -157,6 +165,8 @@ impl Graph {
             robot,
             master,
             master_lost,
+            tls,
+            trusted_network,
             machines,
             processes,
             flows,
@@ -315,6 +325,39 @@ pub(super) fn listed(names: &[String]) -> String {
         "none".to_string()
     } else {
         names.join(", ")
+    }
+}
+
+/// A graph that would open the robot's bus or the master beyond this computer without
+/// TLS is refused, each endpoint named, unless [cluster] trusted_network = yes; with TLS,
+/// every endpoint is tls/.
+fn check_endpoints(
+    r: &mut Reader,
+    master: &str,
+    machines: &[Machine],
+    tls: bool,
+    trusted_network: bool,
+) {
+    let mut places = vec![("cluster".to_string(), "master", master.to_string())];
+    for m in machines {
+        let section = format!("machine {}", m.name);
+        places.push((section.clone(), "endpoint", m.endpoint.clone()));
+        places.push((section, "listen", m.listen.clone()));
+    }
+    for (section, key, endpoint) in places {
+        if endpoint.is_empty() {
+            continue; // its own error already
+        }
+        let setting = format!("[{section}] {key}");
+        if let Some(why) = listen_refusal(&[endpoint], tls, trusted_network, &setting) {
+            let why = why
+                .replace(
+                    "tls_ca, tls_cert and tls_key",
+                    "[cluster] tls_ca, tls_cert and tls_key",
+                )
+                .replace("set trusted_network", "set [cluster] trusted_network");
+            r.error_at(&section, key, why);
+        }
     }
 }
 

@@ -17,10 +17,12 @@ use zenoh::query::Query;
 use zenoh::sample::SampleKind;
 use zenoh::{Session, Wait};
 
+use super::admit::Admission;
 use super::child::Child;
 use super::plan::Plan;
 use super::{Keys, answer, ask};
 use crate::bus::session::{Role, open};
+use crate::config::TlsFiles;
 
 /// How long a process has to end after SIGINT before it is killed.
 const STOP_PATIENCE: Duration = Duration::from_secs(10);
@@ -29,20 +31,32 @@ const STOP_PATIENCE: Duration = Duration::from_secs(10);
 const REPORT_EVERY: Duration = Duration::from_secs(1);
 const LOOK_EVERY: Duration = Duration::from_millis(50);
 
-/// Run the launcher of `machine` until the master says stop, or Ctrl-C (`stop`).
-pub fn run(machine: &str, master: &str, robot: &str, stop: &Arc<AtomicBool>) -> Result<(), String> {
+/// Run the launcher of `machine` until the master says stop, or Ctrl-C (`stop`); as
+/// the identity `tls` names on a secured cluster (it must be `machine`'s launcher), and
+/// running only what `admission` lets run.
+pub fn run(
+    machine: &str,
+    master: &str,
+    robot: &str,
+    tls: Option<&TlsFiles>,
+    admission: &Admission,
+    stop: &Arc<AtomicBool>,
+) -> Result<(), String> {
     let keys = Keys::new(robot);
-    let session = open(Role::Tool {
-        connect: vec![master.to_string()],
-        wait: true,
-    })
+    let session = open(
+        Role::Tool {
+            connect: vec![master.to_string()],
+            wait: true,
+        },
+        tls,
+    )
     .map_err(|e| e.to_string())?;
     let _token = session
         .liveliness()
         .declare_token(keys.launcher(machine))
         .wait()
         .map_err(|e| e.to_string())?;
-    let Some(plan) = fetch_plan(&session, &keys, machine, master, stop)? else {
+    let Some(plan) = fetch_plan(&session, &keys, machine, master, tls.is_some(), stop)? else {
         return Ok(());
     };
     // Everything that can fail before the first process starts: an error after it would
@@ -61,7 +75,13 @@ pub fn run(machine: &str, master: &str, robot: &str, stop: &Arc<AtomicBool>) -> 
     let mut children: Vec<Child> = plan
         .processes
         .iter()
-        .map(|launch| Child::new(launch.clone(), &mechweed))
+        .map(|launch| match admission.admit(launch.clone()) {
+            Ok(admitted) => Child::new(admitted, &mechweed),
+            Err(why) => {
+                eprintln!("launcher {machine}: {why}");
+                Child::refused(launch.clone(), &mechweed, why)
+            }
+        })
         .collect();
     // The controller first: the other programs connect to it.
     children.sort_by_key(|c| !c.launch.controller);
@@ -82,6 +102,7 @@ pub fn run(machine: &str, master: &str, robot: &str, stop: &Arc<AtomicBool>) -> 
                 child.launch.name,
                 child.launch.after.join(", ")
             ),
+            "refused" => {}
             _ => start(child, machine),
         }
     }
@@ -113,6 +134,7 @@ fn fetch_plan(
     keys: &Keys,
     machine: &str,
     master: &str,
+    secured: bool,
     stop: &AtomicBool,
 ) -> Result<Option<Plan>, String> {
     let mut said = false;
@@ -126,7 +148,14 @@ fn fetch_plan(
             // The master answered, and said no (a machine it does not know).
             Err(why) if !why.starts_with("no answer") => return Err(why),
             Err(_) if !said => {
-                println!("launcher {machine}: waiting for the master at {master}");
+                println!(
+                    "launcher {machine}: waiting for the master at {master}{}",
+                    if secured {
+                        " (a plan is taken only from the master's identity of this cluster's authority: a program there without it gets no hearing)"
+                    } else {
+                        ""
+                    }
+                );
                 said = true;
             }
             Err(_) => std::thread::sleep(Duration::from_millis(500)),

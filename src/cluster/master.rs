@@ -33,9 +33,12 @@ struct Table {
 /// Serve `graph` until `stop` (Ctrl-C), then stop the cluster.
 pub fn serve(graph: &Graph, stop: &Arc<AtomicBool>) -> Result<(), String> {
     let keys = Keys::new(&graph.robot);
-    let session = open(Role::Master {
-        listen: graph.master.clone(),
-    })
+    let session = open(
+        Role::Master {
+            listen: graph.master.clone(),
+        },
+        graph.tls.as_ref(),
+    )
     .map_err(|e| e.to_string())?;
     let (query_tx, queries) = bounded(64);
     let mut queryables = Vec::new();
@@ -54,7 +57,8 @@ pub fn serve(graph: &Graph, stop: &Arc<AtomicBool>) -> Result<(), String> {
     let _states = session
         .declare_subscriber(keys.state("*", "*"))
         .callback(move |sample| {
-            let _ = state_tx.try_send(sample.payload().to_bytes().into_owned());
+            let key = sample.key_expr().as_str().to_string();
+            let _ = state_tx.try_send((key, sample.payload().to_bytes().into_owned()));
         })
         .wait()
         .map_err(|e| e.to_string())?;
@@ -85,6 +89,10 @@ pub fn serve(graph: &Graph, stop: &Arc<AtomicBool>) -> Result<(), String> {
     };
     while !stop.load(Ordering::Relaxed) {
         while let Ok((present, machine)) = launchers.try_recv() {
+            // The table holds the graph's machines only, whoever declares a token.
+            if graph.machine(&machine).is_none() {
+                continue;
+            }
             let word = if present { "is there" } else { "went away" };
             println!("master: the launcher of {machine} {word}");
             if present {
@@ -93,9 +101,13 @@ pub fn serve(graph: &Graph, stop: &Arc<AtomicBool>) -> Result<(), String> {
                 table.launchers.remove(&machine);
             }
         }
-        while let Ok(bytes) = states.try_recv() {
+        while let Ok((key, bytes)) = states.try_recv() {
             match serde_json::from_slice::<ProcessReport>(&bytes) {
-                Ok(report) => table.note(report),
+                Ok(report) if reports_itself(graph, &keys, &key, &report) => table.note(report),
+                Ok(report) => eprintln!(
+                    "master: a state report on {key} for {} on {} refused: a launcher reports its own machine's processes of the graph, on their own key",
+                    report.process, report.machine
+                ),
                 Err(e) => eprintln!("master: a state report that cannot be read ({e})"),
             }
         }
@@ -112,6 +124,16 @@ pub fn serve(graph: &Graph, stop: &Arc<AtomicBool>) -> Result<(), String> {
     drop(queryables);
     stop_cluster(&session, graph, &keys, &table.launchers);
     Ok(())
+}
+
+/// Whether `report` came on its own process's key and names a process of the graph on
+/// its machine: the access rules let a launcher publish only its own machine's keys,
+/// and this keeps a report from speaking for another (and the table to the graph).
+fn reports_itself(graph: &Graph, keys: &Keys, key: &str, report: &ProcessReport) -> bool {
+    key == keys.state(&report.machine, &report.process)
+        && graph
+            .process(&report.process)
+            .is_some_and(|p| p.machine == report.machine)
 }
 
 fn plan(graph: &Graph, machine: &str) -> Result<Value, String> {

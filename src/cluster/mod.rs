@@ -15,6 +15,7 @@
 //! flow: each process's state as it changes, and every second) and
 //! `process/MACHINE/PROCESS/STATE` (a token while the process is in that state).
 
+pub mod admit;
 mod child;
 pub mod dot;
 mod flow;

@@ -14,11 +14,19 @@ use crate::bus::session::{Role, open};
 
 /// The master's view of the cluster, with `rates` (messages per second of each flow
 /// over `seconds`) added.
-pub fn fetch(master: &str, robot: &str, seconds: f64) -> Result<Value, String> {
-    let session = open(Role::Tool {
-        connect: vec![master.to_string()],
-        wait: false,
-    })
+pub fn fetch(
+    master: &str,
+    robot: &str,
+    seconds: f64,
+    tls: Option<&crate::config::TlsFiles>,
+) -> Result<Value, String> {
+    let session = open(
+        Role::Tool {
+            connect: vec![master.to_string()],
+            wait: false,
+        },
+        tls,
+    )
     .map_err(|_| {
         format!(
             "no cluster master answers at {master} (is `mechweed cluster master GRAPH` running there, with this [cluster] master?)"
@@ -30,7 +38,7 @@ pub fn fetch(master: &str, robot: &str, seconds: f64) -> Result<Value, String> {
             format!("the cluster master of robot '{robot}' at {master} does not answer: {why}")
         })?;
     status["rates"] = match status["controller_endpoint"].as_str() {
-        Some(endpoint) => match rates(endpoint, &status, seconds) {
+        Some(endpoint) => match rates(endpoint, &status, seconds, tls) {
             Ok(rates) => json!(rates),
             Err(why) => json!({ "error": why }),
         },
@@ -43,11 +51,19 @@ pub fn fetch(master: &str, robot: &str, seconds: f64) -> Result<Value, String> {
 /// of the controller by its messages; the rows into it by the frames its camera link
 /// took (from its status); any other flow does not pass the controller and is not
 /// counted (its reason instead of a number).
-fn rates(endpoint: &str, status: &Value, seconds: f64) -> Result<BTreeMap<String, Value>, String> {
-    let session = open(Role::Tool {
-        connect: vec![endpoint.to_string()],
-        wait: false,
-    })
+fn rates(
+    endpoint: &str,
+    status: &Value,
+    seconds: f64,
+    tls: Option<&crate::config::TlsFiles>,
+) -> Result<BTreeMap<String, Value>, String> {
+    let session = open(
+        Role::Tool {
+            connect: vec![endpoint.to_string()],
+            wait: false,
+        },
+        tls,
+    )
     .map_err(|e| format!("the controller's endpoint cannot be reached: {e}"))?;
     let controller = status["controller"].as_str().unwrap_or_default();
     let robot = status["robot"].as_str().unwrap_or_default();

@@ -25,7 +25,8 @@ fn the_shipped_graphs_are_read_whole() {
     assert_eq!(field.flows.len(), 5);
     assert_eq!(field.master_lost, MasterLost::RunOn);
     assert_eq!(field.controller().unwrap().name, "controller");
-    assert_eq!(field.controller_endpoint(), Some("tcp/192.168.1.10:7447"));
+    assert_eq!(field.controller_endpoint(), Some("tls/192.168.1.10:7447"));
+    assert!(field.tls.is_some(), "the field's cluster is secured");
     let local = Graph::parse("config/cluster-local.ini", LOCAL).unwrap();
     let names = |g: &Graph| {
         g.processes
@@ -175,6 +176,38 @@ fn the_picture_has_every_machine_process_and_flow() {
         picture.lines().all(|l| l.matches('"').count() % 2 == 0),
         "{picture}"
     );
+}
+
+#[test]
+fn a_graph_that_opens_plain_tcp_beyond_loopback_is_refused() {
+    let open = "[cluster]\nrobot = r\nmaster = tcp/0.0.0.0:7450\nmaster_lost = run_on\n\
+                [machine a]\nendpoint = tcp/192.168.1.10:7451\n";
+    let found = errors(open);
+    for key in [
+        "[cluster] master = tcp/0.0.0.0:7450",
+        "[machine a] endpoint = tcp/192.168.1.10:7451",
+    ] {
+        assert!(
+            found
+                .iter()
+                .any(|f| f.contains(key) && f.contains("without TLS")),
+            "{key} in {found:#?}"
+        );
+    }
+    // Said to be trusted: taken, at the user's word.
+    let trusted = open.replace(
+        "master_lost = run_on",
+        "master_lost = run_on\ntrusted_network = yes",
+    );
+    assert!(errors(&trusted).is_empty(), "{:?}", errors(&trusted));
+    // Secured, every endpoint is tls/.
+    let secured = trusted
+        .replace(
+            "trusted_network = yes",
+            "tls_ca = k/ca.pem\ntls_cert = k/master.pem\ntls_key = k/master.key",
+        )
+        .replace("tcp/", "tls/");
+    assert!(errors(&secured).is_empty(), "{:?}", errors(&secured));
 }
 
 #[test]

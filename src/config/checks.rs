@@ -32,6 +32,24 @@ pub(super) fn across(s: &Settings, r: &mut Reader) {
     no_script_on_the_real_robot(s, r);
     rows_need_the_bus(s, r);
     gnss_fix_age(s, r);
+    bus_open_only_with_tls(s, r);
+}
+
+/// A bus beyond loopback without TLS lets anyone on that network drive the robot.
+fn bus_open_only_with_tls(s: &Settings, r: &mut Reader) {
+    let keys = [("bus", "listen"), ("bus", "tls_ca")];
+    let bus = &s.bus;
+    if !bus.enabled {
+        return;
+    }
+    if let Some(why) = super::listen_refusal(
+        &bus.listen,
+        bus.tls.is_some(),
+        bus.trusted_network,
+        "[bus] listen",
+    ) {
+        require(r, false, &keys, || why);
+    }
 }
 
 /// A GNSS fix reaches the row filter up to its latency and a steer period after it was

@@ -17,12 +17,23 @@ mod source;
 
 use std::path::Path;
 
-pub use bus::{AcceptRequests, BusSettings, parse_endpoints, parse_prefix};
+pub use bus::{
+    AcceptRequests, BusSettings, ROSTER_FILE, TlsFiles, endpoint_address, is_loopback,
+    listen_refusal, optional_yes, parse_endpoints, parse_prefix, tls_files,
+};
 pub use camera_port::{BAUD_RATES, CameraPort};
 pub use filter::{FILTER_MAX_STEP_M, FilterConfig};
 pub use gnss::{GnssPort, GnssSettings, MapSource, SourceSettings, SteerSource};
 pub use joystick::{GamepadDevice, GamepadSettings, JoystickSettings, JoystickSource};
 pub use lines::read_text;
+
+/// A time in seconds as the command line takes it, 0 to a day.
+pub fn parse_seconds(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(s) if (0.0..=86_400.0).contains(&s) => Ok(s),
+        _ => Err(format!("'{text}' is not a time in s (0 to 86400)")),
+    }
+}
 pub use reader::{ConfigError, Place, Reader, override_parts};
 pub use record::{RecordFormats, RecordSettings};
 pub use source::SettingsSource;

@@ -287,6 +287,11 @@ impl FaultChecks {
         // (an old image's estimate repeated sees it only for [camera] gap_hold_m: the steer
         // thread says, as of its last tick, since when the camera has had a row it steers
         // by; a steer thread that stalls is its own fault, not the camera's).
+        // Two programs sending rows: neither's are taken, and the robot stops until one
+        // is gone (a rogue's rows, or a second camera program started by mistake).
+        if c.link.rival_sources {
+            report(FaultCause::TwoRowSources);
+        }
         if c.mode == Mode::Autonomous && self.source == SteerSource::Camera {
             let since = |t: f64| now - t.max(c.mode_since_s);
             let silent_s = since(c.link.last_row_s);

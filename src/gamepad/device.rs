@@ -9,6 +9,7 @@ use std::time::Duration;
 use evdev::{AbsoluteAxisCode, Device, EventType, KeyCode};
 
 use super::mapping::{AxisRange, Opened, PadMap};
+use super::pin::{Pin, choose};
 use super::thread::PadSource;
 use crate::config::GamepadDevice;
 
@@ -24,6 +25,9 @@ pub struct Found {
     pub buttons: Vec<String>,
     /// Absolute axes (ABS_X, ABS_Y, ...), by Linux name.
     pub axes: Vec<String>,
+    /// Where it is plugged in (the kernel's physical path, e.g. usb-0000:00:14.0-2/input0),
+    /// empty if the kernel does not say: with the name, which pad it is across a replug.
+    pub phys: String,
 }
 
 impl Found {
@@ -60,6 +64,7 @@ fn describe(path: &Path, device: &Device) -> Found {
         name: device.name().unwrap_or("(no name)").to_string(),
         buttons,
         axes,
+        phys: device.physical_path().unwrap_or("").to_string(),
     }
 }
 
@@ -100,8 +105,14 @@ pub struct OpenPad {
     pub opened: Opened,
 }
 
-/// Open the gamepad robot.ini names (or the first that fits), or say why none is usable.
-pub fn open(which: &GamepadDevice, map: &PadMap, dir: &Path) -> Result<OpenPad, String> {
+/// Open the gamepad robot.ini names (or the first that fits, or with `pin` the pad
+/// chosen before), or say why none is usable.
+pub fn open(
+    which: &GamepadDevice,
+    map: &PadMap,
+    dir: &Path,
+    pin: Option<&Pin>,
+) -> Result<OpenPad, String> {
     match which {
         GamepadDevice::Path(path) => {
             let device = Device::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
@@ -118,11 +129,21 @@ pub fn open(which: &GamepadDevice, map: &PadMap, dir: &Path) -> Result<OpenPad, 
         GamepadDevice::Auto => {
             let (devices, refused) = list(dir)?;
             let mut unfit = Vec::new();
+            let mut fitting = Vec::new();
             for (found, device) in devices.into_iter().filter(|(f, _)| f.looks_like_gamepad()) {
                 match lacks(&found, map) {
-                    None => return ready(device, found, map),
+                    None => fitting.push((found, device)),
                     Some(missing) => unfit.push(format!("{} has no {missing}", found.name)),
                 }
+            }
+            let found: Vec<Found> = fitting.iter().map(|(f, _)| f.clone()).collect();
+            match choose(&found, pin) {
+                Ok(i) => {
+                    let (found, device) = fitting.swap_remove(i);
+                    return ready(device, found, map);
+                }
+                Err(why) if pin.is_some() => return Err(why),
+                Err(_) => {}
             }
             let mut why = format!("no input device in {} looks like a gamepad", dir.display());
             if !unfit.is_empty() {
@@ -195,6 +216,8 @@ pub struct InputDevices {
     pub which: GamepadDevice,
     pub dir: PathBuf,
     open: Option<Device>,
+    /// With `auto`: the pad chosen first, the only one taken from then on.
+    pin: Option<Pin>,
 }
 
 impl InputDevices {
@@ -203,13 +226,17 @@ impl InputDevices {
             which,
             dir: dir.to_path_buf(),
             open: None,
+            pin: None,
         }
     }
 }
 
 impl PadSource for InputDevices {
     fn open(&mut self, map: &PadMap) -> Result<(Found, Opened), String> {
-        let pad = open(&self.which, map, &self.dir)?;
+        let pad = open(&self.which, map, &self.dir, self.pin.as_ref())?;
+        if self.which == GamepadDevice::Auto && self.pin.is_none() {
+            self.pin = Some(Pin::of(&pad.found));
+        }
         self.open = Some(pad.device);
         Ok((pad.found, pad.opened))
     }
@@ -273,7 +300,9 @@ mod tests {
         );
         let s = Settings::shipped();
         let map = PadMap::new(&s.gamepad, &s.joystick);
-        let why = open(&GamepadDevice::Auto, &map, dir.path()).err().unwrap();
+        let why = open(&GamepadDevice::Auto, &map, dir.path(), None)
+            .err()
+            .unwrap();
         assert!(
             why.contains("looks like a gamepad") && why.contains("not readable"),
             "{why}"
@@ -282,7 +311,7 @@ mod tests {
         assert!(list(&missing).unwrap_err().contains("cannot list"));
         let named = GamepadDevice::Path(dir.path().join("event2"));
         assert!(
-            open(&named, &map, dir.path())
+            open(&named, &map, dir.path(), None)
                 .err()
                 .unwrap()
                 .contains("event2")
@@ -298,6 +327,7 @@ mod tests {
             name: "pad".into(),
             buttons: vec!["BTN_SOUTH".into(), "BTN_TL".into()],
             axes: vec!["ABS_X".into(), "ABS_Y".into(), "ABS_RX".into()],
+            phys: String::new(),
         };
         assert!(pad.looks_like_gamepad());
         assert_eq!(lacks(&pad, &map), None);

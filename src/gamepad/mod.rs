@@ -7,6 +7,7 @@
 pub mod device;
 mod hw;
 pub mod mapping;
+pub mod pin;
 mod thread;
 
 pub use hw::PadHw;
@@ -14,7 +15,7 @@ pub use mapping::{DeadMan, Pad, PadJoystick, PadMap};
 pub use thread::start;
 
 /// Short text that fits in a protected object (which holds only `Copy` values).
-#[derive(Clone, Copy, PartialEq)]
+#[derive(Clone, Copy, PartialEq, Eq)]
 pub struct Label {
     bytes: [u8; 120],
     len: u8,
@@ -40,6 +41,18 @@ impl Label {
 
     pub fn as_str(&self) -> &str {
         std::str::from_utf8(&self.bytes[..usize::from(self.len)]).unwrap_or("")
+    }
+}
+
+impl Default for Label {
+    fn default() -> Label {
+        Label::EMPTY
+    }
+}
+
+impl serde::Serialize for Label {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.as_str())
     }
 }
 

@@ -63,6 +63,7 @@ impl PadSource for TestPad {
             name: "test pad".into(),
             buttons: vec!["BTN_TL".into()],
             axes: vec!["ABS_X".into(), "ABS_Y".into()],
+            phys: String::new(),
         };
         Ok((found, opened))
     }

@@ -96,7 +96,7 @@ pub fn run_gui(
     if opts.settings.rt.gui_cpu >= 0
         && let Some(why) = crate::rt::set_this_thread(0, opts.settings.rt.gui_cpu)
     {
-        println!("operator GUI: {why} ([rt] gui_cpu); it runs on any CPU");
+        crate::say!("operator GUI: {why} ([rt] gui_cpu); it runs on any CPU");
     }
     let controller: Controller = Arc::new(Mutex::new(Some(running)));
     let mut app = GuiApp::new(

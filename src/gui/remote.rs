@@ -93,13 +93,21 @@ impl RemoteView {
         }
     }
 
-    /// Watch robot `robot` at `endpoint` (it may start later: the session waits).
-    pub fn connect(endpoint: &str, robot: &str) -> Result<RemoteView, String> {
+    /// Watch robot `robot` at `endpoint` (it may start later: the session waits), as
+    /// the identity `tls` names on a secured bus.
+    pub fn connect(
+        endpoint: &str,
+        robot: &str,
+        tls: Option<&crate::config::TlsFiles>,
+    ) -> Result<RemoteView, String> {
         let mut remote = RemoteView::offline(robot, endpoint);
-        let session = open(Role::Tool {
-            connect: vec![endpoint.to_string()],
-            wait: true,
-        })
+        let session = open(
+            Role::Tool {
+                connect: vec![endpoint.to_string()],
+                wait: true,
+            },
+            tls,
+        )
         .map_err(|e| e.to_string())?;
         for (flow, key) in [(Flow::Status, "status"), (Flow::Tick, "tick")] {
             let arrive = remote.arrive.clone();
@@ -244,8 +252,14 @@ impl ViewSource for RemoteView {
             return Ok(());
         };
         let answer = self.answer.clone();
+        // HALT on the key every identity that may stop the robot may ask; the others on
+        // the operator's own (bus/acl.rs).
+        let key = match request {
+            Request::Mode(Mode::Halt) => format!("{}/request", self.robot),
+            _ => format!("{}/request/operator", self.robot),
+        };
         session
-            .get(format!("{}/request", self.robot))
+            .get(key)
             .payload(payload.to_string())
             .timeout(ANSWER_WAIT)
             .callback(move |reply| {

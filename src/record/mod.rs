@@ -211,7 +211,7 @@ pub fn start_for_run(run_settings: &Settings, truth: TruthHandle) -> (RecordTap,
     }
     match start(run_settings, Some(truth), Delivery::NeverWait) {
         Ok((tap, recorder)) => {
-            println!("recording into {}", recorder.files().join(", "));
+            crate::say!("recording into {}", recorder.files().join(", "));
             if let Some(keep) = settings.keep_records {
                 // The record just made is never deleted, even if the clock went back.
                 let current = recorder
@@ -220,7 +220,7 @@ pub fn start_for_run(run_settings: &Settings, truth: TruthHandle) -> (RecordTap,
                     .and_then(|f| keep::record_of(std::path::Path::new(f)));
                 let current = current.unwrap_or_default();
                 for line in keep::remove_oldest(&settings.folder, keep, &current) {
-                    println!("{line}");
+                    crate::say!("{line}");
                 }
             }
             (tap, recorder)

@@ -54,7 +54,7 @@ impl<'a> Recording<'a> {
 
     pub fn received_tick(&mut self, tick: &ReceivedTick) {
         if self.last_tick.is_some_and(|last| tick.tick <= last) {
-            println!(
+            crate::say!(
                 "off-board recorder: the tick numbers went back (the robot program started again): a new record begins"
             );
             self.close();
@@ -104,7 +104,7 @@ impl<'a> Recording<'a> {
         let start_ns = now_ns.saturating_sub((first.t_s.max(0.0) * 1e9) as u64);
         match BusRecord::create(self.settings, start_ns, self.every_n) {
             Ok(record) => {
-                println!(
+                crate::say!(
                     "off-board recorder: recording into {} (every {}th tick, as the robot publishes them)",
                     record.files().join(", "),
                     self.every_n

@@ -196,10 +196,11 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
             session,
             &s.bus.key("camera/row"),
             READ_TIMEOUT,
+            s.camera.link_timeout_s,
             row_counts.clone(),
         )
         .map_err(|e| RunError::BusRows(e.to_string()))?;
-        link = link.with_stream(Box::new(rows));
+        link = link.with_stream(Box::new(rows), row_counts.rivals.clone());
     }
     // A gamepad in place of the wired joystick: the supervisor reads it with the inputs.
     // Started after the last step that can fail, so that no error leaves it running.

@@ -5,12 +5,21 @@
 use crate::modes::{Gains, Mode, Refusal, Request};
 use crate::status::PowerState;
 
-use super::rules::{mode_refusal, power_up_refusal};
+use super::rules::{mode_refusal, power_up_refusal, remote_refusal};
 
 use super::Supervisor;
 use super::test_mode;
 
 impl Supervisor {
+    /// Act on a request; `from_bus`: it came from another program over the bus, and a
+    /// person at the robot comes first. The answer says why not, if not.
+    pub fn handle_from(&mut self, request: Request, from_bus: bool) -> Result<(), Refusal> {
+        if from_bus && let Some(refusal) = remote_refusal(&request, &self.status) {
+            return Err(refusal);
+        }
+        self.handle(request)
+    }
+
     /// Act on a request from another thread; the answer says why not, if not.
     pub fn handle(&mut self, request: Request) -> Result<(), Refusal> {
         let st = &self.status;

@@ -2,7 +2,7 @@
 //! be refused now. The supervisor decides with them (requests.rs), and the GUI asks
 //! them to grey out a button and say why, so that the two never disagree.
 
-use crate::modes::{Mode, Refusal};
+use crate::modes::{Mode, Refusal, Request};
 use crate::status::{PowerState, Status};
 
 /// Below this the robot counts as standing, m/s.
@@ -24,6 +24,21 @@ pub fn mode_refusal(wanted: Mode, st: &Status) -> Option<Refusal> {
         _ if !(st.mode == Mode::Halt || st.mode.drives()) => Some(Refusal::OnlyFromHalt(st.mode)),
         _ if st.power != PowerState::On => Some(Refusal::NotPowered),
         _ if !st.measured.calibrated => Some(Refusal::NotCalibrated),
+        _ => None,
+    }
+}
+
+/// The rule for a request that came over the bus: a person at the robot comes first.
+/// While someone drives in Joystick with the dead-man held, no mode but Halt and
+/// Joystick is taken from the bus (the other rules still apply after this one).
+pub fn remote_refusal(request: &Request, st: &Status) -> Option<Refusal> {
+    let person_drives = st.mode == Mode::Joystick && st.inputs.joystick_enable;
+    match request {
+        Request::Mode(wanted)
+            if person_drives && !matches!(wanted, Mode::Halt | Mode::Joystick) =>
+        {
+            Some(Refusal::PersonAtTheRobot)
+        }
         _ => None,
     }
 }

@@ -121,7 +121,7 @@ fn bad_input_on_the_bus_is_answered_with_what_is_wrong_and_changes_nothing() {
         "--set",
         "camera.port=bus",
     ]);
-    let tool = Tool::connect(&robot.endpoint, "mechweed", false).unwrap();
+    let tool = Tool::connect(&robot.endpoint, "mechweed", false, None).unwrap();
     let asked = |key: &str, payload: &str| {
         tool.ask(key, Some(payload.to_string()))
             .expect_err("bad input is answered with an error")
@@ -141,10 +141,13 @@ fn bad_input_on_the_bus_is_answered_with_what_is_wrong_and_changes_nothing() {
     let speed = tool.ask("config/steer/speed_mps", None).unwrap();
     assert!(speed.contains("\"value\":\"0.5\""), "{speed}");
     // Row estimates no camera could see are counted and named, never steered by.
-    let session = mechweed::bus::session::open(mechweed::bus::Role::Tool {
-        connect: vec![robot.endpoint.clone()],
-        wait: false,
-    })
+    let session = mechweed::bus::session::open(
+        mechweed::bus::Role::Tool {
+            connect: vec![robot.endpoint.clone()],
+            wait: false,
+        },
+        None,
+    )
     .unwrap();
     for bad in [
         "not json",

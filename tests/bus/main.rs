@@ -4,8 +4,10 @@
 
 #[path = "../common/mod.rs"]
 mod common;
+mod flood;
 mod gnss;
 mod input;
+mod secured;
 mod sockets;
 
 use std::process::{Child, Command, Output, Stdio};
@@ -29,6 +31,8 @@ pub struct Robot {
     child: Option<Child>,
     pub endpoint: String,
     folder: Option<tempfile::TempDir>,
+    /// What every `bus` tool is given besides --connect (a secured robot's identity).
+    pub tool_args: Vec<String>,
 }
 
 /// A test that fails half-way leaves no robot program running behind it.
@@ -71,11 +75,12 @@ impl Robot {
             child: Some(child),
             endpoint: listen.unwrap_or_else(|| endpoint(7447)),
             folder: Some(folder),
+            tool_args: Vec::new(),
         }
     }
 
     /// The bus answers once the controller runs (at most 10 s on a busy machine).
-    fn wait_until_answering(&self) {
+    pub fn wait_until_answering(&self) {
         let end = Instant::now() + Duration::from_secs(10);
         while Instant::now() < end {
             if self.bus(&["get", "supervisor.rate_hz"]).status.success() {
@@ -96,7 +101,8 @@ impl Robot {
         cmd.arg("bus")
             .args(args)
             .arg("--connect")
-            .arg(&self.endpoint);
+            .arg(&self.endpoint)
+            .args(&self.tool_args);
         cmd
     }
 
@@ -259,6 +265,26 @@ fn a_setting_set_in_halt_is_taken_and_refused_while_driving() {
     // A setting read at start is not changed on a running robot.
     let start_only = robot.bus(&["set", "faults.battery_min_v", "20"]);
     assert!(text(&start_only.stderr).contains("is read when the program starts"));
+    // The steer thread's period and back-off are read when it starts: refused, not
+    // "accepted" and left unchanged.
+    for setting in ["steer.rate_hz", "steer.endswitch_back_deg"] {
+        let value = if setting == "steer.rate_hz" {
+            "50"
+        } else {
+            "3"
+        };
+        let refused = robot.bus(&["set", setting, value]);
+        assert!(
+            !refused.status.success(),
+            "{setting}: {}",
+            text(&refused.stdout)
+        );
+        assert!(
+            text(&refused.stderr).contains("is read when the threads start"),
+            "{}",
+            text(&refused.stderr)
+        );
+    }
     // Driving: the supervisor refuses, as it does the GUI's Apply.
     robot.power_up_and_drive();
     let moving = robot.bus(&["set", "pid.left.kp", "25"]);

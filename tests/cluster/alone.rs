@@ -121,6 +121,9 @@ fn any_executable_runs_with_the_robots_name_and_endpoint_in_its_environment() {
             "robot-pc",
             "--robot",
             "farm/robot2",
+            // Not mechweed's: run only because this launcher allows it.
+            "--allow",
+            "sh",
         ])
         .args(["--connect", &format!("tcp/127.0.0.1:{master}")])
         .stdout(Stdio::null());

@@ -1,11 +1,13 @@
 //! The virtual cluster between real processes on loopback: the one-machine graph
-//! (config/cluster-local.ini) run as a master and three launchers with three machine
-//! names, each on ports of its own; and (`alone.rs`) one machine when its master goes
-//! away, and a program that is not mechweed's.
+//! (config/cluster-local.ini) run secured, as the field's graph is (TLS, the cluster's
+//! own identities made by `mechweed keys`), as a master and three launchers with three
+//! machine names, each on ports of its own; and (`alone.rs`) one machine when its
+//! master goes away, a program that is not mechweed's, and a rogue master.
 
 mod alone;
 #[path = "../common/mod.rs"]
 mod common;
+mod guarded;
 
 use std::fs::File;
 use std::path::{Path, PathBuf};
@@ -58,11 +60,22 @@ pub fn wait_for<T>(what: &str, seconds: f64, mut check: impl FnMut() -> Option<T
     }
 }
 
+/// A tool's identity for `endpoint`: on a secured one (tls/), the operator's in the
+/// folder's keys/.
+fn identity_for(endpoint: &str) -> Vec<&'static str> {
+    if endpoint.starts_with("tls/") {
+        vec!["--keys", "keys", "--as", "operator"]
+    } else {
+        Vec::new()
+    }
+}
+
 /// The robot's newest status, from `bus echo`.
 pub fn robot_status(folder: &Path, robot: &str) -> Option<Value> {
     let out = mechweed_in(folder)
         .args(["bus", "echo", "status", "--count", "1", "--seconds", "2"])
         .args(["--connect", robot])
+        .args(identity_for(robot))
         .output()
         .unwrap();
     let line: Value = serde_json::from_str(text(&out.stdout).lines().next()?).ok()?;
@@ -80,6 +93,7 @@ pub fn cluster_status(folder: &Path, master: &str) -> Option<Value> {
             "--connect",
             master,
         ])
+        .args(identity_for(master))
         .output()
         .unwrap();
     serde_json::from_slice(&out.stdout).ok()
@@ -105,8 +119,21 @@ pub fn alive(pid: u64) -> bool {
     unsafe { libc::kill(pid as i32, 0) == 0 }
 }
 
+/// Make the cluster's keys in `folder`/keys, with a launcher identity per machine.
+pub fn make_keys(folder: &Path, machines: &[&str]) {
+    let run = |args: &[&str]| {
+        let out = mechweed_in(folder).args(args).output().unwrap();
+        assert!(out.status.success(), "{args:?}: {}", text(&out.stderr));
+    };
+    run(&["keys", "new", "keys"]);
+    for machine in machines {
+        run(&["keys", "add", "keys", "launcher", machine]);
+    }
+}
+
 /// The one-machine graph on ports of this test, with a busy test machine's late ticks
-/// tolerated (as every test run of the controller).
+/// tolerated (as every test run of the controller), secured with the keys in
+/// `folder`/keys: every endpoint tls/, the master with its identity.
 fn local_graph(folder: &Path) -> (PathBuf, String, String) {
     let mut graph = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -124,9 +151,14 @@ fn local_graph(folder: &Path) -> (PathBuf, String, String) {
         "after = camera\n",
         "after = camera\nset.rt.max_overruns = 1000000\nset.rt.max_late_periods = 20\n",
     );
+    graph = graph.replace("tcp/127.0.0.1", "tls/127.0.0.1").replacen(
+        "master_lost",
+        "tls_ca = keys/ca.pem\ntls_cert = keys/master.pem\ntls_key = keys/master.key\nmaster_lost",
+        1,
+    );
     let path = folder.join("cluster.ini");
     std::fs::write(&path, graph).unwrap();
-    let at = |port: u16| format!("tcp/127.0.0.1:{port}");
+    let at = |port: u16| format!("tls/127.0.0.1:{port}");
     (path, at(ports[0]), at(ports[1]))
 }
 
@@ -134,6 +166,7 @@ fn local_graph(folder: &Path) -> (PathBuf, String, String) {
 fn the_one_machine_graph_drives_restarts_the_camera_and_stops_with_safe_outputs() {
     let dir = tempfile::tempdir().unwrap();
     let folder = dir.path();
+    make_keys(folder, &["robot-pc", "camera-pc", "laptop"]);
     let (graph, master, robot) = local_graph(folder);
     let log = |name: &str| File::create(folder.join(format!("{name}.log"))).unwrap();
     let mut started = Started(Vec::new());
@@ -150,6 +183,10 @@ fn the_one_machine_graph_drives_restarts_the_camera_and_stops_with_safe_outputs(
             machine,
             "--connect",
             &master,
+            "--keys",
+            "keys",
+            "--as",
+            machine,
         ]);
         launcher
             .stdout(log(machine))

@@ -38,7 +38,7 @@ impl TestSupervisor {
     pub fn answer(&self, answer: impl Fn(&Request) -> Result<(), Refusal>) -> Vec<Request> {
         let inbox = self.inbox.as_ref().expect("the test supervisor runs");
         let mut taken = Vec::new();
-        while let Ok(Envelope { request, reply }) = inbox.try_recv() {
+        while let Ok(Envelope { request, reply, .. }) = inbox.try_recv() {
             reply.try_send((request, answer(&request))).unwrap();
             taken.push(request);
         }

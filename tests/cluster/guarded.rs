@@ -1,0 +1,165 @@
+//! What a launcher refuses: a plan from anyone but the master's identity, and a program
+//! its own command line does not allow. Each starts from a plan that would run a shell
+//! command on the robot computer.
+
+use std::process::Stdio;
+use std::time::Duration;
+
+use mechweed::bus::session::{Role, open};
+use mechweed::config::TlsFiles;
+use zenoh::Wait;
+
+use super::{Started, free_port, make_keys, mechweed_in, wait_for};
+use crate::common::text;
+
+/// A plan for robot-pc that runs `sh -c "touch pwned"`, as a rogue would send it.
+fn rogue_plan() -> String {
+    serde_json::json!({
+        "machine": "robot-pc",
+        "graph": "rogue.ini",
+        "stop_when_master_lost": false,
+        "processes": [{
+            "name": "payload",
+            "program": "/bin/sh",
+            "args": ["-c", "touch pwned"],
+            "env": [["LD_PRELOAD", "/tmp/evil.so"]],
+            "auto": true,
+            "restart": false,
+            "restart_delay_s": 0.0,
+            "after": [],
+            "controller": false
+        }]
+    })
+    .to_string()
+}
+
+/// A rogue at the master's address, with `identity` (None: no certificate at all),
+/// answering every plan query with `rogue_plan`; the launcher of robot-pc with the
+/// cluster's keys must run nothing and say why.
+fn launcher_facing_a_rogue(identity: Option<&str>) {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path();
+    make_keys(folder, &["robot-pc"]);
+    let port = free_port();
+    let listen = format!("tls/127.0.0.1:{port}");
+    let tls = identity.map(|name| TlsFiles::in_folder(&folder.join("keys"), name));
+    let rogue_listen = if tls.is_some() {
+        listen.clone()
+    } else {
+        format!("tcp/127.0.0.1:{port}")
+    };
+    let rogue = open(
+        Role::Master {
+            listen: rogue_listen,
+        },
+        tls.as_ref(),
+    )
+    .unwrap();
+    let plan = rogue_plan();
+    let _answering = rogue
+        .declare_queryable("mechweed/cluster/plan/robot-pc")
+        .callback(move |q| {
+            let _ = q.reply(q.key_expr().clone(), plan.clone()).wait();
+        })
+        .wait()
+        .unwrap();
+    let mut started = Started(Vec::new());
+    let launcher = mechweed_in(folder)
+        .args([
+            "cluster",
+            "launcher",
+            "--machine",
+            "robot-pc",
+            "--connect",
+            &listen,
+        ])
+        .args(["--keys", "keys", "--as", "robot-pc", "--allow", "/bin/sh"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    started.0.push(launcher);
+    std::thread::sleep(Duration::from_secs(6));
+    let mut launcher = started.0.pop().unwrap();
+    unsafe { libc::kill(launcher.id() as i32, libc::SIGINT) };
+    let out = launcher_output(&mut launcher);
+    assert!(
+        !folder.join("pwned").exists(),
+        "{identity:?}: the rogue's plan ran: {out}"
+    );
+    assert!(out.contains("waiting for the master"), "{out}");
+    assert!(out.contains("only from the master's identity"), "{out}");
+}
+
+fn launcher_output(launcher: &mut std::process::Child) -> String {
+    let _ = wait_for("the launcher ends", 20.0, || {
+        launcher.try_wait().ok().flatten()
+    });
+    let mut out = String::new();
+    for pipe in [
+        launcher.stdout.take().map(|mut p| read_all(&mut p)),
+        launcher.stderr.take().map(|mut p| read_all(&mut p)),
+    ]
+    .into_iter()
+    .flatten()
+    {
+        out += &pipe;
+    }
+    out
+}
+
+fn read_all(pipe: &mut impl std::io::Read) -> String {
+    let mut bytes = Vec::new();
+    let _ = pipe.read_to_end(&mut bytes);
+    text(&bytes)
+}
+
+#[test]
+fn a_rogue_at_the_masters_address_cannot_make_a_launcher_run_anything() {
+    // With no certificate, and with one of the cluster's own that is not the master's.
+    launcher_facing_a_rogue(None);
+    launcher_facing_a_rogue(Some("viewer"));
+}
+
+#[test]
+fn a_plan_naming_a_program_the_launcher_does_not_allow_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path();
+    let master = free_port();
+    let graph = folder.join("g.ini");
+    std::fs::write(
+        &graph,
+        format!(
+            "[cluster]\nrobot = mechweed\nmaster = tcp/127.0.0.1:{master}\nmaster_lost = run_on\n\
+             [machine robot-pc]\nendpoint = tcp/127.0.0.1:{}\n\
+             [process payload]\nmachine = robot-pc\nprogram = sh\nargs = -c \"touch pwned\"\n",
+            free_port()
+        ),
+    )
+    .unwrap();
+    let mut started = Started(Vec::new());
+    started.0.push(
+        mechweed_in(folder)
+            .args(["cluster", "master"])
+            .arg(&graph)
+            .stdout(Stdio::null())
+            .spawn()
+            .unwrap(),
+    );
+    let launcher = mechweed_in(folder)
+        .args(["cluster", "launcher", "--machine", "robot-pc"])
+        .args(["--connect", &format!("tcp/127.0.0.1:{master}")])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_secs(5));
+    let mut launcher = launcher;
+    unsafe { libc::kill(launcher.id() as i32, libc::SIGINT) };
+    let out = launcher_output(&mut launcher);
+    assert!(!folder.join("pwned").exists(), "it ran: {out}");
+    assert!(
+        out.contains("payload is refused: sh is not a program this launcher allows"),
+        "{out}"
+    );
+}
