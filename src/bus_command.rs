@@ -148,3 +148,18 @@ pub fn bus(args: BusArgs) -> ExitCode {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::decided;
+
+    #[test]
+    fn an_empty_answer_is_not_taken_for_a_decision() {
+        assert_eq!(decided(r#"{"accepted": true}"#), Ok("accepted".to_string()));
+        let why = decided("").unwrap_err();
+        assert!(why.contains("answered with nothing"), "{why}");
+        assert!(why.contains("not known"), "{why}");
+        let why = decided(r#"{"accepted": false, "reason": "motor power is off"}"#).unwrap_err();
+        assert_eq!(why, "refused: motor power is off");
+    }
+}

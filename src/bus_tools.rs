@@ -42,6 +42,7 @@ impl Tool {
             connect: vec![endpoint.to_string()],
             wait,
         };
+        crate::bus::session::check_robot(tls, robot)?;
         let session = open(role, tls).map_err(|e| e.to_string())?;
         Ok(Tool {
             session,
@@ -94,7 +95,12 @@ impl Tool {
     pub fn ask(&self, key: &str, payload: Option<String>) -> Result<String, String> {
         self.wait_for_controller()?;
         let key = self.key(key);
-        let mut get = self.session.get(&key).timeout(ANSWER_WAIT);
+        // Named, so that the robot limits this program's requests apart from others'.
+        let mut get = self
+            .session
+            .get(&key)
+            .attachment(self.session.zid().to_string())
+            .timeout(ANSWER_WAIT);
         if let Some(payload) = payload {
             get = get.payload(payload);
         }

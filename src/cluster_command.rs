@@ -85,6 +85,48 @@ pub struct WatchArgs {
     pub identity: mechweed::keys::args::IdentityArgs,
 }
 
+/// What this launcher lets run, or why it does not start: a plan over plain TCP
+/// beyond this computer could come from anyone on that network; a launcher's identity
+/// is its machine's name (the access rules give it that machine's plan alone).
+fn launcher_admission(
+    machine: &str,
+    connect: &str,
+    tls: Option<&mechweed::config::TlsFiles>,
+    allowed: Vec<String>,
+) -> Result<mechweed::cluster::admit::Admission, String> {
+    let Some(tls) = tls else {
+        if !mechweed::config::is_loopback(connect) {
+            return Err(format!(
+                "launcher {machine}: --connect {connect} reaches the master over plain TCP beyond this computer: anyone on that network could answer with a plan. Give the cluster's keys (--keys DIR --as {machine}) and a tls/ endpoint"
+            ));
+        }
+        return Ok(mechweed::cluster::admit::Admission {
+            allowed,
+            keys: None,
+        });
+    };
+    let name = tls
+        .cert
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned());
+    if name.as_deref() != Some(machine) {
+        return Err(format!(
+            "launcher {machine}: its identity must be its machine's name (--as {machine}), not {}: the access rules give a launcher the plan of its own machine alone",
+            name.unwrap_or_default()
+        ));
+    }
+    let roster = mechweed::keys::Roster::read(&tls.roster())?;
+    let dir = tls
+        .ca
+        .parent()
+        .unwrap_or(std::path::Path::new("."))
+        .to_path_buf();
+    Ok(mechweed::cluster::admit::Admission {
+        allowed,
+        keys: Some((dir, roster)),
+    })
+}
+
 /// Read the graph, or print every error in it.
 fn graph(path: &std::path::Path) -> Result<Graph, ExitCode> {
     Graph::load(path).map_err(|errors| {
@@ -122,13 +164,9 @@ pub fn cluster(command: ClusterCommand) -> ExitCode {
             identity,
         } => {
             let tls = identity.files();
-            let admission = mechweed::cluster::admit::Admission {
-                allowed: allow,
-                keys: tls.as_ref().map(|t| {
-                    t.ca.parent()
-                        .unwrap_or(std::path::Path::new("."))
-                        .to_path_buf()
-                }),
+            let admission = match launcher_admission(&machine, &connect, tls.as_ref(), allow) {
+                Ok(admission) => admission,
+                Err(why) => return done(Err(why)),
             };
             done(launcher::run(
                 &machine,

@@ -143,7 +143,7 @@ impl fmt::Display for Refusal {
             Refusal::NotStarted => write!(f, "the robot's inputs have not been read yet"),
             Refusal::PersonAtTheRobot => write!(
                 f,
-                "a person at the robot holds the joystick's dead-man: a request over the bus never takes the robot from them (rule: a person at the robot first)"
+                "a person at the robot holds the joystick's dead-man, or let go of it less than 2 s ago: a request over the bus never takes the robot from them into autonomous or test (rule: a person at the robot first)"
             ),
             Refusal::OnlyInHalt => write!(
                 f,

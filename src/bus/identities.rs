@@ -119,6 +119,14 @@ impl Identities {
         look
     }
 
+    /// The identity linked with Zenoh session `session`, if one is.
+    pub fn name_of(&self, session: &str) -> Option<&str> {
+        self.linked
+            .keys()
+            .find(|(_, s)| s == session)
+            .map(|(name, _)| name.as_str())
+    }
+
     /// "operator x2, camera x1; refused: laptop-1 x3", for the status line.
     pub fn summary(&self) -> String {
         let mut seen = Vec::new();

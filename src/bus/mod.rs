@@ -11,6 +11,7 @@
 
 pub mod acl;
 pub mod identities;
+pub mod inbox;
 pub mod payload;
 pub mod peers;
 pub mod queries;
@@ -71,6 +72,10 @@ pub fn open_for_run(s: &crate::config::Settings) -> Result<Option<zenoh::Session
     if !s.bus.enabled {
         return Ok(None);
     }
+    session::check_robot(s.bus.tls.as_ref(), &s.bus.robot).map_err(|why| BusError::Other {
+        setting: "[bus] robot and tls_ca",
+        why,
+    })?;
     match session::open(Role::Robot(&s.bus), s.bus.tls.as_ref()) {
         Ok(session) => {
             crate::say!(
@@ -83,10 +88,12 @@ pub fn open_for_run(s: &crate::config::Settings) -> Result<Option<zenoh::Session
                 },
                 security_line(&s.bus)
             );
-            if s.bus.tls.is_none() && !s.bus.listen.iter().all(|e| crate::config::is_loopback(e)) {
+            let mut endpoints = s.bus.listen.iter().chain(&s.bus.connect);
+            let open = endpoints.any(|e| !crate::config::is_loopback(e)) || s.bus.multicast;
+            if s.bus.tls.is_none() && open {
                 crate::say!(
-                    "bus: OPEN TO ANYONE on the network of {} ([bus] trusted_network = yes, no TLS): whoever reaches it may use the bus as this robot allows",
-                    s.bus.listen.join(", ")
+                    "bus: OPEN TO ANYONE on the networks of {} ([bus] trusted_network = yes, no TLS): whoever reaches it may use the bus as this robot allows",
+                    s.bus.endpoints()
                 );
             }
             Ok(Some(session))

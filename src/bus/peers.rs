@@ -12,6 +12,9 @@ use zenoh::{Session, Wait};
 /// Token changes waiting to be counted; more are lost (the count is then off until the
 /// next change of that token).
 const QUEUE_CHANGES: usize = 256;
+/// Programs kept at most: their names are the peers' to choose, so the table is bounded
+/// (more are not counted).
+const MAX_PRESENT: usize = 64;
 
 pub struct Peers {
     present: BTreeSet<String>,
@@ -44,7 +47,9 @@ impl Peers {
     pub fn others(&mut self, own: &str) -> u32 {
         while let Ok((appeared, key)) = self.changes.try_recv() {
             if appeared {
-                self.present.insert(key);
+                if self.present.len() < MAX_PRESENT {
+                    self.present.insert(key);
+                }
             } else {
                 self.present.remove(&key);
             }

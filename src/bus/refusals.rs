@@ -39,6 +39,45 @@ impl RateLimit {
     }
 }
 
+/// Requesters kept apart at most; a new one beyond takes the place of the one heard
+/// from longest ago (a table keyed by what peers choose is bounded).
+const MAX_REQUESTERS: usize = 16;
+
+/// A rate limit per requester: one program's flood uses up its own allowance, not
+/// another's. A requester is the Zenoh session a tool names in its query's attachment;
+/// queries that name none share one allowance.
+#[derive(Debug)]
+pub struct PerRequester {
+    per_s: f64,
+    limits: Vec<(String, RateLimit)>,
+}
+
+impl PerRequester {
+    pub fn new(per_s: f64) -> PerRequester {
+        PerRequester {
+            per_s,
+            limits: Vec::new(),
+        }
+    }
+
+    /// Whether `requester` may have one more now.
+    pub fn take(&mut self, requester: &str, now: Instant) -> bool {
+        if let Some((_, limit)) = self.limits.iter_mut().find(|(r, _)| r == requester) {
+            return limit.take(now);
+        }
+        if self.limits.len() >= MAX_REQUESTERS {
+            let oldest = (0..self.limits.len())
+                .min_by_key(|&i| self.limits[i].1.last)
+                .unwrap_or(0);
+            self.limits.swap_remove(oldest);
+        }
+        let mut limit = RateLimit::new(self.per_s, now);
+        let taken = limit.take(now);
+        self.limits.push((requester.to_string(), limit));
+        taken
+    }
+}
+
 #[derive(Debug, Default)]
 pub struct Refusals {
     last_said: Option<Instant>,
@@ -103,6 +142,22 @@ mod tests {
             .map(|l| l.split(' ').nth(1).unwrap().parse::<u64>().unwrap())
             .sum();
         assert_eq!(counted + 1, 10_000, "every refusal is counted: {lines:?}");
+    }
+
+    #[test]
+    fn one_requesters_flood_leaves_anothers_allowance_whole() {
+        let start = Instant::now();
+        let mut limits = PerRequester::new(5.0);
+        for i in 0..1000u64 {
+            limits.take("flooder", start + Duration::from_micros(i));
+        }
+        assert!(!limits.take("flooder", start + Duration::from_millis(2)));
+        assert!(limits.take("operator", start + Duration::from_millis(2)));
+        // Names without end keep the table at its size.
+        for i in 0..100 {
+            limits.take(&format!("n{i}"), start);
+        }
+        assert_eq!(limits.limits.len(), MAX_REQUESTERS);
     }
 
     #[test]

@@ -8,15 +8,22 @@
 //!
 //! The clocks agree when the first rows' capture times are all within AGREE_S before
 //! their arrival (a row cannot arrive before it was taken, and a few milliseconds on a
-//! network are far below AGREE_S); a run of rows that stop agreeing switches back to
-//! arrival times.
+//! network are far below AGREE_S). A row from the future, or from more than
+//! ANOTHER_CLOCK_S ago, is of another clock; a run of those switches back to arrival
+//! times. A row merely late (a network that stalled) says nothing about the clocks: it
+//! is stale, and refused.
 
-/// A capture time this far from the arrival counts as another clock, s.
+/// Rows taken this long or less after their capture time agree, s.
 pub const AGREE_S: f64 = 0.5;
-/// Rows looked at before deciding.
-const DECIDE_AFTER: u32 = 10;
-/// Rows in a row that must disagree to give up the capture times.
-const GIVE_UP_AFTER: u32 = 10;
+/// A capture time in the future by more than this is of another clock, s.
+const FUTURE_S: f64 = 0.05;
+/// A capture time this long before the arrival is of another clock, s: no network
+/// holds a row a minute.
+const ANOTHER_CLOCK_S: f64 = 60.0;
+/// Agreeing rows needed to decide, rows.
+const DECIDE_AFTER_ROWS: u32 = 10;
+/// Rows of another clock in a row that give up the capture times, rows.
+const GIVE_UP_AFTER_ROWS: u32 = 10;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Basis {
@@ -59,18 +66,21 @@ impl RowClock {
     /// in seconds since 1970. The second value is a line to say, when the basis changes.
     pub fn row(&mut self, t_s: Option<f64>, now_s: f64) -> (Verdict, Option<String>) {
         let age_s = t_s.map(|t| now_s - t);
-        let agrees = age_s.is_some_and(|a| (-0.05..AGREE_S).contains(&a));
+        let agrees = age_s.is_some_and(|a| (-FUTURE_S..AGREE_S).contains(&a));
+        let another_clock = age_s.is_none_or(|a| !(-FUTURE_S..ANOTHER_CLOCK_S).contains(&a));
         let mut said = None;
         match self.basis {
             Basis::Deciding if agrees => {
                 self.agreed += 1;
-                if self.agreed >= DECIDE_AFTER {
+                if self.agreed >= DECIDE_AFTER_ROWS {
                     self.basis = Basis::Capture;
                     said = Some(
                         "camera rows from the bus: the sender's clock agrees with this computer's; each row's age is taken from its capture time".to_string(),
                     );
                 }
             }
+            // Late: it tells nothing about the clocks; taken by its arrival meanwhile.
+            Basis::Deciding if !another_clock => {}
             Basis::Deciding => {
                 self.basis = Basis::Arrival;
                 said = Some(match age_s {
@@ -80,13 +90,13 @@ impl RowClock {
                     None => "camera rows from the bus carry no capture time: each row's age is taken from its arrival".to_string(),
                 });
             }
-            Basis::Capture if agrees => self.disagreed_in_a_row = 0,
+            Basis::Capture if !another_clock => self.disagreed_in_a_row = 0,
             Basis::Capture => {
                 self.disagreed_in_a_row += 1;
-                if self.disagreed_in_a_row >= GIVE_UP_AFTER {
+                if self.disagreed_in_a_row >= GIVE_UP_AFTER_ROWS {
                     self.basis = Basis::Arrival;
                     said = Some(format!(
-                        "camera rows from the bus: {GIVE_UP_AFTER} rows in a row no longer agree with this computer's clock; each row's age is taken from its arrival from now on"
+                        "camera rows from the bus: {GIVE_UP_AFTER_ROWS} rows in a row are no longer of this computer's clock; each row's age is taken from its arrival from now on"
                     ));
                 }
             }
@@ -133,6 +143,21 @@ mod tests {
         assert_eq!(clock.basis, Basis::Arrival);
         let (verdict, line) = clock.row(Some(1.0), 1_700_000_100.0);
         assert_eq!((verdict, line), (Verdict::Take, None));
+    }
+
+    #[test]
+    fn a_network_that_stalls_leaves_the_capture_times_in_use() {
+        let mut clock = RowClock::new(0.5);
+        for i in 0..10 {
+            clock.row(Some(f64::from(i)), f64::from(i) + 0.01);
+        }
+        // Twenty rows held up 3 s: each refused as stale, the clocks still agree.
+        for i in 10..30 {
+            let (verdict, said) = clock.row(Some(f64::from(i)), f64::from(i) + 3.0);
+            assert!(matches!(verdict, Verdict::Stale(_)), "{verdict:?}");
+            assert_eq!(said, None);
+        }
+        assert_eq!(clock.basis, Basis::Capture);
     }
 
     #[test]

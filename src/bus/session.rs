@@ -180,6 +180,23 @@ fn secured(files: &TlsFiles) -> Result<Vec<(&'static str, String)>, String> {
     ])
 }
 
+/// Whether the roster of `tls` is for robot `robot`: its access rules cover that robot's
+/// keys alone, and with another name every flow would be refused without a word.
+pub fn check_robot(tls: Option<&TlsFiles>, robot: &str) -> Result<(), String> {
+    let Some(tls) = tls else { return Ok(()) };
+    let roster = Roster::read(&tls.roster())?;
+    if roster.robot == robot {
+        Ok(())
+    } else {
+        Err(format!(
+            "{} is the roster of robot '{}', and this program is for robot '{robot}': its access rules would refuse every flow (make the keys with --robot {robot}, or set the robot's name to {})",
+            tls.roster().display(),
+            roster.robot,
+            roster.robot
+        ))
+    }
+}
+
 /// The endpoint and port, if something else already listens on `endpoint`'s port.
 fn in_use(endpoint: &str) -> Option<(String, u16)> {
     let (address, _) = endpoint_address(endpoint)?;

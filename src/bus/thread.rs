@@ -6,26 +6,25 @@
 //! latest status, not a growing backlog.
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use crossbeam_channel::{bounded, select};
 use serde_json::json;
 use zenoh::bytes::Encoding;
 use zenoh::qos::CongestionControl;
-use zenoh::query::Query;
 use zenoh::{Session, Wait};
 
 use super::identities::Identities;
-use super::payload::{parse_request, status_json};
+use super::inbox::{Inbox, requester};
+use super::payload::status_json;
 use super::peers::Peers;
 use super::queries::{Port, Queries};
-use super::refusals::{RateLimit, Refusals};
+use super::refusals::{PerRequester, RateLimit, Refusals};
 use super::rows::RowCounts;
 use super::{BusFigures, BusState};
 use crate::camlink::LinkStatus;
 use crate::config::{Settings, SteerSettings};
-use crate::modes::{Gains, Mode, Request};
+use crate::modes::Gains;
 use crate::record::{TickFlow, tick_json};
 use crate::request_channel::SupervisorHandle;
 use crate::rt::LoopSummary;
@@ -37,17 +36,13 @@ use crate::steer::SteerCommand;
 const STATUS_PERIOD: Duration = Duration::from_millis(100);
 /// How often the bus thread fetches ticks and events from its queue.
 const DRAIN_PERIOD: Duration = Duration::from_millis(20);
-/// HALTs waiting for the bus thread; they are served before anything else.
-const QUEUE_HALTS: usize = 64;
-/// Other requests waiting; more are dropped (the asker times out): a flood waits in
-/// zenoh's buffers, not here.
-const QUEUE_REQUESTS: usize = 4;
-/// Settings asked or set, waiting.
-const QUEUE_SETTINGS: usize = 8;
-/// Requests other than HALT taken a second, and settings asked a second: more are
-/// refused at once, so that nobody's flood keeps the supervisor busy.
+/// Requests other than HALT taken a second from each program, and settings asked a
+/// second: more are refused at once, so that nobody's flood keeps the supervisor busy.
 const REQUESTS_PER_S: f64 = 5.0;
 const SETTINGS_PER_S: f64 = 20.0;
+/// All programs together: a flood that names a new requester on every query still
+/// finds the door shut.
+const ALL_PER_S: f64 = 20.0;
 
 pub struct BusWires {
     pub status: Reader<Status>,
@@ -78,42 +73,10 @@ pub fn run(session: Session, settings: &Settings, w: BusWires) -> zenoh::Result<
         publisher("tick")?,
         publisher("event")?,
     );
-    // HALT, other requests and settings wait in queues of their own, HALT served
-    // first, every one of them, before anything else: no flood delays a HALT by more
-    // than the one request being answered. A full queue drops the query (its asker
-    // hears nothing and times out) and counts it.
-    let dropped = Arc::new(AtomicU64::new(0));
-    let (halt_tx, halts) = bounded::<Query>(QUEUE_HALTS);
-    let (request_tx, requests) = bounded::<(Port, Query)>(QUEUE_REQUESTS);
-    let (setting_tx, settings_asked) = bounded::<(Port, Query)>(QUEUE_SETTINGS);
-    let queryable = |key: String, port: Port| {
-        let (halt_tx, request_tx, setting_tx) =
-            (halt_tx.clone(), request_tx.clone(), setting_tx.clone());
-        let dropped = Arc::clone(&dropped);
-        session
-            .declare_queryable(key)
-            .callback(move |q| {
-                let queued = match port {
-                    // Payloads are small (the session's message limit): telling a HALT
-                    // from the rest here keeps the two apart from the start.
-                    Port::Halt if is_halt(&q) => halt_tx.try_send(q).is_ok(),
-                    Port::Halt | Port::Operator => request_tx.try_send((port, q)).is_ok(),
-                    Port::Get | Port::Set => setting_tx.try_send((port, q)).is_ok(),
-                };
-                if !queued {
-                    dropped.fetch_add(1, Ordering::Relaxed);
-                }
-            })
-            .wait()
-    };
-    let _queryables = [
-        queryable(bus.key("request"), Port::Halt)?,
-        queryable(bus.key("request/operator"), Port::Operator)?,
-        queryable(bus.key("config/**"), Port::Get)?,
-        queryable(bus.key("set/**"), Port::Set)?,
-    ];
-    let mut request_limit = RateLimit::new(REQUESTS_PER_S, Instant::now());
-    let mut setting_limit = RateLimit::new(SETTINGS_PER_S, Instant::now());
+    let inbox = Inbox::declare(&session, bus)?;
+    let mut request_limit = PerRequester::new(REQUESTS_PER_S);
+    let mut setting_limit = PerRequester::new(SETTINGS_PER_S);
+    let mut all_limit = RateLimit::new(ALL_PER_S, Instant::now());
     let mut refusals = Refusals::default();
     let own_token = bus.key("alive/controller");
     let _alive = session.liveliness().declare_token(&own_token).wait()?;
@@ -141,28 +104,29 @@ pub fn run(session: Session, settings: &Settings, w: BusWires) -> zenoh::Result<
         // Queries wake the thread; ticks and events are fetched on its own beat, so the
         // supervisor's try_send never has a sleeping reader to wake (a system call in
         // its tick).
-        let next = match halts.try_recv() {
-            Ok(query) => Some((Port::Halt, query, true)),
-            Err(_) => select! {
-                recv(halts) -> q => q.ok().map(|q| (Port::Halt, q, true)),
-                recv(requests) -> q => q.ok().map(|(port, q)| (port, q, false)),
-                recv(settings_asked) -> q => q.ok().map(|(port, q)| (port, q, false)),
-                default(wait) => None,
-            },
-        };
+        let next = inbox.next(wait);
         if let Some((port, query, halt)) = next {
             let now = Instant::now();
             let limit = match port {
                 Port::Get | Port::Set => &mut setting_limit,
                 _ => &mut request_limit,
             };
-            let refused = if halt || limit.take(now) {
+            let asker = requester(&query);
+            let refused = if halt || (limit.take(&asker, now) && all_limit.take(now)) {
                 answers.serve(&query, port, &mut figures)
             } else {
-                let why = "too many requests: the bus takes 5 requests and 20 settings a second at most (HALT always)";
-                Queries::refuse(&query, why, &mut figures);
+                let why = format!(
+                    "too many requests: the bus takes {REQUESTS_PER_S} requests and {SETTINGS_PER_S} settings a second from each program, {ALL_PER_S} from all, at most (HALT always)"
+                );
+                Queries::refuse(&query, &why, &mut figures);
                 Some(format!("{}: {why}", query.key_expr()))
             };
+            // Said with who asked, where the bus tells it.
+            let who = identities
+                .as_ref()
+                .and_then(|ids| ids.name_of(&asker))
+                .map_or(String::new(), |name| format!(" (asked by {name})"));
+            let refused = refused.map(|why| format!("{why}{who}"));
             if let Some(line) = refused.and_then(|why| refusals.refused(why, now)) {
                 tracing::warn!("{line}");
             }
@@ -230,7 +194,7 @@ pub fn run(session: Session, settings: &Settings, w: BusWires) -> zenoh::Result<
                 .is_ok_and(|m| m.matching());
             figures.rows_received = w.rows.received.load(Ordering::Relaxed);
             figures.rows_rejected = w.rows.rejected.load(Ordering::Relaxed);
-            figures.queries_dropped = dropped.load(Ordering::Relaxed);
+            figures.queries_dropped = inbox.dropped();
             if let Some(ids) = &mut identities {
                 let look = ids.take(link_changes.try_iter());
                 for name in &look.newly_refused {
@@ -255,10 +219,4 @@ pub fn run(session: Session, settings: &Settings, w: BusWires) -> zenoh::Result<
     figures.state = BusState::Closed;
     w.figures.publish(&figures);
     Ok(figures)
-}
-
-/// Whether a query on ROBOT/request asks for HALT.
-fn is_halt(query: &Query) -> bool {
-    let payload = query.payload().map(|p| p.to_bytes());
-    parse_request(payload.as_deref().unwrap_or_default()) == Ok(Request::Mode(Mode::Halt))
 }

@@ -3,21 +3,27 @@
 //! programs always; any other executable only if the launcher's command line allows its
 //! path (`--allow PATH`); no environment variable from a plan but the robot's own
 //! (MECHWEED_*), so none changes how programs load (LD_*) or which are found (PATH).
-//! On a secured cluster each mechweed program is given its role's identity from the
-//! launcher's own keys folder.
+//! On a secured cluster each mechweed program is given an identity of its role from the
+//! launcher's own keys folder (the first the roster names whose files are there).
 
 use std::path::{Path, PathBuf};
 
 use super::plan::Launch;
 use crate::config::TlsFiles;
+use crate::keys::{Role, Roster};
+
+/// The mechweed programs a plan may start: the cluster's own (not, say, `keys` or a
+/// second `cluster launcher`).
+const PROGRAMS: [&str; 4] = ["run", "camsim", "watch", "record"];
 
 /// The launcher's own rules for what may run.
 #[derive(Debug, Clone, Default)]
 pub struct Admission {
     /// Executables besides mechweed that plans may name, as given on the command line.
     pub allowed: Vec<String>,
-    /// The keys folder, on a secured cluster: each program gets its role's identity.
-    pub keys: Option<PathBuf>,
+    /// On a secured cluster, the keys folder and the roster: each program gets the
+    /// identity of its role that this folder holds.
+    pub keys: Option<(PathBuf, Roster)>,
 }
 
 /// Where `program` is: a path as it is, a bare name through PATH.
@@ -32,20 +38,40 @@ fn resolve(program: &str) -> Option<PathBuf> {
         .and_then(|p| std::fs::canonicalize(p).ok())
 }
 
-/// The identity a mechweed program runs as: its role's first identity.
-fn role_of(command: &str) -> Option<&'static str> {
+/// The role a mechweed program runs as.
+fn role_of(command: &str) -> Option<Role> {
     match command {
-        "run" => Some("robot"),
-        "camsim" => Some("camera"),
-        "watch" => Some("operator"),
-        "record" => Some("recorder"),
+        "run" => Some(Role::Robot),
+        "camsim" => Some(Role::Camera),
+        "watch" => Some(Role::Operator),
+        "record" => Some(Role::Recorder),
         _ => None,
     }
+}
+
+/// The identity of `role` whose files are in `dir`: the first the roster names (an
+/// operator's laptop may hold laptop-2 rather than operator).
+fn identity_in(dir: &Path, roster: &Roster, role: Role) -> Option<String> {
+    roster
+        .names(role)
+        .find(|name| {
+            let files = TlsFiles::in_folder(dir, name);
+            files.cert.is_file() && files.key.is_file()
+        })
+        .map(str::to_string)
 }
 
 impl Admission {
     /// `launch` as this launcher runs it, or why it does not.
     pub fn admit(&self, mut launch: Launch) -> Result<Launch, String> {
+        let command = launch.args.first().cloned().unwrap_or_default();
+        if launch.program == "mechweed" && !PROGRAMS.contains(&command.as_str()) {
+            return Err(format!(
+                "{} is refused: mechweed {command} is not a program of the cluster (a plan starts {})",
+                launch.name,
+                PROGRAMS.join(", ")
+            ));
+        }
         if launch.program != "mechweed" {
             let wanted = resolve(&launch.program);
             let allowed = self
@@ -70,11 +96,18 @@ impl Admission {
             );
         }
         launch.env = kept;
-        if let Some(dir) = &self.keys
+        if let Some((dir, roster)) = &self.keys
             && launch.program == "mechweed"
-            && let Some(role) = launch.args.first().and_then(|c| role_of(c))
+            && let Some(role) = role_of(&command)
         {
-            identity_args(&mut launch.args, dir, role);
+            let name = identity_in(dir, roster, role).ok_or_else(|| {
+                format!(
+                    "{} is refused: {} holds no identity of the role {role} (mechweed keys add DIR {role} NAME makes one; copy NAME.pem and NAME.key here)",
+                    launch.name,
+                    dir.display()
+                )
+            })?;
+            identity_args(&mut launch.args, dir, &name);
         }
         Ok(launch)
     }
@@ -143,18 +176,46 @@ mod tests {
 
     #[test]
     fn a_secured_launcher_gives_each_program_its_roles_identity() {
+        let dir = tempfile::tempdir().unwrap();
+        let keys_dir = dir.path().join("keys");
+        crate::keys::new_cluster(&keys_dir, "mechweed").unwrap();
+        crate::keys::add_identity(&keys_dir, Role::Operator, "laptop-2").unwrap();
+        // This laptop holds laptop-2's files, not operator's.
+        std::fs::remove_file(keys_dir.join("operator.pem")).unwrap();
+        let roster = Roster::read(&crate::keys::roster::path_in(&keys_dir)).unwrap();
         let keys = Admission {
             allowed: Vec::new(),
-            keys: Some(PathBuf::from("keys")),
+            keys: Some((keys_dir.clone(), roster)),
         };
+        let folder = keys_dir.display().to_string();
         let camsim = keys
             .admit(launch("mechweed", &["camsim", "--bus"]))
             .unwrap();
-        assert_eq!(camsim.args[2..], ["--keys", "keys", "--as", "camera"]);
-        let run = keys.admit(launch("mechweed", &["run"])).unwrap();
-        assert!(
-            run.args
-                .contains(&"bus.tls_cert=keys/robot.pem".to_string())
+        assert_eq!(
+            camsim.args[2..],
+            ["--keys", folder.as_str(), "--as", "camera"]
         );
+        let watch = keys.admit(launch("mechweed", &["watch"])).unwrap();
+        assert_eq!(
+            watch.args[1..],
+            ["--keys", folder.as_str(), "--as", "laptop-2"]
+        );
+        let run = keys.admit(launch("mechweed", &["run"])).unwrap();
+        let cert = format!("bus.tls_cert={}", keys_dir.join("robot.pem").display());
+        assert!(run.args.contains(&cert), "{:?}", run.args);
+        std::fs::remove_file(keys_dir.join("camera.key")).unwrap();
+        let why = keys.admit(launch("mechweed", &["camsim"])).unwrap_err();
+        assert!(
+            why.contains("holds no identity of the role camera"),
+            "{why}"
+        );
+    }
+
+    #[test]
+    fn a_plan_starts_only_the_cluster_s_own_mechweed_programs() {
+        let why = Admission::default()
+            .admit(launch("mechweed", &["keys", "new", "x"]))
+            .unwrap_err();
+        assert!(why.contains("not a program of the cluster"), "{why}");
     }
 }

@@ -43,6 +43,7 @@ pub fn run(
     stop: &Arc<AtomicBool>,
 ) -> Result<(), String> {
     let keys = Keys::new(robot);
+    crate::bus::session::check_robot(tls, robot)?;
     let session = open(
         Role::Tool {
             connect: vec![master.to_string()],

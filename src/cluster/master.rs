@@ -33,6 +33,7 @@ struct Table {
 /// Serve `graph` until `stop` (Ctrl-C), then stop the cluster.
 pub fn serve(graph: &Graph, stop: &Arc<AtomicBool>) -> Result<(), String> {
     let keys = Keys::new(&graph.robot);
+    crate::bus::session::check_robot(graph.tls.as_ref(), &graph.robot)?;
     let session = open(
         Role::Master {
             listen: graph.master.clone(),

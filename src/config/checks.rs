@@ -35,20 +35,24 @@ pub(super) fn across(s: &Settings, r: &mut Reader) {
     bus_open_only_with_tls(s, r);
 }
 
-/// A bus beyond loopback without TLS lets anyone on that network drive the robot.
+/// A bus beyond loopback without TLS lets anyone on that network drive the robot:
+/// listening there, connecting there, or finding peers by multicast.
 fn bus_open_only_with_tls(s: &Settings, r: &mut Reader) {
-    let keys = [("bus", "listen"), ("bus", "tls_ca")];
     let bus = &s.bus;
     if !bus.enabled {
         return;
     }
-    if let Some(why) = super::listen_refusal(
-        &bus.listen,
-        bus.tls.is_some(),
-        bus.trusted_network,
-        "[bus] listen",
-    ) {
-        require(r, false, &keys, || why);
+    let (tls, trusted) = (bus.tls.is_some(), bus.trusted_network);
+    for (key, endpoints) in [("listen", &bus.listen), ("connect", &bus.connect)] {
+        let setting = format!("[bus] {key}");
+        if let Some(why) = super::listen_refusal(endpoints, tls, trusted, &setting) {
+            require(r, false, &[("bus", key), ("bus", "tls_ca")], || why);
+        }
+    }
+    if bus.multicast && !tls && !trusted {
+        require(r, false, &[("bus", "multicast"), ("bus", "tls_ca")], || {
+            "[bus] multicast = yes finds and answers peers on every network without TLS: anyone there could drive the robot. Use the cluster's keys (tls_ca, tls_cert, tls_key), or, only on a network you trust, set trusted_network = yes".to_string()
+        });
     }
 }
 

@@ -207,6 +207,14 @@ impl Layout {
     }
 }
 
+/// A time in seconds as the command line takes it, 0 to a day.
+pub fn parse_seconds(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(s) if (0.0..=86_400.0).contains(&s) => Ok(s),
+        _ => Err(format!("'{text}' is not a time in s (0 to 86400)")),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

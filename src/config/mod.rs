@@ -25,15 +25,8 @@ pub use camera_port::{BAUD_RATES, CameraPort};
 pub use filter::{FILTER_MAX_STEP_M, FilterConfig};
 pub use gnss::{GnssPort, GnssSettings, MapSource, SourceSettings, SteerSource};
 pub use joystick::{GamepadDevice, GamepadSettings, JoystickSettings, JoystickSource};
-pub use lines::read_text;
+pub use lines::{parse_seconds, read_text};
 
-/// A time in seconds as the command line takes it, 0 to a day.
-pub fn parse_seconds(text: &str) -> Result<f64, String> {
-    match text.parse::<f64>() {
-        Ok(s) if (0.0..=86_400.0).contains(&s) => Ok(s),
-        _ => Err(format!("'{text}' is not a time in s (0 to 86400)")),
-    }
-}
 pub use reader::{ConfigError, Place, Reader, override_parts};
 pub use record::{RecordFormats, RecordSettings};
 pub use source::SettingsSource;

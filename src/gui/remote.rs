@@ -260,6 +260,7 @@ impl ViewSource for RemoteView {
         };
         session
             .get(key)
+            .attachment(session.zid().to_string())
             .payload(payload.to_string())
             .timeout(ANSWER_WAIT)
             .callback(move |reply| {

@@ -54,6 +54,9 @@ pub struct Supervisor {
     notice_log: Vec<Notice>,
     /// Which sensors steered at the last notice of it (autonomous by GNSS or fused).
     steering_said: Option<Steering>,
+    /// When the joystick's dead-man was last held, s: a person at the robot, whom the
+    /// bus never overrides (rules.rs, remote_refusal).
+    deadman_held_s: f64,
 }
 
 /// Move `value` towards `target` by at most `step`.
@@ -82,6 +85,7 @@ impl Supervisor {
             fault_log: Vec::with_capacity(LOG_CAPACITY),
             notice_log: Vec::with_capacity(LOG_CAPACITY),
             steering_said: None,
+            deadman_held_s: f64::NEG_INFINITY,
         }
     }
 
@@ -185,6 +189,9 @@ impl Supervisor {
         self.status.t_s = now_s;
         self.status.tick += 1;
         self.status.inputs = *inputs;
+        if inputs.joystick_enable {
+            self.deadman_held_s = now_s;
+        }
         self.status.standing_cause = self.checks.standing_cause(inputs);
         // Speeds are counts over the true interval.
         let measured = self.measure.update(inputs, gap_s);

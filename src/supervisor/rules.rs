@@ -28,15 +28,19 @@ pub fn mode_refusal(wanted: Mode, st: &Status) -> Option<Refusal> {
     }
 }
 
+/// How long after the dead-man was last held a person still counts as at the robot, s:
+/// a hand that slips off for a moment does not hand the robot to the bus.
+pub const DEADMAN_GRACE_S: f64 = 2.0;
+
 /// The rule for a request that came over the bus: a person at the robot comes first.
-/// While someone drives in Joystick with the dead-man held, no mode but Halt and
-/// Joystick is taken from the bus (the other rules still apply after this one).
-pub fn remote_refusal(request: &Request, st: &Status) -> Option<Refusal> {
-    let person_drives = st.mode == Mode::Joystick && st.inputs.joystick_enable;
+/// While someone holds the joystick's dead-man (or did, less than DEADMAN_GRACE_S ago,
+/// at `deadman_held_s`), in any mode, the bus may not send the robot into Autonomous or
+/// Test: a HALT first and then Autonomous does not take it from them either. Halt and
+/// Joystick stay allowed; the other rules still apply after this one.
+pub fn remote_refusal(request: &Request, st: &Status, deadman_held_s: f64) -> Option<Refusal> {
+    let person_there = st.t_s - deadman_held_s < DEADMAN_GRACE_S;
     match request {
-        Request::Mode(wanted)
-            if person_drives && !matches!(wanted, Mode::Halt | Mode::Joystick) =>
-        {
+        Request::Mode(Mode::Autonomous | Mode::Test) if person_there => {
             Some(Refusal::PersonAtTheRobot)
         }
         _ => None,
@@ -69,6 +73,38 @@ pub fn why_not(wanted: Mode, st: &Status) -> Option<String> {
 mod tests {
     use super::*;
     use crate::fault_cause::FaultCause;
+
+    #[test]
+    fn the_bus_never_takes_the_robot_from_a_person_holding_the_dead_man() {
+        let mut st = Status {
+            t_s: 10.0,
+            tick: 1000,
+            mode: Mode::Joystick,
+            ..Status::default()
+        };
+        let auto = Request::Mode(Mode::Autonomous);
+        // Held now, in Joystick and after a HALT alike.
+        for mode in [Mode::Joystick, Mode::Halt] {
+            st.mode = mode;
+            for wanted in [Mode::Autonomous, Mode::Test] {
+                let asked = Request::Mode(wanted);
+                assert_eq!(
+                    remote_refusal(&asked, &st, 10.0),
+                    Some(Refusal::PersonAtTheRobot),
+                    "{mode} -> {wanted}"
+                );
+            }
+            assert_eq!(remote_refusal(&Request::Mode(Mode::Halt), &st, 10.0), None);
+        }
+        // Let go a moment ago: still the person's.
+        assert!(remote_refusal(&auto, &st, 10.0 - DEADMAN_GRACE_S + 0.1).is_some());
+        // Let go long enough: the bus may ask, and the supervisor's rules decide.
+        assert_eq!(
+            remote_refusal(&auto, &st, 10.0 - DEADMAN_GRACE_S - 0.1),
+            None
+        );
+        assert_eq!(remote_refusal(&auto, &st, f64::NEG_INFINITY), None);
+    }
 
     #[test]
     fn why_not_says_what_the_supervisor_would_refuse() {

@@ -6,6 +6,7 @@
 mod common;
 mod flood;
 mod gnss;
+mod guards;
 mod input;
 mod secured;
 mod sockets;

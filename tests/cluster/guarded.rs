@@ -33,26 +33,23 @@ fn rogue_plan() -> String {
     .to_string()
 }
 
-/// A rogue at the master's address, with `identity` (None: no certificate at all),
-/// answering every plan query with `rogue_plan`; the launcher of robot-pc with the
-/// cluster's keys must run nothing and say why.
-fn launcher_facing_a_rogue(identity: Option<&str>) {
+/// A rogue at the master's address, as `identity` of the cluster or (`other`) as the
+/// master of another authority, answering every plan query with `rogue_plan`; the
+/// launcher of robot-pc with the cluster's keys must run nothing.
+fn launcher_facing_a_rogue(identity: &str, other: bool) {
     let dir = tempfile::tempdir().unwrap();
     let folder = dir.path();
     make_keys(folder, &["robot-pc"]);
-    let port = free_port();
-    let listen = format!("tls/127.0.0.1:{port}");
-    let tls = identity.map(|name| TlsFiles::in_folder(&folder.join("keys"), name));
-    let rogue_listen = if tls.is_some() {
-        listen.clone()
-    } else {
-        format!("tcp/127.0.0.1:{port}")
-    };
+    let stranger = tempfile::tempdir().unwrap();
+    make_keys(stranger.path(), &[]);
+    let keys = if other { stranger.path() } else { folder };
+    let listen = format!("tls/127.0.0.1:{}", free_port());
+    let tls = TlsFiles::in_folder(&keys.join("keys"), identity);
     let rogue = open(
         Role::Master {
-            listen: rogue_listen,
+            listen: listen.clone(),
         },
-        tls.as_ref(),
+        Some(&tls),
     )
     .unwrap();
     let plan = rogue_plan();
@@ -85,10 +82,9 @@ fn launcher_facing_a_rogue(identity: Option<&str>) {
     let out = launcher_output(&mut launcher);
     assert!(
         !folder.join("pwned").exists(),
-        "{identity:?}: the rogue's plan ran: {out}"
+        "{identity} (another authority: {other}): the rogue's plan ran: {out}"
     );
     assert!(out.contains("waiting for the master"), "{out}");
-    assert!(out.contains("only from the master's identity"), "{out}");
 }
 
 fn launcher_output(launcher: &mut std::process::Child) -> String {
@@ -116,9 +112,11 @@ fn read_all(pipe: &mut impl std::io::Read) -> String {
 
 #[test]
 fn a_rogue_at_the_masters_address_cannot_make_a_launcher_run_anything() {
-    // With no certificate, and with one of the cluster's own that is not the master's.
-    launcher_facing_a_rogue(None);
-    launcher_facing_a_rogue(Some("viewer"));
+    // The master's identity of another authority (the TLS handshake fails), and one of
+    // the cluster's own identities that is not the master's (the access rules drop its
+    // answers).
+    launcher_facing_a_rogue("master", true);
+    launcher_facing_a_rogue("viewer", false);
 }
 
 #[test]
@@ -161,5 +159,41 @@ fn a_plan_naming_a_program_the_launcher_does_not_allow_is_refused() {
     assert!(
         out.contains("payload is refused: sh is not a program this launcher allows"),
         "{out}"
+    );
+}
+
+#[test]
+fn a_launcher_refuses_a_plain_master_beyond_this_computer_and_a_name_not_its_machines() {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path();
+    make_keys(folder, &["robot-pc", "laptop"]);
+    let launcher = |args: &[&str]| {
+        mechweed_in(folder)
+            .args(["cluster", "launcher", "--machine", "robot-pc"])
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    // Refused before any connection is tried.
+    let plain = launcher(&["--connect", "tcp/0.0.0.0:7450"]);
+    assert!(!plain.status.success());
+    assert!(
+        text(&plain.stderr).contains("over plain TCP beyond this computer"),
+        "{}",
+        text(&plain.stderr)
+    );
+    let other = launcher(&[
+        "--connect",
+        "tls/127.0.0.1:7450",
+        "--keys",
+        "keys",
+        "--as",
+        "laptop",
+    ]);
+    assert!(!other.status.success());
+    assert!(
+        text(&other.stderr).contains("its identity must be its machine's name (--as robot-pc)"),
+        "{}",
+        text(&other.stderr)
     );
 }

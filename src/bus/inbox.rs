@@ -1,0 +1,120 @@
+//! Where the robot's queryables put what other programs ask: each kind in a bounded
+//! queue of its own, taken in order of importance. HALT first, every one waiting, then
+//! requests, then settings changed, then settings read; so no flood of one kind delays
+//! another, and a HALT waits at most for the one answer being given. On a secured bus a
+//! request other than HALT on ROBOT/request (which every role that may stop the robot
+//! may ask) waits apart and last: a viewer's flood there never starves the operator.
+//!
+//! Zenoh's callbacks only sort and hand each query on; a full queue drops the query (its
+//! asker hears nothing and times out) and counts it.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Duration;
+
+use crossbeam_channel::{Receiver, Sender, bounded, select};
+use zenoh::query::{Query, Queryable};
+use zenoh::{Session, Wait};
+
+use super::payload::parse_request;
+use super::queries::Port;
+use crate::config::BusSettings;
+use crate::modes::{Mode, Request};
+
+/// Places in each queue: HALTs, requests, settings changed, settings read, and requests
+/// other than HALT on ROBOT/request of a secured bus.
+const PLACES: [usize; 5] = [64, 4, 4, 8, 4];
+
+pub struct Inbox {
+    /// In the order they are served.
+    queues: [Receiver<(Port, Query)>; 5],
+    dropped: Arc<AtomicU64>,
+    _queryables: Vec<Queryable<()>>,
+}
+
+impl Inbox {
+    /// Declare the robot's queryables on `session`.
+    pub fn declare(session: &Session, bus: &BusSettings) -> zenoh::Result<Inbox> {
+        let (senders, queues): (Vec<Sender<(Port, Query)>>, Vec<_>) =
+            PLACES.iter().map(|&n| bounded(n)).unzip();
+        let dropped = Arc::new(AtomicU64::new(0));
+        let secured = bus.tls.is_some();
+        let mut queryables = Vec::new();
+        for (what, port) in [
+            ("request", Port::Halt),
+            ("request/operator", Port::Operator),
+            ("set/**", Port::Set),
+            ("config/**", Port::Get),
+        ] {
+            let senders = senders.clone();
+            let dropped = Arc::clone(&dropped);
+            let queryable = session
+                .declare_queryable(bus.key(what))
+                .callback(move |q| {
+                    let queue = match port {
+                        // Payloads are small (the session's message limit): telling a
+                        // HALT from the rest here keeps the two apart from the start.
+                        Port::Halt if is_halt(&q) => 0,
+                        Port::Halt if secured => 4,
+                        Port::Halt | Port::Operator => 1,
+                        Port::Set => 2,
+                        Port::Get => 3,
+                    };
+                    if senders[queue].try_send((port, q)).is_err() {
+                        dropped.fetch_add(1, Ordering::Relaxed);
+                    }
+                })
+                .wait()?;
+            queryables.push(queryable);
+        }
+        let queues: [Receiver<(Port, Query)>; 5] = queues
+            .try_into()
+            .unwrap_or_else(|_| unreachable!("one receiver per queue"));
+        Ok(Inbox {
+            queues,
+            dropped,
+            _queryables: queryables,
+        })
+    }
+
+    /// The most important query waiting, or one that comes within `wait`; with whether
+    /// it is a HALT.
+    pub fn next(&self, wait: Duration) -> Option<(Port, Query, bool)> {
+        for (i, queue) in self.queues.iter().enumerate() {
+            if let Ok((port, query)) = queue.try_recv() {
+                return Some((port, query, i == 0));
+            }
+        }
+        let [halts, requests, sets, gets, others] = &self.queues;
+        let (taken, halt) = select! {
+            recv(halts) -> q => (q, true),
+            recv(requests) -> q => (q, false),
+            recv(sets) -> q => (q, false),
+            recv(gets) -> q => (q, false),
+            recv(others) -> q => (q, false),
+            default(wait) => return None,
+        };
+        taken.ok().map(|(port, query)| (port, query, halt))
+    }
+
+    /// Queries dropped because their queue was full.
+    pub fn dropped(&self) -> u64 {
+        self.dropped.load(Ordering::Relaxed)
+    }
+}
+
+/// Whether a query on ROBOT/request asks for HALT.
+fn is_halt(query: &Query) -> bool {
+    let payload = query.payload().map(|p| p.to_bytes());
+    parse_request(payload.as_deref().unwrap_or_default()) == Ok(Request::Mode(Mode::Halt))
+}
+
+/// Who asked `query`: the Zenoh session its attachment names (mechweed's tools name
+/// theirs), or "" for one that names none.
+pub fn requester(query: &Query) -> String {
+    query
+        .attachment()
+        .and_then(|a| String::from_utf8(a.to_bytes().into_owned()).ok())
+        .filter(|a| a.len() <= 64)
+        .unwrap_or_default()
+}
