@@ -110,7 +110,7 @@ impl Tool {
             if self.secured {
                 // The robot's access rules drop what an identity may not ask, unanswered.
                 why += &format!(
-                    ": on a secured bus the access rules let only an operator's identity ask for more than HALT and set settings, and this program is {}",
+                    ": the robot may be busy or gone, or its access rules dropped the question unanswered (on a secured bus only an operator's identity may ask for more than HALT or set a setting; this program is {})",
                     self.identity
                 );
             }

@@ -313,7 +313,43 @@ pub fn unit_of(key: &str) -> &'static str {
 
 #[cfg(test)]
 mod tests {
-    use super::unit_of;
+    use super::*;
+    use crate::state::shared;
+    use crate::status::Status;
+
+    /// The answers to a power-up over the bus, on `backend`, with `remote_power_up`, from
+    /// a supervisor that takes every request it is given (so that a refusal is the bus's).
+    fn power_up_over_the_bus(backend: Backend, remote_power_up: bool) -> Answer {
+        let mut settings = Settings::shipped();
+        settings.backend = backend;
+        settings.bus.accept_requests = AcceptRequests::Operator;
+        settings.bus.remote_power_up = remote_power_up;
+        let (_, status) = shared(Status::default());
+        let (handle, inbox) = crate::request_channel::channel(status);
+        let answering = std::thread::spawn(move || {
+            if let Ok(envelope) = inbox.recv_timeout(std::time::Duration::from_secs(2)) {
+                let _ = envelope.reply.send((envelope.request, Ok(())));
+            }
+        });
+        let (_, tuning) = shared((Gains::from_settings(&settings), settings.steer));
+        let queries = Queries::new(&settings, handle, tuning);
+        let answer = queries.request(br#"{"request": "power_up"}"#, Port::Operator);
+        answering.join().unwrap();
+        answer
+    }
+
+    #[test]
+    fn a_remote_power_up_of_the_real_robot_needs_its_setting() {
+        let refused = power_up_over_the_bus(Backend::Cards, false).unwrap();
+        assert_eq!(refused["accepted"], false);
+        let why = refused["reason"].as_str().unwrap();
+        assert!(why.contains("[bus] remote_power_up = no"), "{why}");
+        let allowed = power_up_over_the_bus(Backend::Cards, true).unwrap();
+        assert_eq!(allowed["accepted"], true, "{allowed}");
+        // The simulated robot takes it whatever the setting says.
+        let sim = power_up_over_the_bus(Backend::Sim, false).unwrap();
+        assert_eq!(sim["accepted"], true, "{sim}");
+    }
 
     #[test]
     fn units_come_from_the_names() {

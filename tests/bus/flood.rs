@@ -6,23 +6,10 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-use mechweed::bus::session::{Role, open};
-use mechweed::config::TlsFiles;
 use zenoh::Wait;
 
 use super::secured::{Keys, secured_robot};
 use crate::common::text;
-
-fn operator_session(keys: &Keys, endpoint: &str) -> zenoh::Session {
-    open(
-        Role::Tool {
-            connect: vec![endpoint.to_string()],
-            wait: false,
-        },
-        Some(&TlsFiles::in_folder(&keys.path(), "operator")),
-    )
-    .unwrap()
-}
 
 /// The robot program's resident memory, kB.
 fn resident_kb(pid: u32) -> u64 {
@@ -54,7 +41,7 @@ fn a_halt_is_answered_through_a_flood_of_requests_and_the_console_stays_readable
     // most 8 s.
     let flooders: Vec<_> = (0..2)
         .map(|_| {
-            let session = operator_session(&keys, &robot.endpoint);
+            let session = keys.session(&robot.endpoint, "operator");
             let (stop, sent) = (stop.clone(), sent.clone());
             std::thread::spawn(move || {
                 let end = Instant::now() + Duration::from_secs(8);
@@ -106,7 +93,7 @@ fn huge_payloads_are_dropped_and_the_robot_s_memory_does_not_grow() {
         &keys,
         &["--duration", "14", "--set", "bus.accept_requests=operator"],
     );
-    let session = operator_session(&keys, &robot.endpoint);
+    let session = keys.session(&robot.endpoint, "operator");
     std::thread::sleep(Duration::from_secs(1));
     let before_kb = resident_kb(robot.pid());
     let huge = vec![b'x'; 10 * 1024 * 1024];

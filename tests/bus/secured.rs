@@ -45,6 +45,18 @@ impl Keys {
         ]
     }
 
+    /// A Zenoh session of this test as identity `name`, linked to `endpoint`.
+    pub fn session(&self, endpoint: &str, name: &str) -> zenoh::Session {
+        open(
+            Role::Tool {
+                connect: vec![endpoint.to_string()],
+                wait: false,
+            },
+            Some(&TlsFiles::in_folder(&self.path(), name)),
+        )
+        .unwrap()
+    }
+
     /// The robot's three settings.
     fn robot_settings(&self) -> Vec<String> {
         let file = |f: &str| self.path().join(f).display().to_string();
@@ -175,14 +187,7 @@ fn a_viewer_sees_and_halts_but_cannot_power_up_or_drive() {
         assert!(why.contains("only an operator"), "{request:?}: {why}");
     }
     // The old key takes HALT only from anyone: a power-up there is refused by rule.
-    let session = open(
-        Role::Tool {
-            connect: vec![robot.endpoint.clone()],
-            wait: false,
-        },
-        Some(&TlsFiles::in_folder(&keys.path(), "viewer")),
-    )
-    .unwrap();
+    let session = keys.session(&robot.endpoint, "viewer");
     let answer = ask(&session, "mechweed/request", r#"{"request": "power_up"}"#);
     assert!(answer.contains("takes HALT only"), "{answer}");
     let halt = run_for(&bus_args(&robot, &["request", "halt"], &viewer), 8.0);
