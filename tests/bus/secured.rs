@@ -16,7 +16,9 @@ use crate::common::{mechweed, text};
 
 /// A cluster's keys, made by `mechweed keys new`, in a folder deleted when dropped.
 pub struct Keys {
-    dir: tempfile::TempDir,
+    /// Deleted when dropped; None for keys another process made.
+    _dir: Option<tempfile::TempDir>,
+    path: PathBuf,
 }
 
 impl Keys {
@@ -28,11 +30,22 @@ impl Keys {
             .output()
             .unwrap();
         assert!(made.status.success(), "{}", text(&made.stderr));
-        Keys { dir }
+        Keys {
+            path: dir.path().join("keys"),
+            _dir: Some(dir),
+        }
+    }
+
+    /// The keys another process made in `path` (a sender process of the flood tests).
+    pub fn at(path: &std::path::Path) -> Keys {
+        Keys {
+            _dir: None,
+            path: path.to_path_buf(),
+        }
     }
 
     pub fn path(&self) -> PathBuf {
-        self.dir.path().join("keys")
+        self.path.clone()
     }
 
     /// `--keys DIR --as NAME`.
