@@ -336,10 +336,7 @@ impl Tool {
 
 /// "NAME (ROLE)" for the identity in `files`, as the roster beside its authority says.
 fn identity_of(files: &TlsFiles) -> String {
-    let name = files
-        .cert
-        .file_stem()
-        .map_or(String::new(), |s| s.to_string_lossy().into_owned());
+    let name = files.name();
     let role = crate::keys::Roster::read(&files.roster())
         .ok()
         .and_then(|r| r.role_of(&name))

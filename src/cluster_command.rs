@@ -105,22 +105,14 @@ fn launcher_admission(
             keys: None,
         });
     };
-    let name = tls
-        .cert
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned());
-    if name.as_deref() != Some(machine) {
+    let name = tls.name();
+    if name != machine {
         return Err(format!(
-            "launcher {machine}: its identity must be its machine's name (--as {machine}), not {}: the access rules give a launcher the plan of its own machine alone",
-            name.unwrap_or_default()
+            "launcher {machine}: its identity must be its machine's name (--as {machine}), not {name}: the access rules give a launcher the plan of its own machine alone"
         ));
     }
     let roster = mechweed::keys::Roster::read(&tls.roster())?;
-    let dir = tls
-        .ca
-        .parent()
-        .unwrap_or(std::path::Path::new("."))
-        .to_path_buf();
+    let dir = tls.folder();
     Ok(mechweed::cluster::admit::Admission {
         allowed,
         keys: Some((dir, roster)),

@@ -39,10 +39,21 @@ impl TlsFiles {
         }
     }
 
+    /// The keys folder: where the authority's certificate is.
+    pub fn folder(&self) -> PathBuf {
+        self.ca.parent().unwrap_or(Path::new(".")).to_path_buf()
+    }
+
     /// The roster (who is who) beside the authority's certificate.
     pub fn roster(&self) -> PathBuf {
-        let dir = self.ca.parent().unwrap_or(Path::new("."));
-        dir.join(ROSTER_FILE)
+        self.folder().join(ROSTER_FILE)
+    }
+
+    /// This identity's name: its certificate's file name, NAME.pem.
+    pub fn name(&self) -> String {
+        self.cert
+            .file_stem()
+            .map_or(String::new(), |s| s.to_string_lossy().into_owned())
     }
 
     /// The authority's name as its certificate's file says it, for the start line.
