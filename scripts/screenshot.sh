@@ -19,7 +19,7 @@ if [ "$profile" = debug ]; then cargo build; else cargo build --release; fi
 bin="${CARGO_TARGET_DIR:-target}/$profile/mechweed"
 
 display=":${SCREENSHOT_DISPLAY:-77}"
-Xvfb "$display" -screen 0 1280x860x24 -nolisten tcp &
+Xvfb "$display" -screen 0 1280x720x24 -nolisten tcp &
 xvfb=$!
 trap 'kill "$xvfb" 2>/dev/null || true' EXIT
 sleep 2

@@ -2,7 +2,7 @@
 //! row, for a set time at a set supervisor rate; prints each loop's wake-up lateness and
 //! execution time, and the CPU time the whole process used (with `--gui`, also the
 //! window's frames a second). Run cyclictest beside it to compare with what the machine
-//! itself can do (README).
+//! itself can do (docs/measurements.md).
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};

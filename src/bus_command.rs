@@ -99,6 +99,13 @@ pub fn bus(args: BusArgs) -> ExitCode {
     // A flow is waited for, as a subscriber does; a question needs the robot there now.
     let wait = matches!(args.command, BusCommand::Echo { .. });
     let tls = args.identity.files();
+    // A flow the robot does not have would be waited for in silence: refused at once.
+    if let BusCommand::Echo { key, .. } = &args.command
+        && let Err(why) = mechweed::bus_tools::check_flow(key)
+    {
+        eprintln!("{why}");
+        return ExitCode::FAILURE;
+    }
     let result = Tool::connect(&args.connect, &args.robot, wait, tls.as_ref()).and_then(|tool| {
         match args.command {
             BusCommand::Echo {

@@ -13,8 +13,9 @@ use std::time::{Duration, Instant};
 use zenoh::Wait;
 
 use crate::bus_tools::Tool;
-use crate::config::RecordSettings;
-use crate::record::off_board::Recording;
+use crate::config::{Backend, CameraPort, RecordSettings};
+use crate::cross_track::CrossTrackMeaning;
+use crate::record::off_board::{Recording, RobotSays};
 use crate::record::received::{parse_event, parse_tick};
 
 /// Messages waiting for the recorder's thread; beyond this they are dropped here and
@@ -67,16 +68,21 @@ pub fn record(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
     let end = opts
         .seconds
         .map(|s| Instant::now() + Duration::from_secs_f64(s));
-    let mut stride = || {
-        tool.ask("config/bus/tick_every_n", None)
-            .ok()
-            .and_then(|answer| {
-                let json: serde_json::Value = serde_json::from_str(&answer).ok()?;
-                json["value"].as_str()?.parse().ok()
-            })
-            .unwrap_or(1)
+    let setting = |key: &str| -> Option<String> {
+        let answer = tool.ask(key, None).ok()?;
+        let json: serde_json::Value = serde_json::from_str(&answer).ok()?;
+        Some(json["value"].as_str()?.to_string())
     };
-    let mut recording = Recording::new(&mut stride, &opts.record);
+    let mut ask = || RobotSays {
+        every_n: setting("config/bus/tick_every_n")
+            .and_then(|n| n.parse().ok())
+            .unwrap_or(1),
+        cross_track: cross_track_of(
+            setting("config/hw/backend").as_deref(),
+            setting("config/camera/port").as_deref(),
+        ),
+    };
+    let mut recording = Recording::new(&mut ask, &opts.record);
     while !stop.load(Ordering::Relaxed) && end.is_none_or(|end| Instant::now() < end) {
         let Ok((is_tick, bytes)) = rx.recv_timeout(Duration::from_millis(100)) else {
             continue;
@@ -114,4 +120,19 @@ pub fn record(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
         dropped_here.load(Ordering::Relaxed),
         c.bad
     ))
+}
+
+/// The robot's cross-track meaning from its `[hw] backend` and `[camera] port`, by the
+/// one rule (cross_track.rs); a robot that does not say is taken as not meaningful, so
+/// that its record never vouches for a figure it cannot.
+fn cross_track_of(backend: Option<&str>, port: Option<&str>) -> CrossTrackMeaning {
+    let backend = match backend {
+        Some("sim") => Backend::Sim,
+        Some("cards") => Backend::Cards,
+        _ => return CrossTrackMeaning::OutsideCamera,
+    };
+    match port.map(|p| CameraPort::parse(p, 115_200)) {
+        Some(Ok(port)) if !port.is_outside_of(backend) => CrossTrackMeaning::Meaningful,
+        _ => CrossTrackMeaning::OutsideCamera,
+    }
 }

@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use zenoh::{Session, Wait};
 
 use crate::bus::payload::{row_json, wall_s};
-use crate::bus::session::{Role, open};
+use crate::bus::session::{Role, open, plain_words};
 use crate::camsim::{CamSim, CamSimOptions};
 use crate::config::TlsFiles;
 
@@ -16,6 +16,22 @@ use crate::config::TlsFiles;
 pub const DEFAULT_ENDPOINT: &str = "tcp/127.0.0.1:7447";
 /// How long a tool waits for the robot program to answer.
 const ANSWER_WAIT: Duration = Duration::from_secs(3);
+
+/// The flows a robot program publishes or takes, as `bus echo` names them.
+pub const FLOWS: [&str; 4] = ["status", "tick", "event", "camera/row"];
+
+/// Refuse a flow name the robot does not have (a typo waits for ever otherwise). Keys
+/// taken whole (`/farm/robot2/status`) and patterns (`*`) are another robot's or the
+/// user's own: taken as given.
+pub fn check_flow(key: &str) -> Result<(), String> {
+    if key.starts_with('/') || key.contains('*') || FLOWS.contains(&key) {
+        return Ok(());
+    }
+    Err(format!(
+        "'{key}' is not a flow of the robot: its flows are {} (another robot's: /NAME/status; a pattern: '*')",
+        FLOWS.join(", ")
+    ))
+}
 
 /// A tool's connection to one robot's flows.
 pub struct Tool {
@@ -43,7 +59,7 @@ impl Tool {
             wait,
         };
         crate::bus::session::check_robot(tls, robot)?;
-        let session = open(role, tls).map_err(|e| e.to_string())?;
+        let session = open(role, tls).map_err(|e| plain_words(&e))?;
         Ok(Tool {
             session,
             robot: robot.to_string(),
@@ -79,7 +95,7 @@ impl Tool {
                 .get(&key)
                 .timeout(Duration::from_millis(500))
                 .wait()
-                .map_err(|e| e.to_string())?;
+                .map_err(|e| plain_words(&e))?;
             if replies.recv().is_ok() {
                 return Ok(());
             }
@@ -104,7 +120,7 @@ impl Tool {
         if let Some(payload) = payload {
             get = get.payload(payload);
         }
-        let replies = get.wait().map_err(|e| e.to_string())?;
+        let replies = get.wait().map_err(|e| plain_words(&e))?;
         let reply = replies.recv().map_err(|_| {
             let mut why = format!("no answer from {key} within {} s", ANSWER_WAIT.as_secs());
             if self.secured {
@@ -139,6 +155,7 @@ impl Tool {
         seconds: Option<f64>,
         slow_s: f64,
     ) -> Result<Vec<f64>, String> {
+        check_flow(key)?;
         let key = self.key(key);
         // A receiver that falls behind drops the oldest messages, never the sender's
         // pace: of a status only the newest counts; of other flows the newest 256 wait.
@@ -148,15 +165,19 @@ impl Tool {
             .declare_subscriber(&key)
             .with(zenoh::handlers::RingChannel::new(keep))
             .wait()
-            .map_err(|e| e.to_string())?;
+            .map_err(|e| plain_words(&e))?;
         // Seen by the robot program as a receiver (its status and the GUI count them).
         let _alive = self
             .session
             .liveliness()
             .declare_token(self.key(&format!("alive/echo-{}", std::process::id())))
             .wait()
-            .map_err(|e| e.to_string())?;
+            .map_err(|e| plain_words(&e))?;
         let end = seconds.map(|s| Instant::now() + Duration::from_secs_f64(s));
+        // Said once, a few seconds in, when nothing came and no robot program is there:
+        // a subscriber waits for the robot, but not silently.
+        let mut absence_said = false;
+        let asked_at = Instant::now();
         let mut printed = 0;
         let mut ages_s = Vec::new();
         while count.is_none_or(|n| printed < n) {
@@ -166,7 +187,17 @@ impl Tool {
             if end.is_some_and(|end| Instant::now() >= end) {
                 break;
             }
-            let Ok(Some(sample)) = subscriber.recv_timeout(wait) else {
+            let Ok(Some(sample)) = subscriber.recv_timeout(wait.min(Duration::from_millis(200)))
+            else {
+                if printed == 0 && !absence_said && asked_at.elapsed() >= ANSWER_WAIT {
+                    absence_said = true;
+                    if self.wait_for_controller().is_err() {
+                        eprintln!(
+                            "bus echo: nothing yet on {key}: no mechweed robot program '{}' answers at {} (is it running, with [bus] enabled = yes and this endpoint?); still waiting, Ctrl-C to stop",
+                            self.robot, self.endpoint
+                        );
+                    }
+                }
                 continue;
             };
             let payload = text(&sample.payload().to_bytes());
@@ -219,7 +250,7 @@ impl Tool {
             .get(&alive)
             .timeout(ANSWER_WAIT)
             .wait()
-            .map_err(|e| e.to_string())?;
+            .map_err(|e| plain_words(&e))?;
         let mut out = match self.robot_says_of_its_bus() {
             Some(line) => format!("the robot's bus: {line}\n"),
             None => "the robot's bus: no status within 3 s\n".to_string(),
@@ -263,7 +294,7 @@ impl Tool {
                     let _ = tx.try_send(sample.key_expr().as_str().to_string());
                 })
                 .wait()
-                .map_err(|e| e.to_string())?;
+                .map_err(|e| plain_words(&e))?;
             subscribers.push(subscriber);
         }
         let start = Instant::now();
@@ -296,13 +327,13 @@ impl Tool {
             .declare_publisher(&key)
             .encoding(zenoh::bytes::Encoding::APPLICATION_JSON)
             .wait()
-            .map_err(|e| e.to_string())?;
+            .map_err(|e| plain_words(&e))?;
         let _alive = self
             .session
             .liveliness()
             .declare_token(self.key("alive/camsim"))
             .wait()
-            .map_err(|e| e.to_string())?;
+            .map_err(|e| plain_words(&e))?;
         println!(
             "simulated camera publishing row estimates on {key} (via {})",
             self.endpoint
@@ -317,7 +348,7 @@ impl Tool {
                 // Stamped with this computer's clock, as a vision program stamps its
                 // capture time: the robot takes its age from it where the clocks agree.
                 let payload = row_json(&row, wall_s()).to_string();
-                publisher.put(payload).wait().map_err(|e| e.to_string())?;
+                publisher.put(payload).wait().map_err(|e| plain_words(&e))?;
             }
             if now_s >= next_line_s {
                 next_line_s += 1.0;

@@ -217,7 +217,7 @@ pub fn watch(args: WatchArgs) -> ExitCode {
         &args.robot,
         args.identity.files().as_ref(),
     ) {
-        Ok(remote) => remote,
+        Ok(remote) => remote.unknown_after(settings.gui.remote_stale_s),
         Err(why) => return done(Err(why)),
     };
     println!("watching {} at {}", args.robot, args.connect);

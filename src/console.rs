@@ -3,10 +3,14 @@
 //! ends the run at its duration, on Ctrl-C, or when a thread has stopped.
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
+
+use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+use signal_hook::iterator::Signals;
 use std::time::Duration;
 
 use crate::config::Backend;
+use crate::cross_track::CrossTrackMeaning;
 use crate::modes::Mode;
 use crate::operator::OperatorScript;
 use crate::rt::liu_layland;
@@ -46,6 +50,7 @@ pub fn operate(
     // so that a run's output tells what was done to the robot and when.
     // On the real robot nothing plays the plant's events.
     let simulated = opts.settings.backend == Backend::Sim;
+    let cross_track = CrossTrackMeaning::of(&opts.settings);
     let mut events = (opts.settings.sim.events.iter())
         .filter(|e| simulated || e.action.is_operator())
         .peekable();
@@ -69,6 +74,13 @@ pub fn operate(
             crate::say!("{now_s:7.2} s  scripted event: {}", event.action);
         }
         let status = supervisor.status.snapshot();
+        // The fault before the mode change it causes: the cause first, then its effect.
+        if let Some(fault) = status.fault
+            && faults_seen != Some(fault.tick_seen)
+        {
+            faults_seen = Some(fault.tick_seen);
+            crate::say!("{:7.2} s  FAULT: {}", fault.t_s, fault.cause);
+        }
         if status.mode != mode_seen {
             crate::say!("{now_s:7.2} s  mode: {mode_seen} -> {}", status.mode);
             mode_seen = status.mode;
@@ -79,12 +91,6 @@ pub fn operate(
         {
             eprintln!("{now_s:7.2} s  request {request:?} refused: {why}");
             last_refusal = why;
-        }
-        if let Some(fault) = status.fault
-            && faults_seen != Some(fault.tick_seen)
-        {
-            faults_seen = Some(fault.tick_seen);
-            crate::say!("{:7.2} s  FAULT: {}", fault.t_s, fault.cause);
         }
         if status.notice != notice_seen {
             notice_seen = status.notice;
@@ -109,11 +115,11 @@ pub fn operate(
                 ),
             };
             crate::say!(
-                "{now_s:7.2} s  {:<10} speed {:5.2} m/s  wheel {:5.1} deg  tool off row {:5.1} cm  camera {link_state}",
+                "{now_s:7.2} s  {:<10} speed {:5.2} m/s  wheel {:5.1} deg  tool off row {}  camera {link_state}",
                 status.mode.name(),
                 status.measured.speed_mps,
                 status.measured.wheel_angle_rad.to_degrees(),
-                t.tool_cross_track_m * 100.0,
+                cross_track.cm(t.tool_cross_track_m),
             );
             let steer = handles.steer.snapshot();
             let r = &steer.row;
@@ -149,12 +155,45 @@ pub fn operate(
     }
 }
 
-/// A flag that Ctrl-C (or SIGTERM) sets.
+/// The signal that asked this program to stop (0: none yet).
+static STOPPED_BY: AtomicI32 = AtomicI32::new(0);
+
+/// A flag that Ctrl-C, SIGTERM (a service manager, `kill`, a shutdown) or SIGHUP (the
+/// terminal closed) sets; `stop_request` says which it was. Each call gives a flag of
+/// its own, all set by the same signals.
 pub fn ctrl_c() -> Arc<AtomicBool> {
     let stop = Arc::new(AtomicBool::new(false));
     let flag = stop.clone();
-    if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed)) {
-        eprintln!("cannot catch Ctrl-C ({e})");
+    let signals = [SIGINT, SIGTERM, SIGHUP];
+    let started = Signals::new(signals).and_then(|mut signals| {
+        std::thread::Builder::new()
+            .name("signals".into())
+            .spawn(move || {
+                for signal in signals.forever() {
+                    let _ = STOPPED_BY.compare_exchange(
+                        0,
+                        signal,
+                        Ordering::Relaxed,
+                        Ordering::Relaxed,
+                    );
+                    flag.store(true, Ordering::Relaxed);
+                }
+            })
+    });
+    if let Err(e) = started {
+        eprintln!("cannot catch Ctrl-C and SIGTERM ({e}): stop with --duration");
     }
     stop
+}
+
+/// Who asked this program to stop, in words; None: no signal came.
+pub fn stop_request() -> Option<&'static str> {
+    match STOPPED_BY.load(Ordering::Relaxed) {
+        SIGINT => Some("the operator (Ctrl-C)"),
+        SIGTERM => {
+            Some("a stop request from the system (SIGTERM: a service manager, kill or a shutdown)")
+        }
+        SIGHUP => Some("its terminal closing (SIGHUP)"),
+        _ => None,
+    }
 }

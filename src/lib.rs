@@ -21,6 +21,7 @@ pub mod camsim_main;
 pub mod cluster;
 pub mod config;
 pub mod console;
+pub mod cross_track;
 pub mod fault_cause;
 mod faults;
 pub mod gamepad;

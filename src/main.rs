@@ -9,8 +9,6 @@ mod replay_command;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 
 use clap::Parser;
 
@@ -140,18 +138,9 @@ fn run_command(args: RunArgs) -> ExitCode {
         eprintln!("{why}: {RUN_ADVICE} (nothing started)");
         return ExitCode::FAILURE;
     }
-    let stop = Arc::new(AtomicBool::new(false));
-    // Told apart from the end of --duration, so that the run says who ended it.
-    let interrupted = Arc::new(AtomicBool::new(false));
-    {
-        let (stop, interrupted) = (stop.clone(), interrupted.clone());
-        if let Err(e) = ctrlc::set_handler(move || {
-            interrupted.store(true, Ordering::Relaxed);
-            stop.store(true, Ordering::Relaxed);
-        }) {
-            eprintln!("cannot catch Ctrl-C ({e}); stop with --duration");
-        }
-    }
+    // Set by Ctrl-C or SIGTERM, told apart from the end of --duration, so that the run
+    // says who ended it.
+    let stop = mechweed::console::ctrl_c();
     let start_mode = match args.mode {
         StartMode::Halt => Mode::Halt,
         StartMode::Joystick => Mode::Joystick,
@@ -207,10 +196,10 @@ fn run_command(args: RunArgs) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    if interrupted.load(Ordering::Relaxed) {
+    if let Some(who) = mechweed::console::stop_request() {
         // The threads have ended: the supervisor wrote the safe outputs as it stopped.
         mechweed::say!(
-            "run stopped by the operator (Ctrl-C); the outputs are safe: amplifiers 0 V, motor power off, brakes on, tool off"
+            "run stopped by {who}; the outputs are safe: amplifiers 0 V, motor power off, brakes on, tool off"
         );
     }
     let report = Report::from_run(&outcome);

@@ -103,6 +103,8 @@ pub enum Refusal {
     FaultLatched(Option<FaultCause>),
     CauseStillActive(FaultCause),
     NotPowered,
+    /// Power up was accepted and the contactor is still closing.
+    PowerComingOn,
     NotCalibrated,
     OnlyFromHalt(Mode),
     NotStanding,
@@ -126,6 +128,10 @@ impl fmt::Display for Refusal {
             Refusal::FaultLatched(None) => write!(f, "a fault is latched: power up to clear it"),
             Refusal::CauseStillActive(c) => write!(f, "cannot power up: {c}"),
             Refusal::NotPowered => write!(f, "motor power is off: press Power up first"),
+            Refusal::PowerComingOn => write!(
+                f,
+                "motor power is still coming on (the contactor is closing): ask again when power shows on"
+            ),
             Refusal::NotCalibrated => write!(f, "the steering is still being calibrated"),
             Refusal::OnlyFromHalt(m) => {
                 write!(f, "this mode can only be entered from halt (now {m})")

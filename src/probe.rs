@@ -61,7 +61,10 @@ pub fn gamepads(settings: &Settings, dir: &Path) -> String {
         out += "  none\n";
     }
     for line in &refused {
-        let _ = writeln!(out, "  not readable: {line} (see the README's udev rule)");
+        let _ = writeln!(
+            out,
+            "  not readable: {line} (see the udev rule in docs/gamepad.md)"
+        );
     }
     out
 }

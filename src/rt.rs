@@ -14,6 +14,10 @@ use thread_priority::{
 
 use crate::config::RtSettings;
 
+#[path = "rt_liu_layland.rs"]
+mod liu_layland;
+pub use liu_layland::{LiuLayland, liu_layland};
+
 /// Nanoseconds on `clock`.
 fn clock_ns(clock: libc::clockid_t) -> u64 {
     let mut ts = libc::timespec {
@@ -150,8 +154,14 @@ pub struct Periodic {
     next_ns: u64,
     woke_ns: u64,
     late_ns: u64,
+    /// When the loop's figures are next due for its readers (`figures_due`).
+    figures_due_ns: u64,
     pub stats: LoopStats,
 }
+
+/// How often a loop's figures go out to the bus, the GUI and the console, ns: often
+/// enough that a rate worked out from two of them is within a few per cent.
+const FIGURES_EVERY_NS: u64 = 250_000_000;
 
 impl Periodic {
     pub fn new(rate_hz: f64) -> Periodic {
@@ -162,6 +172,7 @@ impl Periodic {
             next_ns: now + period_ns,
             woke_ns: now,
             late_ns: 0,
+            figures_due_ns: now,
             stats: LoopStats::new(rate_hz),
         }
     }
@@ -197,37 +208,21 @@ impl Periodic {
         }
     }
 
+    /// Whether the loop's figures are due for its readers: every FIGURES_EVERY_NS of the
+    /// monotonic clock (and at the first tick), whatever woke the loop.
+    pub fn figures_due(&mut self) -> bool {
+        let now = monotonic_ns();
+        if now < self.figures_due_ns {
+            return false;
+        }
+        self.figures_due_ns = now + FIGURES_EVERY_NS;
+        true
+    }
+
     /// Done with an unscheduled tick: record its execution but keep the deadline.
     pub fn done_unscheduled(&mut self) {
         let now = monotonic_ns();
         self.stats.record(0, now - self.woke_ns);
-    }
-}
-
-/// The Liu and Layland check: is the measured worst-case load of the periodic threads
-/// schedulable by fixed priorities? U = sum(C_i / T_i) <= n (2^(1/n) - 1).
-#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
-pub struct LiuLayland {
-    pub utilisation: f64,
-    pub bound: f64,
-    pub schedulable: bool,
-}
-
-pub fn liu_layland(loops: &[LoopSummary]) -> LiuLayland {
-    let n = loops.len() as f64;
-    let utilisation = loops
-        .iter()
-        .map(|l| l.exec_us.max as f64 * 1e-6 * l.rate_hz)
-        .sum();
-    let bound = if n > 0.0 {
-        n * (2f64.powf(1.0 / n) - 1.0)
-    } else {
-        1.0
-    };
-    LiuLayland {
-        utilisation,
-        bound,
-        schedulable: utilisation <= bound,
     }
 }
 
@@ -366,23 +361,6 @@ mod tests {
         assert!(capability_in(ipc_lock_only, CAP_IPC_LOCK));
         assert!(!capability_in(ipc_lock_only, 13));
         assert!(!capability_in("garbage", CAP_IPC_LOCK));
-    }
-
-    #[test]
-    fn liu_layland_bound_for_two_threads() {
-        let l = |rate_hz: f64, max_us: u64| LoopSummary {
-            rate_hz,
-            exec_us: Percentiles {
-                max: max_us,
-                ..Percentiles::default()
-            },
-            ..LoopSummary::default()
-        };
-        let check = liu_layland(&[l(100.0, 1000), l(10.0, 5000)]);
-        assert!((check.utilisation - 0.15).abs() < 1e-9);
-        assert!((check.bound - 2.0 * (2f64.sqrt() - 1.0)).abs() < 1e-12);
-        assert!(check.schedulable);
-        assert!(!liu_layland(&[l(100.0, 6000), l(10.0, 40000)]).schedulable);
     }
 
     #[test]

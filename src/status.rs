@@ -39,7 +39,12 @@ pub enum Notice {
     /// Autonomous along this row, m.
     RowEnded { driven_m: f64, t_s: f64 },
     /// Autonomous by GNSS or the fused row: these sensors steer from now on.
-    Steering { steering: Steering, t_s: f64 },
+    /// The sensors that steer changed; `why` names what the others lack.
+    Steering {
+        steering: Steering,
+        why: Option<&'static str>,
+        t_s: f64,
+    },
 }
 
 impl Notice {
@@ -70,8 +75,12 @@ impl std::fmt::Display for Notice {
                 f,
                 "end of row after {driven_m:.1} m: the tool passed the row's end, robot stopped, now in halt"
             ),
-            Notice::Steering { steering, .. } => {
-                write!(f, "steering by {}", steering.words())
+            Notice::Steering { steering, why, .. } => {
+                write!(f, "steering by {}", steering.words())?;
+                match why {
+                    Some(why) => write!(f, ": {why}"),
+                    None => Ok(()),
+                }
             }
         }
     }

@@ -49,8 +49,10 @@ impl Steering {
         match self {
             Steering::Camera => "the camera",
             Steering::Fused => "camera and GNSS, fused",
-            Steering::FilterCamera => "the camera alone (GNSS lost)",
-            Steering::FilterGnss => "GNSS alone (the camera lost)",
+            // Why it came to this is the notice's (SourceHealth::why): "lost" said of a
+            // camera that sends frames which show no row misled.
+            Steering::FilterCamera => "the camera alone",
+            Steering::FilterGnss => "GNSS alone",
             Steering::Nothing => "nothing: neither the camera nor GNSS",
         }
     }

@@ -16,12 +16,15 @@ use crate::record::read::{Table, read};
 use crate::rowmap::{MapRow, RowMap, TeachSample, TeachSettings, Teacher, read_map, write_map};
 
 /// The record's columns teaching reads.
-const COLUMNS: [&str; 5] = [
+const COLUMNS: [&str; 8] = [
     "mode",
     "distance_m",
     "gnss_quality",
     "gnss_lat_deg",
     "gnss_lon_deg",
+    "cam_offset_m",
+    "cam_angle_rad",
+    "cam_quality",
 ];
 
 /// The heading is taken from the antenna's track over the last metre or so: over less,
@@ -36,6 +39,9 @@ pub struct Taught {
     /// Driven in joystick mode with a trusted fix, m.
     pub length_m: f64,
     pub fixes_used: usize,
+    /// The row the camera saw, from the tool, over the drive: the median, m (positive:
+    /// the row left of the tool); None: the camera saw no row of [camera] min_quality.
+    pub camera_row_from_tool_m: Option<f64>,
 }
 
 /// The tool's path along the row `name`, from the joystick driving in `record`.
@@ -63,9 +69,13 @@ pub fn taught_row(record: &Path, name: &str, s: &Settings) -> Result<Taught, Str
     let mut teacher = Teacher::new(settings).map_err(|e| e.to_string())?;
     let mut track = Track::new(s);
     let (mut fixes_used, mut first_m, mut last_m) = (0, None, 0.0);
+    let mut camera_row_m = Vec::new();
     for row in 0..t.rows.len() {
         if t.text(row, mode) != "joystick" {
             continue;
+        }
+        if let Some(from_tool_m) = camera_row_at_tool(t, row, s)? {
+            camera_row_m.push(from_tool_m);
         }
         let (Some(lat_deg), Some(lon_deg), Some(distance_m)) =
             (num(row, lat)?, num(row, lon)?, num(row, distance)?)
@@ -100,11 +110,35 @@ pub fn taught_row(record: &Path, name: &str, s: &Settings) -> Result<Taught, Str
         return Err(no_drive(record, t));
     }
     let row = teacher.finish(name).map_err(|e| e.to_string())?;
+    camera_row_m.sort_by(f64::total_cmp);
     Ok(Taught {
         row,
         length_m: last_m - first_m.unwrap_or(last_m),
         fixes_used,
+        camera_row_from_tool_m: camera_row_m.get(camera_row_m.len() / 2).copied(),
     })
+}
+
+/// Where the camera's row was at the tool in record line `row`, m (positive: the row
+/// left of the tool); None without an estimate of [camera] min_quality.
+fn camera_row_at_tool(t: &Table, row: usize, s: &Settings) -> Result<Option<f64>, String> {
+    let cell = |name: &str| -> Result<Option<f64>, String> {
+        let col = t.column(name).unwrap_or_default();
+        t.number(row, col).map_err(|e| e.to_string())
+    };
+    let (Some(offset_m), Some(angle_rad), Some(quality)) = (
+        cell("cam_offset_m")?,
+        cell("cam_angle_rad")?,
+        cell("cam_quality")?,
+    ) else {
+        return Ok(None);
+    };
+    if quality < f64::from(s.camera.min_quality) {
+        return Ok(None);
+    }
+    // The row's line, seen at the camera point, carried back to the tool.
+    let back_m = s.robot.tool_offset_m - s.robot.camera_lookahead_m;
+    Ok(Some(offset_m + angle_rad.tan() * back_m))
 }
 
 /// Why nothing could be taught from the record.
@@ -132,10 +166,26 @@ pub fn teach_into_map(
         record.display()
     );
     let wrote = write_into_map(map, taught.row, &comment)?;
-    Ok(format!(
+    let mut said = format!(
         "row {name}: {points} points over {:.1} m driven, {wrote}",
         taught.length_m
-    ))
+    );
+    let limit_m = s.gnss.teach_warn_off_row_m;
+    match taught.camera_row_from_tool_m {
+        Some(row_m) if row_m.abs() > limit_m => {
+            let side = if row_m > 0.0 { "left" } else { "right" };
+            said += &format!(
+                "\nWARNING: the tool ran {:.1} cm from the row the camera saw (the plants {side} of it; the median over the drive, more than [gnss] teach_warn_off_row_m = {:.1} cm): the map now has the row where the tool went, so autonomous runs by GNSS will weed beside the plants. Drive it again along the plants, or keep it if that offset is meant.",
+                row_m.abs() * 100.0,
+                limit_m * 100.0
+            );
+        }
+        Some(_) => {}
+        None => {
+            said += "\nnote: the camera saw no row while driving: whether the tool went along the plants is not known"
+        }
+    }
+    Ok(said)
 }
 
 /// The simulated field's own map (its planting record, with the planting error of
@@ -270,7 +320,10 @@ mod tests {
             lon_deg: 5.66,
             height_m: 0.0,
         });
-        let mut csv = String::from("mode,distance_m,gnss_quality,gnss_lat_deg,gnss_lon_deg\n");
+        // Every record has the camera's columns; empty here (no row seen).
+        let mut csv = String::from(
+            "mode,distance_m,gnss_quality,gnss_lat_deg,gnss_lon_deg,cam_offset_m,cam_angle_rad,cam_quality\n",
+        );
         for i in 0..=120 {
             let at_m = 0.05 * f64::from(i);
             let float = (3.0..3.3).contains(&at_m);
@@ -280,7 +333,7 @@ mod tests {
                 up_m: 0.0,
             });
             let quality = if float { 5 } else { 4 };
-            csv += &format!("joystick,{at_m},{quality},{},{}\n", p.lat_deg, p.lon_deg);
+            csv += &format!("joystick,{at_m},{quality},{},{},,,\n", p.lat_deg, p.lon_deg);
         }
         std::fs::write(&path, csv).unwrap();
         let taught = taught_row(&path, "1", &Settings::shipped()).unwrap();

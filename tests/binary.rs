@@ -71,6 +71,14 @@ fn a_scripted_estop_shows_in_the_report_with_its_cause() {
         "sim.events=2 estop_front",
     ]);
     assert!(stdout.contains("FAULT: front emergency stop"), "{stdout}");
+    // The cause before its effect: the fault line, then the mode change it made.
+    let lines: Vec<&str> = stdout.lines().collect();
+    let fault_at = lines.iter().position(|l| l.contains("FAULT: ")).unwrap();
+    let mode_at = (lines
+        .iter()
+        .position(|l| l.contains("mode: autonomous -> fault")))
+    .unwrap_or_else(|| panic!("{stdout}"));
+    assert!(fault_at < mode_at, "{stdout}");
     assert_eq!(report["mode_final"], "fault");
     let fault = &report["faults"][0];
     let cause = fault["cause"].as_str().unwrap();

@@ -51,12 +51,12 @@ fn the_readme_s_scripted_events_each_print_a_line_as_they_happen() {
     assert!(back.is_some_and(|b| b > mode), "{stdout}");
 }
 
-#[test]
-fn ctrl_c_ends_a_run_saying_the_operator_stopped_it_and_the_outputs_are_safe() {
+/// A run driving autonomous with no --duration, ended by `signal` once it drives: what
+/// it printed, and whether it ended well.
+fn stopped_by(signal: i32) -> (bool, String) {
     use std::io::{BufRead, BufReader, Read};
     use std::process::Stdio;
     let dir = tempfile::tempdir().unwrap();
-    // Driving, with no --duration: only Ctrl-C ends it.
     let mut child = mechweed()
         .args(["run", "--headless", "--mode", "autonomous"])
         .args(common::test_run_settings(dir.path()))
@@ -76,15 +76,34 @@ fn ctrl_c_ends_a_run_saying_the_operator_stopped_it_and_the_outputs_are_safe() {
     }
     let pid = i32::try_from(child.id()).unwrap();
     // SAFETY: kill() with a child's own pid and a signal number has no memory effects.
-    assert_eq!(unsafe { libc::kill(pid, libc::SIGINT) }, 0);
+    assert_eq!(unsafe { libc::kill(pid, signal) }, 0);
     stdout.read_to_string(&mut seen).unwrap();
     let status = child.wait().unwrap();
-    assert!(status.success(), "{seen}");
+    (status.success(), seen)
+}
+
+#[test]
+fn ctrl_c_ends_a_run_saying_the_operator_stopped_it_and_the_outputs_are_safe() {
+    let (ok, seen) = stopped_by(libc::SIGINT);
+    assert!(ok, "{seen}");
     assert!(
         seen.contains("run stopped by the operator (Ctrl-C); the outputs are safe"),
         "{seen}"
     );
     assert!(seen.contains("final mode: autonomous"), "{seen}");
+}
+
+#[test]
+fn sigterm_is_named_as_the_systems_stop_request_not_the_operators() {
+    // A service manager or a shutdown sends SIGTERM: it was reported as Ctrl-C.
+    let (ok, seen) = stopped_by(libc::SIGTERM);
+    assert!(ok, "{seen}");
+    assert!(
+        seen.contains("run stopped by a stop request from the system (SIGTERM"),
+        "{seen}"
+    );
+    assert!(seen.contains("the outputs are safe"), "{seen}");
+    assert!(!seen.contains("Ctrl-C"), "{seen}");
 }
 
 #[test]

@@ -159,6 +159,31 @@ fn an_outside_camera_on_the_simulated_robot_leaves_cross_track_out_and_says_so()
     assert!(json["cross_track_cm"]["mean_cm"].is_null(), "{json}");
     assert!(json["cross_track_cm"]["max_cm"].is_null(), "{json}");
     assert_eq!(json["outside_camera"], true);
+    // The console's status line says so too, instead of the field's number.
+    let status_lines: Vec<&&str> = lines
+        .iter()
+        .filter(|l| l.contains("tool off row"))
+        .collect();
+    assert!(!status_lines.is_empty(), "{stdout}");
+    for line in status_lines {
+        assert!(
+            line.contains("tool off row not meaningful (outside camera)"),
+            "{line}"
+        );
+    }
+    // And the record's summary, read back from the header beside the record.
+    let summary = mechweed()
+        .args(["record", "summary", "latest"])
+        .args(common::test_run_settings(dir.path()))
+        .output()
+        .unwrap();
+    let said = text(&summary.stdout);
+    assert!(summary.status.success(), "{said}{}", text(&summary.stderr));
+    assert!(
+        said.contains("tool cross-track: not meaningful (outside camera)"),
+        "{said}"
+    );
+    assert!(!said.contains("mean "), "a cross-track figure: {said}");
 }
 
 #[test]

@@ -126,6 +126,15 @@ fn the_camera_silent_for_5_s_leaves_the_fused_robot_on_the_row_by_rtk_at_reduced
         run.steering_at_s
     );
     assert_eq!(run.steering_at_s[30], Steering::Fused);
+    // The notice names what the camera lacked, not a camera "lost" that may still be
+    // sending frames.
+    let said: Vec<String> = (run.sim.supervisor.notices().iter())
+        .map(|n| n.to_string())
+        .collect();
+    let fell_back = (said.iter())
+        .find(|n| n.starts_with("steering by GNSS alone: the camera"))
+        .unwrap_or_else(|| panic!("{said:?}"));
+    assert!(!fell_back.contains("lost"), "{fell_back}");
     // The 5 s without the camera and the 2 s it takes to settle back.
     let during = worst_cm(&run.errors_m, 20.0, 27.0);
     assert!(during < 3.0, "the tool {during:.2} cm off the row");

@@ -341,7 +341,7 @@ fn the_status_tab_shows_the_fix_which_sensors_steer_and_the_filters_row() {
     };
     let mut h = panels(view, draw_status);
     h.step();
-    assert!(shows(&h, "GNSS alone (the camera lost)"));
+    assert!(shows(&h, "GNSS alone"));
     assert!(shows(&h, "RTK float  16 satellites  s.d. 10.0 cm"));
     assert!(shows(&h, "row +1.2 cm +- 0.4 cm at the rear axle"));
     assert!(shows(&h, "map bias -0.8 cm"));

@@ -7,91 +7,18 @@
 mod common;
 
 use std::process::{Child, Stdio};
-use std::sync::atomic::AtomicBool;
-use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
 use mechweed::config::Settings;
 use mechweed::gui::pacer::Source;
 use mechweed::gui::remote::{Flow, RemoteView};
 use mechweed::gui::view::ViewSource;
-use mechweed::gui::{Controller, GuiApp};
 use mechweed::modes::{Gains, Mode, Request};
-use mechweed::run::RunOptions;
 use serde_json::Value;
 
-const RECORDED: &str = include_str!("watch_flows.jsonl");
-
-/// The recorded messages: (flow, payload).
-fn recorded() -> Vec<(Flow, Value)> {
-    RECORDED
-        .lines()
-        .map(|line| {
-            let line: Value = serde_json::from_str(line).unwrap();
-            let flow = match line["key"].as_str().unwrap() {
-                "mechweed/status" => Flow::Status,
-                "mechweed/tick" => Flow::Tick,
-                other => panic!("a flow the view does not read: {other}"),
-            };
-            (flow, line["payload"].clone())
-        })
-        .collect()
-}
-
-/// The GUI over a view fed by hand, the recorded flows arrived `age` ago.
-fn watching(age: Duration, change: impl Fn(Flow, &mut Value)) -> Harness<'static, GuiApp> {
-    let remote = RemoteView::offline("mechweed", "tcp/10.0.0.7:7447");
-    let at = Instant::now() - age;
-    for (flow, mut payload) in recorded() {
-        change(flow, &mut payload);
-        remote.feed(flow, payload.to_string().as_bytes(), at);
-    }
-    let opts = RunOptions {
-        settings: Settings::shipped(),
-        start_mode: Mode::Halt,
-        duration_s: None,
-        status_every_s: 0.0,
-        inject: None,
-    };
-    let controller: Controller = Arc::new(Mutex::new(None));
-    let stop = Arc::new(AtomicBool::new(false));
-    let app = GuiApp::new(
-        Source::Remote(Box::new(remote)),
-        &opts,
-        None,
-        stop,
-        controller,
-    );
-    let mut harness = Harness::builder()
-        .with_size(eframe::egui::vec2(1280.0, 1000.0))
-        .build_ui_state(
-            |ui, app: &mut GuiApp| {
-                app.pass(ui.ctx());
-                app.show(ui);
-            },
-            app,
-        );
-    harness.run_steps(2);
-    harness
-}
-
-fn shows(harness: &Harness<'static, GuiApp>, text: &str) -> bool {
-    harness.query_all_by_label_contains(text).next().is_some()
-}
-
-fn enabled(harness: &Harness<'static, GuiApp>, label: &str) -> bool {
-    !harness.get_by_label(label).accesskit_node().is_disabled()
-}
-
-/// What the view would have sent to the robot.
-fn sent(harness: &Harness<'static, GuiApp>) -> Vec<String> {
-    match &harness.state().shared.lock().source {
-        Source::Remote(remote) => remote.sent.lock().clone(),
-        Source::Local(_) => panic!("not watching"),
-    }
-}
+mod watch_harness;
+use watch_harness::{enabled, recorded, sent, shows, watching};
 
 #[test]
 fn the_same_panels_show_the_recorded_flows_and_the_header_names_the_robot() {
@@ -135,7 +62,7 @@ fn the_watched_robots_gnss_and_row_filter_are_shown_from_its_ticks() {
             payload["filter_gnss_rejected"] = 3.into();
         }
     });
-    assert!(shows(&harness, "GNSS alone (the camera lost)"));
+    assert!(shows(&harness, "GNSS alone"));
     assert!(shows(&harness, "RTK fixed  17 satellites  s.d. 1.2 cm"));
     assert!(shows(&harness, "row +3.4 cm +- 0.8 cm at the rear axle"));
     assert!(shows(&harness, "camera 0  GNSS 3"));
@@ -149,16 +76,95 @@ fn the_header_turns_red_with_the_age_when_the_status_is_older_than_a_second() {
         "watching mechweed at tcp/10.0.0.7:7447: no status for 3."
     ));
     assert!(harness.state().view.remote.as_ref().unwrap().stale());
-    let waiting = {
-        let remote = RemoteView::offline("mechweed", "tcp/10.0.0.7:7447");
-        let mut source = Source::Remote(Box::new(remote));
-        source.view().remote.unwrap()
-    };
-    assert!(waiting.stale() && waiting.age_s.is_none());
-    assert_eq!(
-        mechweed::gui::header::remote_line(&waiting),
-        "waiting for mechweed's status at tcp/10.0.0.7:7447"
+}
+
+#[test]
+fn a_view_that_never_got_a_status_shows_no_value_and_says_what_it_waits_for() {
+    // Nothing listening at the address: no status ever came. The window used to show
+    // HALT, "E-stop front PRESSED", 0.00 V, "connected, idle", "schedulable" and a
+    // claim about the robot's accept_requests, none of them received.
+    let remote =
+        RemoteView::offline("mechweed", "tcp/10.0.0.7:7447").opened_ago(Duration::from_secs(7));
+    let harness = watch_harness::window(remote, Settings::shipped(), [1280.0, 1000.0]);
+    assert!(shows(&harness, "NO DATA YET"));
+    assert!(shows(
+        &harness,
+        "no data yet: waiting for mechweed's status at tcp/10.0.0.7:7447 (7 s)"
+    ));
+    for invented in [
+        "PRESSED",
+        "0.00 V",
+        "connected, idle",
+        "schedulable",
+        "no fault",
+        "requests: HALT only",
+        "m/s   wheel",
+    ] {
+        assert!(
+            !shows(&harness, invented),
+            "shows '{invented}', never received"
+        );
+    }
+    // "HALT" only on its button, not as a mode never received.
+    assert_eq!(harness.query_all_by_label("HALT").count(), 1);
+    // The mode buttons say why they wait; HALT is always there to press.
+    assert!(!enabled(&harness, "Power up"));
+    assert!(!enabled(&harness, "Autonomous"));
+    assert!(shows(&harness, "waiting for the robot's first status"));
+    assert!(enabled(&harness, "HALT"));
+}
+
+#[test]
+fn a_robot_that_fell_silent_is_counted_up_each_second_then_greyed_then_unknown() {
+    use mechweed::gui::app::Tab;
+    use mechweed::gui::pace::Pace;
+    // The pacer asked for a frame only when the link went stale, so the header froze at
+    // "no status for 1.0 s" while the robot was gone.
+    let mut remote = watch_harness::fed(Duration::ZERO, |_, _| {});
+    let heard = Instant::now();
+    let mut pace = Pace::default();
+    let mut passes = 0;
+    let mut frames_at_s = Vec::new();
+    for step in 0..40 {
+        // 0.1 s steps of the pacer's clock, from 1.05 s of silence to 4.95 s.
+        let silent_s = 1.05 + 0.1 * step as f64;
+        let view = remote.view_at(heard + Duration::from_secs_f64(silent_s));
+        if pace.look(&view, Tab::Status, passes, silent_s).draw {
+            frames_at_s.push(silent_s);
+            passes += 1; // the GUI thread drew it
+        }
+    }
+    for second in 2..=4 {
+        let s = second as f64;
+        assert!(
+            frames_at_s.iter().any(|&t| (s..s + 0.11).contains(&t)),
+            "no frame at {second} s of silence: {frames_at_s:?}"
+        );
+    }
+
+    // Stale: the values are greyed (disabled), the mode too; HALT stays.
+    let harness = watching(Duration::from_secs(2), |_, _| {});
+    assert!(shows(&harness, "AUTONOMOUS"));
+    let values = harness.get_by_label_contains("m/s   wheel");
+    assert!(
+        values.accesskit_node().is_disabled(),
+        "stale values not greyed"
     );
+    let tick: Value = recorded()[3].1.clone();
+    let counts = format!("{:>10} counts", tick["enc_left_counts"].as_i64().unwrap());
+    let encoder = harness.get_by_label_contains(&counts);
+    assert!(
+        encoder.accesskit_node().is_disabled(),
+        "stale status tab not greyed"
+    );
+    assert!(enabled(&harness, "HALT"));
+
+    // Beyond [gui] remote_stale_s (5 s shipped): the mode is no longer claimed.
+    let harness = watching(Duration::from_secs(6), |_, _| {});
+    assert!(shows(&harness, "UNKNOWN"));
+    assert!(!shows(&harness, "AUTONOMOUS"));
+    assert!(shows(&harness, "no status for 6 s: its mode is not known"));
+    assert!(!enabled(&harness, "Autonomous"));
 }
 
 #[test]
@@ -250,7 +256,7 @@ fn the_view_reads_a_real_robots_flows_and_its_halt_is_answered() {
         // The status flow and the tick flow come separately, either first: a tick has
         // come when the steering potentiometer reads (about 2.5 V at the centre).
         let ticked = view.status.inputs.pot_v > 0.0;
-        if link.age_s.is_some() && link.operator && view.status.tick > 0 && ticked {
+        if link.age_s.is_some() && link.operator == Some(true) && view.status.tick > 0 && ticked {
             break view;
         }
         assert!(

@@ -180,3 +180,24 @@ fn the_steering_is_recalibrated_at_the_power_up_after_a_potentiometer_fault() {
         m.wheel_angle_rad.to_degrees()
     );
 }
+
+#[test]
+fn a_mode_asked_while_the_contactor_closes_is_told_power_is_still_coming_on() {
+    // Power up accepted, the contactor not closed yet: "press Power up first" sent
+    // operators back to a button they had just pressed.
+    let s = settings_with("", &[]);
+    let mut sim = Lockstep::new(&s, Mode::Halt);
+    record(&mut sim, 0.5);
+    sim.request(Request::PowerUp).expect("power up");
+    record(&mut sim, 0.01);
+    assert!(matches!(
+        sim.supervisor.status().power,
+        PowerState::Closing { .. }
+    ));
+    let refusal = sim
+        .request(Request::Mode(Mode::Joystick))
+        .unwrap_err()
+        .to_string();
+    assert!(refusal.contains("still coming on"), "{refusal}");
+    assert!(!refusal.contains("press Power up"), "{refusal}");
+}

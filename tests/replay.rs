@@ -334,3 +334,12 @@ fn edits_are_caught(dir: &Path, csv: &Path, csv_text: &str) {
         "{said}"
     );
 }
+
+#[test]
+fn a_record_that_is_not_there_is_said_to_be_missing() {
+    // It used to blame the missing NAME.run.json beside it instead.
+    let (ok, said) = replay_command(&["records/nope.csv"]);
+    assert!(!ok, "{said}");
+    assert!(said.contains("records/nope.csv: no such file"), "{said}");
+    assert!(!said.contains("run.json"), "{said}");
+}

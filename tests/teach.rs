@@ -37,6 +37,10 @@ fn a_row_driven_in_joystick_mode_is_taught_along_the_tools_path() {
     let stdout = text(&out.stdout);
     assert!(out.status.success(), "{stdout}\n{}", text(&out.stderr));
     assert!(stdout.contains("row 3: "), "{stdout}");
+    assert!(
+        !stdout.contains("WARNING"),
+        "driven along the plants: {stdout}"
+    );
     let map = read_map(&dir.path().join("rows.csv")).unwrap();
     assert_eq!(map.rows.len(), 1);
     let row = &map.rows[0];
@@ -93,6 +97,31 @@ fn a_row_driven_in_joystick_mode_is_taught_along_the_tools_path() {
         read_map(&dir.path().join("rows.csv")).unwrap().rows.len(),
         1
     );
+}
+
+#[test]
+fn a_row_driven_beside_its_plants_is_kept_with_a_warning_that_gives_the_offset() {
+    // Put down 14 cm beside the row and driven straight: the tool never went along the
+    // plants, and every run by the map would weed beside them.
+    let dir = tempfile::tempdir().unwrap();
+    let out = teach(
+        dir.path(),
+        "12",
+        &["--set", "gnss.port=sim", "--set", "sim.start_offset_m=0.14"],
+    );
+    let stdout = text(&out.stdout);
+    assert!(out.status.success(), "{stdout}\n{}", text(&out.stderr));
+    let warning = (stdout.lines())
+        .find(|l| l.starts_with("WARNING: the tool ran "))
+        .unwrap_or_else(|| panic!("no warning: {stdout}"));
+    let cm: f64 = warning["WARNING: the tool ran ".len()..]
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((10.0..18.0).contains(&cm), "{warning}");
+    assert!(warning.contains("teach_warn_off_row_m"), "{warning}");
 }
 
 #[test]

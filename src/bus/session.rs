@@ -46,6 +46,26 @@ pub enum Role<'a> {
     Master { listen: String },
 }
 
+/// Zenoh's error in words a user can act on: without the source file and line inside
+/// zenoh that raised it ("at …/src/net/runtime/orchestrator.rs:388").
+pub fn plain_words(error: &impl std::fmt::Display) -> String {
+    let text = error.to_string();
+    let mut out = String::new();
+    let mut rest = text.as_str();
+    while let Some(i) = rest.find(" at ") {
+        let after = &rest[i + 4..];
+        let end = after.find(char::is_whitespace).unwrap_or(after.len());
+        if after[..end].contains(".rs:") {
+            out.push_str(&rest[..i]);
+        } else {
+            out.push_str(&rest[..i + 4 + end]);
+        }
+        rest = &after[end..];
+    }
+    out.push_str(rest);
+    out.trim().trim_end_matches('.').trim_end().to_string()
+}
+
 /// Open the session for `role`; with `tls`, TLS only, both ends showing a certificate
 /// of the cluster's authority, under the access rules written from its roster.
 pub fn open(role: Role, tls: Option<&TlsFiles>) -> Result<Session, BusError> {
@@ -114,7 +134,7 @@ pub fn open(role: Role, tls: Option<&TlsFiles>) -> Result<Session, BusError> {
             })?;
     }
     zenoh::open(config).wait().map_err(|e| {
-        let why = e.to_string();
+        let why = plain_words(&e);
         if let Some((endpoint, port)) = listen.iter().find_map(|ep| in_use(ep)) {
             let advice = match role {
                 Role::Master { .. } => "",
@@ -132,6 +152,12 @@ pub fn open(role: Role, tls: Option<&TlsFiles>) -> Result<Session, BusError> {
             };
         }
         if !connect.is_empty() && listen.is_empty() {
+            // Zenoh's own words repeat the endpoints in its debug form.
+            let why = if why.starts_with("Unable to connect") {
+                "nothing answered within 3 s".to_string()
+            } else {
+                why
+            };
             return BusError::Unreachable {
                 endpoints: connect.join(", "),
                 setting,
@@ -205,5 +231,22 @@ fn in_use(endpoint: &str) -> Option<(String, u16)> {
     match std::net::TcpListener::bind(address) {
         Err(e) if e.kind() == std::io::ErrorKind::AddrInUse => Some((endpoint.to_string(), port)),
         _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn zenohs_source_paths_are_left_out_of_its_errors() {
+        let zenoh = "Unable to connect to any of [tcp/127.0.0.1:7999]!  at /root/.cargo/registry/src/x/zenoh-1.10.2/src/net/runtime/orchestrator.rs:388.";
+        assert_eq!(
+            super::plain_words(&zenoh),
+            "Unable to connect to any of [tcp/127.0.0.1:7999]!"
+        );
+        // " at " in ordinary words stays.
+        assert_eq!(
+            super::plain_words(&"nothing at port 7447"),
+            "nothing at port 7447"
+        );
     }
 }

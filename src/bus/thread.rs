@@ -24,6 +24,7 @@ use super::rows::RowCounts;
 use super::{BusFigures, BusState};
 use crate::camlink::LinkStatus;
 use crate::config::{Settings, SteerSettings};
+use crate::cross_track::CrossTrackMeaning;
 use crate::modes::Gains;
 use crate::record::{TickFlow, tick_json};
 use crate::request_channel::SupervisorHandle;
@@ -160,6 +161,8 @@ pub fn run(session: Session, settings: &Settings, w: BusWires) -> zenoh::Result<
                 &w.steer.snapshot(),
                 &loops,
             );
+            // One rule for what cross-track means, on the bus as everywhere.
+            status["cross_track"] = json!(CrossTrackMeaning::of(settings).word());
             // Whoever watches sees whether this bus is secured, and who came.
             status["bus"] = json!({
                 "secured": bus.tls.is_some(),

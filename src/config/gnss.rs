@@ -42,6 +42,9 @@ pub struct GnssSettings {
     pub timeout_s: f64,
     /// From the receiver measuring a position to its sentences arriving, s.
     pub latency_s: f64,
+    /// `mechweed teach` warns when the taught path ran farther than this from the row
+    /// the camera saw, m (median over the drive).
+    pub teach_warn_off_row_m: f64,
 }
 
 impl GnssSettings {
@@ -105,6 +108,7 @@ pub(super) fn load(r: &mut Reader) -> GnssSettings {
         trusted: r.parsed(s, "trust", trusted_codes).unwrap_or(1 << 4),
         timeout_s: r.f64(s, "timeout_s", 0.05, 10.0),
         latency_s: r.f64(s, "latency_s", 0.0, 1.0),
+        teach_warn_off_row_m: r.f64(s, "teach_warn_off_row_m", 0.0, 1.0),
     }
 }
 

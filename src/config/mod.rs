@@ -7,6 +7,7 @@ mod camera_port;
 mod checks;
 mod filter;
 mod gnss;
+mod gui;
 mod io;
 mod joystick;
 mod lines;
@@ -27,6 +28,7 @@ pub use gnss::{GnssPort, GnssSettings, MapSource, SourceSettings, SteerSource};
 pub use joystick::{GamepadDevice, GamepadSettings, JoystickSettings, JoystickSource};
 pub use lines::{parse_seconds, read_text};
 
+pub use gui::{GuiSettings, Theme};
 pub use reader::{ConfigError, Place, Reader, override_parts};
 pub use record::{RecordFormats, RecordSettings};
 pub use source::SettingsSource;
@@ -54,6 +56,7 @@ const SECTIONS: &[&str] = &[
     "bus",
     "gnss",
     "filter",
+    "gui",
 ];
 
 /// The controller's model of the robot (the simulated plant has its own, in [sim]).
@@ -205,6 +208,8 @@ pub struct Settings {
     pub bus: BusSettings,
     /// The RTK GNSS receiver and the row map ([gnss]).
     pub gnss: GnssSettings,
+    /// The operator's window ([gui]).
+    pub gui: GuiSettings,
     /// The text these settings were read from, for the bus's configuration ports.
     pub source: SettingsSource,
 }
@@ -252,6 +257,7 @@ impl Settings {
             record: record::load(&mut r),
             bus: bus::load(&mut r),
             gnss: gnss::load(&mut r),
+            gui: gui::load(&mut r),
             source: SettingsSource {
                 label: file.to_string(),
                 text: text.to_string(),

@@ -20,8 +20,8 @@ use super::sim_panel::SimPanel;
 use super::test_panel::TestPanel;
 use super::tuning::Tuning;
 use super::view::{View, ViewSource};
-use super::{header, modes, status};
-use crate::config::Settings;
+use super::{header, modes, status, theme};
+use crate::config::{Settings, Theme};
 use crate::modes::Mode;
 use crate::operator::needs_confirmation;
 use crate::run::{RunOptions, start};
@@ -61,6 +61,11 @@ pub struct GuiApp {
     pub confirm_start: Option<Mode>,
     stop: Arc<AtomicBool>,
     controller: Controller,
+    /// The window's colours ([gui] theme; F2 switches), and those last set on egui.
+    pub theme: Theme,
+    theme_set: Option<Theme>,
+    /// The window has asked the system for the keyboard (Space = HALT from the start).
+    focus_asked: bool,
 }
 
 impl GuiApp {
@@ -86,6 +91,9 @@ impl GuiApp {
             confirm_start: None,
             stop,
             controller,
+            theme: settings.gui.theme,
+            theme_set: None,
+            focus_asked: false,
         };
         if needs_confirmation(settings.backend, opts.start_mode) {
             app.ask_to_start(opts.start_mode);
@@ -176,6 +184,11 @@ impl GuiApp {
         }
     }
 
+    /// The window has asked the system for the keyboard (at its first frame).
+    pub fn focus_asked(&self) -> bool {
+        self.focus_asked
+    }
+
     /// The feedback line: the supervisor's last answer, or the GUI's last message.
     pub fn feedback(&self) -> Option<&Feedback> {
         self.requests.feedback()
@@ -228,6 +241,19 @@ impl GuiApp {
         if ui.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::Space)) {
             header::halt(&self.view, &mut self.requests);
         }
+        if !self.focus_asked {
+            // On a robot computer without a window manager nobody clicks the window
+            // first: it takes the keyboard itself, so that Space is HALT at once.
+            self.focus_asked = true;
+            ui.ctx().send_viewport_cmd(egui::ViewportCommand::Focus);
+        }
+        if ui.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::F2)) {
+            self.theme = self.theme.other();
+        }
+        if self.theme_set != Some(self.theme) {
+            theme::apply(ui.ctx(), self.theme);
+            self.theme_set = Some(self.theme);
+        }
         self.show_confirmation(&ui.ctx().clone());
         let sim = self.shared.lock().source.sim();
         let (view, requests) = (&self.view, &mut self.requests);
@@ -235,7 +261,12 @@ impl GuiApp {
         egui::Panel::left("modes")
             .resizable(false)
             .exact_size(250.0)
-            .show(ui, |ui| modes::show(ui, view, requests));
+            .show(ui, |ui| {
+                // A 720-line screen does not hold every reason under every button.
+                egui::ScrollArea::vertical()
+                    .id_salt("modes-scroll")
+                    .show(ui, |ui| modes::show(ui, view, requests));
+            });
         if let Some(sim) = &sim {
             egui::Panel::right("sim")
                 .resizable(false)
@@ -255,6 +286,12 @@ impl GuiApp {
                 ] {
                     ui.selectable_value(&mut self.tab, tab, egui::RichText::new(name).heading());
                 }
+                ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                    let other = self.theme.other().name();
+                    if ui.button(format!("{other} theme (F2)")).clicked() {
+                        self.theme = self.theme.other();
+                    }
+                });
             });
             ui.separator();
             if view.remote.is_some() && matches!(self.tab, Tab::Tuning | Tab::Test) {
@@ -264,12 +301,32 @@ impl GuiApp {
                      robot's own window.",
                 );
             }
-            egui::ScrollArea::vertical().show(ui, |ui| match self.tab {
-                Tab::Status => status::show(ui, view, requests),
-                Tab::Plots => self.plots.show(ui, view.simulated, &self.shared),
-                Tab::Tuning => self.tuning.show(ui, view, requests),
-                Tab::Test => self.test.show(ui, view, requests),
-            });
+            if let Some(link) = view.remote.as_ref().filter(|link| link.no_data()) {
+                // Nothing received: no value to show, not even a default one.
+                ui.add_space(20.0);
+                ui.label(
+                    egui::RichText::new(header::remote_line(link))
+                        .size(18.0)
+                        .strong(),
+                );
+                ui.label(
+                    "Every value shows when the robot's first status arrives. Is the robot \
+                     program running there, with [bus] enabled = yes?",
+                );
+            } else {
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    // The robot fell silent: its values are old, and greyed to say so.
+                    if view.remote.as_ref().is_some_and(|link| link.stale()) {
+                        ui.disable();
+                    }
+                    match self.tab {
+                        Tab::Status => status::show(ui, view, requests),
+                        Tab::Plots => self.plots.show(ui, view, &self.shared),
+                        Tab::Tuning => self.tuning.show(ui, view, requests),
+                        Tab::Test => self.test.show(ui, view, requests),
+                    }
+                });
+            }
         });
         let mut shared = self.shared.lock();
         shared.frames += 1;

@@ -5,21 +5,12 @@
 use eframe::egui::{self, Color32, RichText};
 
 use super::requests::Requests;
+use super::theme;
 use super::view::{RemoteLink, View};
 use crate::modes::{Mode, Request};
 
 /// If the supervisor has not published for this long, it has stopped, s.
 pub const SUPERVISOR_SILENT_S: f64 = 1.0;
-
-pub fn mode_colour(mode: Mode) -> Color32 {
-    match mode {
-        Mode::Halt => Color32::from_rgb(200, 200, 200),
-        Mode::Joystick => Color32::from_rgb(120, 180, 255),
-        Mode::Autonomous => Color32::from_rgb(90, 220, 120),
-        Mode::Test => Color32::from_rgb(240, 200, 80),
-        Mode::Fault => Color32::from_rgb(255, 90, 90),
-    }
-}
 
 /// HALT: asked in every mode. In Fault the outputs are already safe, so the
 /// supervisor's refusal is said as that.
@@ -36,7 +27,6 @@ pub fn halt(view: &View, requests: &mut Requests) {
 }
 
 pub fn show(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
-    let st = &view.status;
     ui.add_space(4.0);
     ui.horizontal(|ui| {
         let halt_button = egui::Button::new(
@@ -56,90 +46,123 @@ pub fn show(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
         }
         ui.add_space(12.0);
         ui.vertical(|ui| {
-            ui.horizontal(|ui| {
-                ui.label(RichText::new("Mode").size(16.0));
-                ui.label(
-                    RichText::new(st.mode.name().to_uppercase())
-                        .size(30.0)
-                        .strong()
-                        .color(mode_colour(st.mode)),
-                );
-                ui.add_space(16.0);
-                ui.label(format!(
-                    "{:.2} m/s   wheel {:+.1} deg   power {}   t = {:.1} s",
-                    st.measured.speed_mps,
-                    st.measured.wheel_angle_rad.to_degrees(),
-                    power_text(st.power),
-                    view.now_s
-                ));
-            });
+            mode_line(ui, view);
             if let Some(warning) = &view.not_realtime {
+                ui.label(RichText::new(warning).strong().color(theme::warning(ui)));
+            }
+            if !ui.input(|i| i.focused) {
                 ui.label(
-                    RichText::new(warning)
-                        .strong()
-                        .color(Color32::from_rgb(255, 150, 40)),
+                    RichText::new(
+                        "the keyboard is another window's: Space = HALT only after a click in this window",
+                    )
+                    .strong()
+                    .color(theme::warning(ui)),
                 );
             }
             if let Some(link) = &view.remote {
                 remote(ui, link);
             }
-            let remote_fault = view.remote.as_ref().and_then(|link| link.fault.as_ref());
-            match st.fault {
-                // Over the bus the fault comes in words.
-                None if remote_fault.is_some() => {
-                    let fault = remote_fault.cloned().unwrap_or_default();
-                    ui.label(
-                        RichText::new(format!("FAULT: {fault}"))
-                            .size(18.0)
-                            .strong()
-                            .color(Color32::from_rgb(255, 90, 90)),
-                    );
-                }
-                Some(fault) => {
-                    ui.label(
-                        RichText::new(format!(
-                            "FAULT: {}  ({:.1} s ago)",
-                            fault.cause,
-                            (view.now_s - fault.t_s).max(0.0)
-                        ))
-                        .size(18.0)
-                        .strong()
-                        .color(Color32::from_rgb(255, 90, 90)),
-                    );
-                }
-                None => {
-                    ui.label(RichText::new("no fault").size(18.0));
-                }
-            }
-            if view.remote.is_none() && st.tick > 0 && view.now_s - st.t_s > SUPERVISOR_SILENT_S {
+            fault_line(ui, view);
+            if view.remote.is_none() && view.status.tick > 0 && view.now_s - view.status.t_s > SUPERVISOR_SILENT_S {
                 ui.label(
                     RichText::new("the controller has stopped: close this window and see the log")
                         .strong()
-                        .color(Color32::RED),
+                        .color(theme::fault(ui)),
                 );
             }
-            if let Some(f) = requests.feedback() {
-                let colour = if f.refused {
-                    Color32::from_rgb(255, 170, 60)
-                } else {
-                    ui.visuals().text_color()
-                };
-                ui.label(RichText::new(format!("{:.1} s  {}", f.at_s, f.text)).color(colour));
+            // Always one line, empty or not: the layout does not move at the first answer.
+            match requests.feedback() {
+                Some(f) => {
+                    let colour = if f.refused {
+                        theme::warning(ui)
+                    } else {
+                        ui.visuals().text_color()
+                    };
+                    ui.label(RichText::new(format!("{:.1} s  {}", f.at_s, f.text)).color(colour));
+                }
+                None => {
+                    ui.label(RichText::new("requests and answers show here").weak());
+                }
             }
         });
     });
     ui.add_space(4.0);
 }
 
+/// The mode in big letters, then speed, wheel angle, power and time. Over the bus:
+/// nothing until the first status, grey once it is stale, and "unknown" after
+/// [gui] remote_stale_s.
+fn mode_line(ui: &mut egui::Ui, view: &View) {
+    let st = &view.status;
+    let remote = view.remote.as_ref();
+    ui.horizontal(|ui| {
+        ui.label(RichText::new("Mode").size(16.0));
+        let (word, colour) = match remote {
+            Some(link) if link.no_data() => ("NO DATA YET".to_string(), theme::unknown(ui)),
+            Some(link) if link.mode_unknown() => ("UNKNOWN".to_string(), theme::unknown(ui)),
+            Some(link) if link.stale() => (st.mode.name().to_uppercase(), theme::unknown(ui)),
+            _ => (st.mode.name().to_uppercase(), theme::mode(ui, st.mode)),
+        };
+        ui.label(RichText::new(word).size(30.0).strong().color(colour));
+        ui.add_space(16.0);
+        if remote.is_none_or(|link| !link.no_data()) {
+            let values = format!(
+                "{:.2} m/s   wheel {:+.1} deg   power {}   t = {:.1} s",
+                st.measured.speed_mps,
+                st.measured.wheel_angle_rad.to_degrees(),
+                power_text(st.power),
+                view.now_s
+            );
+            let stale = remote.is_some_and(RemoteLink::stale);
+            ui.add_enabled(!stale, egui::Label::new(values));
+        }
+    });
+}
+
+/// The active fault, or "no fault"; over the bus, the robot's own words, and nothing
+/// before its first status.
+fn fault_line(ui: &mut egui::Ui, view: &View) {
+    if view.remote.as_ref().is_some_and(RemoteLink::no_data) {
+        return;
+    }
+    let remote_fault = view.remote.as_ref().and_then(|link| link.fault.as_ref());
+    let text = match (view.status.fault, remote_fault) {
+        // Over the bus the fault comes in words.
+        (None, Some(fault)) => format!("FAULT: {fault}"),
+        (Some(fault), _) => format!(
+            "FAULT: {}  ({:.1} s ago)",
+            fault.cause,
+            (view.now_s - fault.t_s).max(0.0)
+        ),
+        (None, None) => {
+            ui.label(RichText::new("no fault").size(18.0));
+            return;
+        }
+    };
+    ui.label(
+        RichText::new(text)
+            .size(18.0)
+            .strong()
+            .color(theme::fault(ui)),
+    );
+}
+
 /// Which robot this window watches over the bus, and how old its newest status is.
 pub fn remote_line(link: &RemoteLink) -> String {
-    let what = if link.operator {
-        "HALT, power up and modes"
-    } else {
-        "HALT only"
+    let what = match link.operator {
+        Some(true) => "HALT, power up and modes",
+        Some(false) => "HALT only",
+        None => "HALT; the rest not known yet (asking the robot)",
     };
     match link.age_s {
-        None => format!("waiting for {}'s status at {}", link.robot, link.endpoint),
+        None => format!(
+            "no data yet: waiting for {}'s status at {} ({:.0} s)",
+            link.robot, link.endpoint, link.waited_s
+        ),
+        Some(age_s) if link.mode_unknown() => format!(
+            "watching {} at {}: no status for {age_s:.0} s: its mode is not known",
+            link.robot, link.endpoint
+        ),
         Some(age_s) if link.stale() => format!(
             "watching {} at {}: no status for {age_s:.1} s",
             link.robot, link.endpoint
@@ -157,9 +180,9 @@ pub fn remote_line(link: &RemoteLink) -> String {
 /// second, since everything else in the window is then older too.
 fn remote(ui: &mut egui::Ui, link: &RemoteLink) {
     let colour = if link.stale() {
-        Color32::RED
+        theme::fault(ui)
     } else {
-        Color32::from_rgb(120, 200, 255)
+        theme::link(ui)
     };
     ui.label(
         RichText::new(remote_line(link))

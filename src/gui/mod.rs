@@ -37,6 +37,7 @@ pub mod script;
 mod sim_panel;
 pub mod status;
 pub mod test_panel;
+pub mod theme;
 pub mod tuning;
 pub mod view;
 
@@ -133,7 +134,7 @@ fn show_window(app: GuiApp, stop: Arc<AtomicBool>) -> (Result<(), eframe::Error>
     let native = eframe::NativeOptions {
         viewport: eframe::egui::ViewportBuilder::default()
             .with_title("mechweed")
-            .with_inner_size([1280.0, 860.0]),
+            .with_inner_size([1280.0, 720.0]),
         // Dithering costs a software renderer a tenth of each frame, for gradients the
         // panels do not have.
         dithering: false,

@@ -4,8 +4,8 @@
 
 use eframe::egui::{self, RichText};
 
-use super::header::mode_colour;
 use super::requests::Requests;
+use super::theme;
 use super::view::View;
 use crate::modes::{Mode, Request};
 use crate::supervisor::rules::{power_up_refusal, why_not};
@@ -25,16 +25,26 @@ fn button_with_reason(ui: &mut egui::Ui, label: RichText, why_not: Option<String
     clicked
 }
 
-/// Over the bus, only HALT unless the robot takes more from it.
+/// Over the bus, only HALT unless the robot takes more from it; nothing before the
+/// robot has been heard from.
 fn read_only(view: &View) -> Option<String> {
     let link = view.remote.as_ref()?;
-    if link.operator {
-        None
-    } else {
-        Some(
+    if link.no_data() {
+        return Some(format!(
+            "waiting for the robot's first status (no data yet from {})",
+            link.endpoint
+        ));
+    }
+    if link.mode_unknown() {
+        return Some("the robot has been silent too long: its mode is not known".into());
+    }
+    match link.operator {
+        Some(true) => None,
+        Some(false) => Some(
             "watching only: the robot takes only HALT from the bus ([bus] accept_requests = halt)"
                 .into(),
-        )
+        ),
+        None => Some("asking the robot whether it takes requests from the bus".into()),
     }
 }
 
@@ -57,12 +67,12 @@ pub fn show(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
         (Mode::Test, "Test"),
     ] {
         // The mode we are in needs no button press: say so rather than grey it silently.
-        let reason = if st.mode == mode {
-            Some(format!("now in {mode}"))
-        } else {
-            read_only(view).or_else(|| why_not(mode, st))
+        let reason = match read_only(view) {
+            Some(why) => Some(why),
+            None if st.mode == mode => Some(format!("now in {mode}")),
+            None => why_not(mode, st),
         };
-        let text = RichText::new(label).size(18.0).color(mode_colour(mode));
+        let text = RichText::new(label).size(18.0).color(theme::mode(ui, mode));
         if button_with_reason(ui, text, reason) {
             requests.ask(Request::Mode(mode), &format!("mode {mode}"));
         }

@@ -4,8 +4,8 @@
 //!
 //! 1. operator input (a click, a key): at once (egui itself asks for that frame);
 //! 2. a change the operator must see at once (mode, fault, power, an e-stop, the
-//!    dead-man, the camera link's state, a notice, a silent controller): at the next
-//!    look, within `LOOK_S`;
+//!    dead-man, the camera link's state, a notice, a silent controller, each further
+//!    second a watched robot stays silent): at the next look, within `LOOK_S`;
 //! 3. any other value: every `MOVING_S` while the robot may move (numbers ten times a
 //!    second are enough for a person), every `PLOTS_MOVING_S` on the Plots tab, and
 //!    every `STANDING_S` while it stands (loop figures, counters);
@@ -59,8 +59,9 @@ struct AtOnce {
     /// The supervisor's first tick: the operator script starts from it.
     started: bool,
     controller_silent: bool,
-    /// Watching over the bus: the link gone stale, the robot's fault in words.
-    remote_stale: bool,
+    /// Watching over the bus: whole seconds without a status while stale (the header
+    /// counts them, so a frame each second), the robot's fault in words.
+    remote_silent_s: Option<u64>,
     remote_fault: bool,
     /// The gamepad connected, and its dead-man counting as held.
     gamepad: Option<(bool, bool)>,
@@ -101,7 +102,7 @@ impl AtOnce {
             bus: view.bus.state,
             started: st.tick > 0,
             controller_silent: st.tick > 0 && view.now_s - st.t_s > SUPERVISOR_SILENT_S,
-            remote_stale: view.remote.as_ref().is_some_and(|link| link.stale()),
+            remote_silent_s: view.remote.as_ref().and_then(|link| link.silent_whole_s()),
             remote_fault: view
                 .remote
                 .as_ref()

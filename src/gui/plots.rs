@@ -6,11 +6,12 @@
 //! to thin every line to the plot's pixel columns into buffers kept from frame to
 //! frame, then draws from those buffers with the lock released.
 
-use eframe::egui;
+use eframe::egui::{self, RichText};
 use egui_plot::{Legend, Line, Plot, PlotPoint, PlotPoints};
 
 use super::pacer::SharedGui;
 use super::plot_data::{Sample, WINDOW_S, thin};
+use super::view::View;
 
 /// A line's name and how to read its value from a sample.
 type Series = (&'static str, fn(&Sample) -> f64);
@@ -21,6 +22,9 @@ struct Chart {
     title: &'static str,
     unit: &'static str,
     lines: &'static [Series],
+    /// The y axis spans at least this, in its unit: a flat line (a robot standing) still
+    /// gets ticks, not a lone "0".
+    least_y: [f64; 2],
     /// Shown only on the simulated robot (it plots the simulation's truth).
     simulated_only: bool,
 }
@@ -36,6 +40,7 @@ const CHARTS: [Chart; 5] = [
             ("left ref", |s| s.v_left_ref_mps),
             ("right ref", |s| s.v_right_ref_mps),
         ],
+        least_y: [-0.2, 1.0],
         simulated_only: false,
     },
     Chart {
@@ -46,6 +51,7 @@ const CHARTS: [Chart; 5] = [
             ("angle", |s| s.wheel_deg),
             ("reference", |s| s.wheel_ref_deg),
         ],
+        least_y: [-5.0, 5.0],
         simulated_only: false,
     },
     Chart {
@@ -59,6 +65,7 @@ const CHARTS: [Chart; 5] = [
             ("filter -1 s.d.", |s| s.filter_low_cm),
             ("filter +1 s.d.", |s| s.filter_high_cm),
         ],
+        least_y: [-5.0, 5.0],
         simulated_only: false,
     },
     Chart {
@@ -66,6 +73,7 @@ const CHARTS: [Chart; 5] = [
         title: "Cross-track error of the tool (simulated robot's truth)",
         unit: "cm",
         lines: &[("tool off row", |s| s.cross_track_cm)],
+        least_y: [-3.0, 3.0],
         simulated_only: true,
     },
     Chart {
@@ -77,6 +85,7 @@ const CHARTS: [Chart; 5] = [
             ("right", |s| s.amp_right_v),
             ("steering", |s| s.amp_steer_v),
         ],
+        least_y: [-1.0, 1.0],
         simulated_only: false,
     },
 ];
@@ -89,7 +98,8 @@ pub struct Plots {
 }
 
 impl Plots {
-    pub fn show(&mut self, ui: &mut egui::Ui, simulated: bool, shared: &SharedGui) {
+    pub fn show(&mut self, ui: &mut egui::Ui, view: &View, shared: &SharedGui) {
+        let simulated = view.simulated;
         let lines = CHARTS.iter().map(|c| c.lines.len()).sum();
         self.buffers.resize_with(lines, Vec::new);
         // Pixel columns of a plot: its width less the axis labels.
@@ -126,6 +136,12 @@ impl Plots {
                 continue;
             }
             ui.label(chart.title);
+            // The field's truth says nothing of rows that came from outside: no line.
+            if let (true, Some(words)) = (chart.simulated_only, view.cross_track.instead()) {
+                ui.label(RichText::new(words).strong());
+                continue;
+            }
+            let unit = chart.unit;
             Plot::new(chart.id)
                 .height(150.0)
                 .legend(Legend::default())
@@ -134,13 +150,27 @@ impl Plots {
                 .allow_scroll(false)
                 .include_x(-WINDOW_S)
                 .include_x(0.0)
-                .y_axis_label(chart.unit)
+                .include_y(chart.least_y[0])
+                .include_y(chart.least_y[1])
+                .y_axis_label(unit)
                 .link_axis(egui::Id::unique("plots-time"), [true, false])
                 .show(ui, |plot_ui| {
                     for ((name, _), points) in chart.lines.iter().zip(mine) {
                         plot_ui.line(Line::new(*name, PlotPoints::Borrowed(points)));
                     }
                 });
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn every_chart_names_its_unit_and_spans_enough_for_ticks() {
+        for chart in &super::CHARTS {
+            assert!(!chart.unit.is_empty(), "{}", chart.id);
+            let [low, high] = chart.least_y;
+            assert!(high - low >= 1.0, "{}: {low}..{high}", chart.id);
         }
     }
 }

@@ -6,7 +6,7 @@
 //! operator`, asked of the robot every few seconds).
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};
 use std::time::{Duration, Instant};
 
 use crossbeam_channel::{Receiver, Sender, bounded};
@@ -46,14 +46,30 @@ pub struct RemoteView {
     _subscribers: Vec<zenoh::pubsub::Subscriber<()>>,
     arrived: Receiver<(Flow, Vec<u8>, Instant)>,
     arrive: Sender<(Flow, Vec<u8>, Instant)>,
-    operator: Arc<AtomicBool>,
+    /// What the robot said of `[bus] accept_requests`: `UNKNOWN` until it answers.
+    operator: Arc<AtomicU8>,
     answers: Receiver<Said>,
     answer: Sender<Said>,
     /// The request payloads a view fed by hand would have sent.
     pub sent: parking_lot::Mutex<Vec<String>>,
     view: View,
     status_at: Option<Instant>,
+    /// When the view began waiting for the robot.
+    opened: Instant,
     quit: Arc<AtomicBool>,
+}
+
+/// The robot's answer about operator requests over the bus, kept in an atomic.
+const UNKNOWN: u8 = 0;
+const HALT_ONLY: u8 = 1;
+const OPERATOR: u8 = 2;
+
+fn operator_of(value: u8) -> Option<bool> {
+    match value {
+        HALT_ONLY => Some(false),
+        OPERATOR => Some(true),
+        _ => None,
+    }
 }
 
 impl Drop for RemoteView {
@@ -72,6 +88,7 @@ impl RemoteView {
             remote: Some(RemoteLink {
                 robot: robot.to_string(),
                 endpoint: endpoint.to_string(),
+                unknown_after_s: crate::config::Settings::shipped().gui.remote_stale_s,
                 ..RemoteLink::default()
             }),
             ..View::default()
@@ -83,12 +100,13 @@ impl RemoteView {
             _subscribers: Vec::new(),
             arrived,
             arrive,
-            operator: Arc::default(),
+            operator: Arc::new(AtomicU8::new(UNKNOWN)),
             answers,
             answer,
             sent: parking_lot::Mutex::default(),
             view,
             status_at: None,
+            opened: Instant::now(),
             quit: Arc::default(),
         }
     }
@@ -132,7 +150,8 @@ impl RemoteView {
             .spawn(move || {
                 while !quit.load(Ordering::Relaxed) {
                     if let Some(taken) = accepts_operator(&asker, &key) {
-                        operator.store(taken, Ordering::Relaxed);
+                        let value = if taken { OPERATOR } else { HALT_ONLY };
+                        operator.store(value, Ordering::Relaxed);
                     }
                     std::thread::sleep(ASK_OPERATOR_EVERY);
                 }
@@ -147,9 +166,30 @@ impl RemoteView {
         let _ = self.arrive.try_send((flow, bytes.to_vec(), at));
     }
 
+    /// As if the robot had answered `request` so, as the query's callback hands it over.
+    pub fn answer_by_hand(&self, request: Request, said: Result<(), String>) {
+        let _ = self.answer.try_send((request, said));
+    }
+
     /// As if the robot took (true) or refused (false) operator requests from the bus.
     pub fn set_operator(&self, taken: bool) {
-        self.operator.store(taken, Ordering::Relaxed);
+        let value = if taken { OPERATOR } else { HALT_ONLY };
+        self.operator.store(value, Ordering::Relaxed);
+    }
+
+    /// With no status for `seconds` the robot's mode is shown as unknown ([gui]
+    /// remote_stale_s).
+    pub fn unknown_after(mut self, seconds: f64) -> RemoteView {
+        if let Some(link) = &mut self.view.remote {
+            link.unknown_after_s = seconds;
+        }
+        self
+    }
+
+    /// As if the view had been opened `ago` before now (tests of a long wait).
+    pub fn opened_ago(mut self, ago: std::time::Duration) -> RemoteView {
+        self.opened = Instant::now() - ago;
+        self
     }
 
     /// The view at `now`: every message that arrived, the newest last.
@@ -181,7 +221,8 @@ impl RemoteView {
         view.now_s = view.status.t_s + age_s.unwrap_or(0.0);
         if let Some(link) = &mut view.remote {
             link.age_s = age_s;
-            link.operator = self.operator.load(Ordering::Relaxed);
+            link.waited_s = now.saturating_duration_since(self.opened).as_secs_f64();
+            link.operator = operator_of(self.operator.load(Ordering::Relaxed));
         }
         view
     }
@@ -229,10 +270,15 @@ impl ViewSource for RemoteView {
         request: Request,
         _reply: &crossbeam_channel::Sender<Answer>,
     ) -> Result<(), String> {
-        let operator = self.operator.load(Ordering::Relaxed);
+        let operator = operator_of(self.operator.load(Ordering::Relaxed));
         let payload = match request {
             Request::Mode(Mode::Halt) => json!({"request": "halt"}),
-            _ if !operator => {
+            _ if operator.is_none() => {
+                return Err(
+                    "the robot has not yet said whether it takes requests from the bus: only HALT until it does".into(),
+                );
+            }
+            _ if operator == Some(false) => {
                 return Err(
                     "the robot takes only HALT from the bus ([bus] accept_requests = halt)".into(),
                 );

@@ -9,6 +9,7 @@ use mechweed_hw::sim::Truth;
 use serde_json::Value;
 
 use super::view::View;
+use crate::cross_track::CrossTrackMeaning;
 use crate::modes::Mode;
 use crate::rt::LoopSummary;
 use crate::status::PowerState;
@@ -54,6 +55,7 @@ pub fn fill_from_status(view: &mut View, status: &Value) -> Result<(), String> {
     let t_s = status["t_s"]
         .as_f64()
         .ok_or("\"t_s\" is not a number of seconds")?;
+    view.cross_track = CrossTrackMeaning::from_word(status["cross_track"].as_str());
     let st = &mut view.status;
     st.mode = new_mode;
     st.t_s = t_s;

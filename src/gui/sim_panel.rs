@@ -193,10 +193,10 @@ impl SimPanel {
         ui.separator();
         let t = &view.truth;
         ui.label(format!(
-            "truth: x {:.2} m, y {:+.3} m, tool off row {:+.1} cm{}",
+            "truth: x {:.2} m, y {:+.3} m, tool off row {}{}",
             t.x_m,
             t.y_m,
-            t.tool_cross_track_m * 100.0,
+            view.cross_track.cm(t.tool_cross_track_m),
             if t.row_done { ", row done" } else { "" }
         ));
     }

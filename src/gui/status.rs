@@ -5,6 +5,7 @@
 use eframe::egui::{self, RichText};
 
 use super::requests::Requests;
+use super::theme;
 use super::view::{GamepadView, View};
 use crate::rt::liu_layland;
 
@@ -15,6 +16,23 @@ fn on_off(on: bool) -> &'static str {
 fn row(ui: &mut egui::Ui, name: &str, value: String) {
     ui.label(name);
     ui.monospace(value);
+    ui.end_row();
+}
+
+/// A row whose value is drawn in the fault colour while it is abnormal (an e-stop
+/// pressed, an end switch closed, the camera link down), so that it stands out.
+fn row_alarm(ui: &mut egui::Ui, name: &str, value: String, abnormal: bool) {
+    ui.label(name);
+    if abnormal {
+        ui.label(
+            RichText::new(value)
+                .monospace()
+                .strong()
+                .color(theme::fault(ui)),
+        );
+    } else {
+        ui.monospace(value);
+    }
     ui.end_row();
 }
 
@@ -41,10 +59,14 @@ pub fn inputs_grid(ui: &mut egui::Ui, view: &View) {
     let m = &view.status.measured;
     egui::Grid::new("inputs").striped(true).show(ui, |ui| {
         let estop = |released: bool| if released { "released" } else { "PRESSED" };
-        row(ui, "E-stop front", estop(i.estop_front_released).into());
-        row(ui, "E-stop back", estop(i.estop_back_released).into());
-        row(ui, "End switch left", on_off(i.end_switch_left).into());
-        row(ui, "End switch right", on_off(i.end_switch_right).into());
+        let front = i.estop_front_released;
+        row_alarm(ui, "E-stop front", estop(front).into(), !front);
+        let back = i.estop_back_released;
+        row_alarm(ui, "E-stop back", estop(back).into(), !back);
+        let left = i.end_switch_left;
+        row_alarm(ui, "End switch left", on_off(left).into(), left);
+        let right = i.end_switch_right;
+        row_alarm(ui, "End switch right", on_off(right).into(), right);
         row(ui, "Motor power", on_off(i.motor_power_present).into());
         row(ui, "Battery", format!("{:.2} V", i.battery_v));
         row(
@@ -128,7 +150,7 @@ fn link_grid(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
             (None, None) if l.streaming => "streaming".to_string(),
             (None, None) => "connected, idle".to_string(),
         };
-        row(ui, "State", state);
+        row_alarm(ui, "State", state, l.problem.is_some());
         let age_s = view.now_s - l.last_row_s;
         row(
             ui,
@@ -194,7 +216,7 @@ fn loops_grid(ui: &mut egui::Ui, view: &View) {
         }
     });
     let check = liu_layland(&view.loops);
-    ui.label(format!(
+    let text = format!(
         "Liu-Layland: load from measured worst execution times {:.4}, bound {:.3}: {}",
         check.utilisation,
         check.bound,
@@ -203,7 +225,12 @@ fn loops_grid(ui: &mut egui::Ui, view: &View) {
         } else {
             "NOT guaranteed"
         }
-    ));
+    );
+    if check.schedulable {
+        ui.label(text);
+    } else {
+        ui.label(RichText::new(text).strong().color(theme::fault(ui)));
+    }
 }
 
 /// Which sensors steer, the GNSS fix and the row filter ([steer] source gnss or fused).

@@ -15,6 +15,7 @@ use mechweed_hw::sim::Truth;
 
 use crate::bus::BusFigures;
 use crate::camlink::LinkStatus;
+use crate::cross_track::CrossTrackMeaning;
 use crate::gamepad::{PadJoystick, PadState};
 use crate::modes::Request;
 use crate::request_channel::Answer;
@@ -49,6 +50,8 @@ pub struct View {
     pub remote: Option<RemoteLink>,
     /// The gamepad, when it is the joystick ([joystick] source = gamepad).
     pub gamepad: Option<GamepadView>,
+    /// Whether the simulated field's cross-track means anything for this run.
+    pub cross_track: CrossTrackMeaning,
 }
 
 /// The gamepad as its thread last published it, and its joystick as the supervisor
@@ -67,9 +70,14 @@ pub struct RemoteLink {
     pub endpoint: String,
     /// How long ago the newest status arrived, s; None: none yet.
     pub age_s: Option<f64>,
+    /// How long the view has been waiting for the first status, s.
+    pub waited_s: f64,
+    /// With no status for this long the robot's mode is not known ([gui]
+    /// remote_stale_s), s.
+    pub unknown_after_s: f64,
     /// The robot takes power up and modes from the bus ([bus] accept_requests =
-    /// operator); else only HALT.
-    pub operator: bool,
+    /// operator), or only HALT; None: it has not said yet.
+    pub operator: Option<bool>,
     /// The robot's fault and notice, in its words (the flows carry words, not causes).
     pub fault: Option<String>,
     pub notice: Option<String>,
@@ -77,10 +85,33 @@ pub struct RemoteLink {
     pub refused: u64,
 }
 
+/// Older than this, the robot's status is stale: what the window shows goes grey, s.
+pub const REMOTE_FRESH_S: f64 = 1.0;
+
 impl RemoteLink {
     /// The robot's status is older than a second: what the window shows is stale.
     pub fn stale(&self) -> bool {
-        self.age_s.is_none_or(|age_s| age_s > 1.0)
+        self.age_s.is_none_or(|age_s| age_s > REMOTE_FRESH_S)
+    }
+
+    /// No status has come yet: there is nothing to show but that.
+    pub fn no_data(&self) -> bool {
+        self.age_s.is_none()
+    }
+
+    /// Silent longer than [gui] remote_stale_s: the robot's mode is not known.
+    pub fn mode_unknown(&self) -> bool {
+        self.age_s.is_none_or(|age_s| age_s > self.unknown_after_s)
+    }
+
+    /// Whole seconds without a status while stale (or waited for the first), for the
+    /// pacer: the counter the header shows moves once a second.
+    pub fn silent_whole_s(&self) -> Option<u64> {
+        match self.age_s {
+            None => Some(self.waited_s as u64),
+            Some(age_s) if age_s > REMOTE_FRESH_S => Some(age_s as u64),
+            Some(_) => None,
+        }
     }
 }
 
@@ -125,6 +156,7 @@ impl ViewSource for Handles {
                 let joystick = state.pad.joystick(Instant::now());
                 GamepadView { state, joystick }
             }),
+            cross_track: self.cross_track,
         }
     }
 

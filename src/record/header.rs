@@ -7,6 +7,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use crate::config::{ConfigError, Settings};
+use crate::cross_track::CrossTrackMeaning;
 
 /// The file's ending beside NAME.csv and NAME.mcap.
 pub const HEADER_SUFFIX: &str = ".run.json";
@@ -23,6 +24,15 @@ pub struct RunHeader {
     /// a program changed them after reading, as some tests do): only then can a replay
     /// give the supervisor the same settings.
     pub settings_as_read: bool,
+    /// Whether the run's cross-track figures mean anything (not when the simulated
+    /// robot steered by rows from outside): every reader of the record says so instead
+    /// of a number. Records from before this field was written read as meaningful.
+    #[serde(default)]
+    pub cross_track: CrossTrackMeaning,
+    /// Recorded off-board from the robot's flows (`record --bus`): the settings are not
+    /// known, and the record cannot be replayed.
+    #[serde(default)]
+    pub off_board: bool,
 }
 
 /// This program's name and version, as a header names it.
@@ -40,6 +50,21 @@ impl RunHeader {
             settings_text: source.text.clone(),
             overrides: source.overrides.clone(),
             settings_as_read: read_again.is_ok_and(|again| again == *settings),
+            cross_track: CrossTrackMeaning::of(settings),
+            off_board: false,
+        }
+    }
+
+    /// The header of an off-board record: no settings, the robot's cross-track meaning.
+    pub fn off_board(cross_track: CrossTrackMeaning) -> RunHeader {
+        RunHeader {
+            program: program(),
+            settings_file: String::new(),
+            settings_text: String::new(),
+            overrides: Vec::new(),
+            settings_as_read: false,
+            cross_track,
+            off_board: true,
         }
     }
 
@@ -54,6 +79,16 @@ impl RunHeader {
         let text = serde_json::to_string_pretty(self).map_err(std::io::Error::other)?;
         file.write_all(text.as_bytes())?;
         file.write_all(b"\n")
+    }
+
+    /// The header beside a record's `file` (NAME.csv or NAME.mcap), if there is one.
+    pub fn beside(file: &Path) -> Option<std::path::PathBuf> {
+        let name = file.file_name()?.to_string_lossy().to_string();
+        let stem = (name
+            .strip_suffix(".csv")
+            .or_else(|| name.strip_suffix(".mcap")))
+        .filter(|_| !name.ends_with(".events.csv"))?;
+        Some(file.with_file_name(format!("{stem}{HEADER_SUFFIX}")))
     }
 
     /// Read a header, or say why it cannot be used.

@@ -8,6 +8,15 @@ use std::time::{SystemTime, UNIX_EPOCH};
 
 use super::received::{BusRecord, ReceivedEvent, ReceivedTick};
 use crate::config::RecordSettings;
+use crate::cross_track::CrossTrackMeaning;
+
+/// What the robot says of itself when a record begins: its `[bus] tick_every_n`, and
+/// whether its cross-track means anything (its record header keeps that).
+#[derive(Debug, Clone, Copy)]
+pub struct RobotSays {
+    pub every_n: u64,
+    pub cross_track: CrossTrackMeaning,
+}
 
 /// What an off-board record holds, said at the end.
 #[derive(Default)]
@@ -23,7 +32,7 @@ pub struct Counts {
 /// The received ticks and events into record files.
 pub struct Recording<'a> {
     /// The robot's `[bus] tick_every_n`, asked when a record begins.
-    stride: &'a mut dyn FnMut() -> u64,
+    ask: &'a mut dyn FnMut() -> RobotSays,
     settings: &'a RecordSettings,
     record: Option<BusRecord>,
     last_tick: Option<u64>,
@@ -37,11 +46,11 @@ pub struct Recording<'a> {
 }
 
 impl<'a> Recording<'a> {
-    /// Nothing recorded yet; `stride` asks the robot for its `[bus] tick_every_n` when a
-    /// record begins.
-    pub fn new(stride: &'a mut dyn FnMut() -> u64, settings: &'a RecordSettings) -> Self {
+    /// Nothing recorded yet; `ask` asks the robot what a record needs of it when one
+    /// begins.
+    pub fn new(ask: &'a mut dyn FnMut() -> RobotSays, settings: &'a RecordSettings) -> Self {
         Recording {
-            stride,
+            ask,
             settings,
             record: None,
             last_tick: None,
@@ -97,12 +106,13 @@ impl<'a> Recording<'a> {
 
     /// New files, at the first tick of a run: its start time and the robot's stride.
     fn begin(&mut self, first: &ReceivedTick) {
-        self.every_n = (self.stride)().max(1);
+        let says = (self.ask)();
+        self.every_n = says.every_n.max(1);
         let now_ns = SystemTime::now()
             .duration_since(UNIX_EPOCH)
             .map_or(0, |d| d.as_nanos() as u64);
         let start_ns = now_ns.saturating_sub((first.t_s.max(0.0) * 1e9) as u64);
-        match BusRecord::create(self.settings, start_ns, self.every_n) {
+        match BusRecord::create(self.settings, start_ns, self.every_n, says.cross_track) {
             Ok(record) => {
                 crate::say!(
                     "off-board recorder: recording into {} (every {}th tick, as the robot publishes them)",
@@ -151,8 +161,11 @@ mod tests {
         let folder = tempfile::tempdir().unwrap();
         let mut settings = Settings::shipped().record;
         settings.folder = folder.path().to_path_buf();
-        let mut stride = || 10;
-        let mut recording = Recording::new(&mut stride, &settings);
+        let mut ask = || RobotSays {
+            every_n: 10,
+            cross_track: CrossTrackMeaning::Meaningful,
+        };
+        let mut recording = Recording::new(&mut ask, &settings);
         for n in [10, 20, 50, 60] {
             recording.received_tick(&tick(n));
         }

@@ -9,9 +9,11 @@ use std::time::{Instant, SystemTime};
 use serde_json::{Map, Value};
 
 use super::RecordError;
+use super::header::RunHeader;
 use super::row::{COLUMNS, TickSample, Value as Kind};
 use super::thread::Sink;
 use crate::config::RecordSettings;
+use crate::cross_track::CrossTrackMeaning;
 
 /// One cell of a received tick, in the order of the record's columns.
 #[derive(Debug, Clone, PartialEq)]
@@ -160,9 +162,19 @@ impl BusRecord {
         settings: &RecordSettings,
         start_unix_ns: u64,
         every_n_ticks: u64,
+        cross_track: CrossTrackMeaning,
     ) -> Result<BusRecord, RecordError> {
         let stamp = super::utc_stamp(SystemTime::now());
-        let sinks = super::new_sinks(settings, &stamp, start_unix_ns, every_n_ticks, None)?;
+        // A header without the robot's settings (the bus does not carry them), for what
+        // the record's readers need of it: where it came from, and its cross-track.
+        let header = RunHeader::off_board(cross_track);
+        let sinks = super::new_sinks(
+            settings,
+            &stamp,
+            start_unix_ns,
+            every_n_ticks,
+            Some(&header),
+        )?;
         let sinks: Vec<Option<Box<dyn Sink>>> = sinks.into_iter().map(Some).collect();
         let files = sinks.iter().flatten().flat_map(|s| s.files()).collect();
         Ok(BusRecord {

@@ -11,7 +11,9 @@ use std::fmt::Write;
 use std::path::Path;
 
 use super::error::{ReadProblem, RecordError};
+use super::header::RunHeader;
 use super::read::{Record, read};
+use crate::cross_track::CrossTrackMeaning;
 
 /// The columns the summary needs.
 const WANTED: [&str; 7] = [
@@ -53,16 +55,28 @@ pub struct Summary {
     pub from_m: f64,
     /// None: not a simulated run, so no cross-track error was recorded.
     pub cross_track: Option<CrossTrack>,
+    /// What the record's header says the cross-track is worth (meaningful without one).
+    pub cross_track_meaning: CrossTrackMeaning,
     pub notes: Vec<String>,
 }
 
 /// Read a record (CSV or MCAP) and work out its figures.
 pub fn summarise(path: &Path, from_m: f64) -> Result<Summary, RecordError> {
     let record = read(path, &WANTED)?;
-    figures(&record, from_m).map_err(|problem| RecordError::Read {
+    let mut summary = figures(&record, from_m).map_err(|problem| RecordError::Read {
         file: path.to_path_buf(),
         problem,
-    })
+    })?;
+    // The header beside the record says whether the run's cross-track means anything.
+    if let Some(header) = RunHeader::beside(path).filter(|h| h.exists()) {
+        match RunHeader::read(&header) {
+            Ok(header) => summary.cross_track_meaning = header.cross_track,
+            Err(why) => summary
+                .notes
+                .push(format!("its header cannot be read: {why}")),
+        }
+    }
+    Ok(summary)
 }
 
 /// Weighted figures of (error m, weight m) samples; None without weight.
@@ -174,6 +188,7 @@ fn figures(record: &Record, from_m: f64) -> Result<Summary, ReadProblem> {
         notices,
         from_m,
         cross_track: simulated.then(|| cross_track(&mut samples).unwrap_or_default()),
+        cross_track_meaning: CrossTrackMeaning::Meaningful,
         notes: record.notes.clone(),
     })
 }
@@ -212,6 +227,10 @@ impl Summary {
             let _ = writeln!(out, "at {t_s:.2} s: {what}");
         }
         match &self.cross_track {
+            _ if !self.cross_track_meaning.meaningful() => {
+                let words = self.cross_track_meaning.instead().unwrap_or_default();
+                let _ = writeln!(out, "tool cross-track: {words}");
+            }
             None => out += "tool cross-track: not in this record (not a simulated run)\n",
             Some(c) if c.distance_m <= 0.0 => {
                 let _ = writeln!(

@@ -10,7 +10,7 @@ use mechweed_hw::{Inputs, Outputs};
 use super::row::{Row, WANTED};
 use crate::camlink::LinkStatus;
 use crate::modes::{Mode, Request};
-use crate::record::header::{HEADER_SUFFIX, RunHeader};
+use crate::record::header::RunHeader;
 use crate::record::read::{self, Table};
 use crate::record::request_text::parse_event_text;
 use crate::record::{Given, Place};
@@ -51,21 +51,16 @@ pub struct Recorded {
 
 /// Read `file` (a record's .csv or .mcap) for a replay, or say why it cannot be one.
 pub fn read_for_replay(file: &Path) -> Result<Recorded, String> {
-    let name = file
-        .file_name()
-        .map(|n| n.to_string_lossy().to_string())
-        .unwrap_or_default();
-    let stem = (name
-        .strip_suffix(".csv")
-        .or_else(|| name.strip_suffix(".mcap")))
-    .filter(|_| !name.ends_with(".events.csv"))
-    .ok_or_else(|| {
+    let header_file = RunHeader::beside(file).ok_or_else(|| {
         format!(
             "{}: not a record's file (NAME.csv or NAME.mcap)",
             file.display()
         )
     })?;
-    let header_file = file.with_file_name(format!("{stem}{HEADER_SUFFIX}"));
+    // The file itself first: a missing record is not a missing header.
+    if !file.exists() {
+        return Err(format!("{}: no such file", file.display()));
+    }
     if !header_file.exists() {
         return Err(format!(
             "{}: no {} beside it, with the settings the run had: a record made before replays existed, by `record --bus`, or with that file removed cannot be replayed exactly",
@@ -74,6 +69,12 @@ pub fn read_for_replay(file: &Path) -> Result<Recorded, String> {
         ));
     }
     let header = RunHeader::read(&header_file)?;
+    if header.off_board {
+        return Err(format!(
+            "{}: recorded off-board (`record --bus`) from the robot's flows, which do not carry its settings: it cannot be replayed exactly; replay the robot's own record of that run",
+            file.display()
+        ));
+    }
     if !header.settings_as_read {
         return Err(format!(
             "{}: the run's settings were changed inside the program after its settings file was read (a test's own settings): they are not known, so it cannot be replayed exactly",

@@ -203,6 +203,9 @@ impl Row<'_> {
                 row_offset_m: Some(self.num_or_nan("filter_offset_m")?)
                     .filter(|m| !m.is_nan())
                     .unwrap_or(0.0),
+                // Not recorded: it only words the notice of a change, which a replay
+                // compares by the change itself.
+                why: None,
             },
             law: LawOutput {
                 wheel_angle_rad: f64::NAN,

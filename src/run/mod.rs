@@ -21,6 +21,7 @@ use crate::camlink::thread::{LinkThread, LinkWires, READ_TIMEOUT};
 use crate::camlink::{LinkCore, LinkStatus, simwire};
 use crate::config::{Backend, JoystickSource, Settings};
 use crate::config::{CameraPort, GnssPort};
+use crate::cross_track::CrossTrackMeaning;
 use crate::gamepad::{self, PadHw};
 use crate::health::{self, PanicFlag, ThreadName};
 use crate::modes::Gains;
@@ -267,6 +268,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         bus: bus_figures.clone(),
         bus_endpoints: s.bus.endpoints(),
         gamepad,
+        cross_track: CrossTrackMeaning::of(s),
     };
     let running = Running {
         supervisor,
@@ -342,7 +344,7 @@ impl Running {
         };
         // The supervisor thread has ended and dropped its tap: the recorder closes the files.
         let record = self.recorder.finish();
-        let outside_camera = (self.settings.camera_port).is_outside_of(self.settings.backend);
+        let outside_camera = !CrossTrackMeaning::of(&self.settings).meaningful();
         RunOutcome {
             final_status: *supervisor.status(),
             faults: supervisor.faults().to_vec(),

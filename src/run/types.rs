@@ -47,6 +47,8 @@ pub struct Handles {
     pub bus_endpoints: String,
     /// The gamepad ([joystick] source = gamepad), as the supervisor reads it.
     pub gamepad: Option<Reader<PadState>>,
+    /// Whether the simulated field's cross-track means anything in this run.
+    pub cross_track: crate::cross_track::CrossTrackMeaning,
 }
 
 pub struct RunOptions {

@@ -34,6 +34,12 @@ use crate::gnss::GnssStatus;
 use crate::gnss::place::RowPlace;
 use crate::measure::Measured;
 pub use crate::steering::Steering;
+
+/// The camera link is up yet gives no row to steer by.
+const NO_USABLE_ROW: &str = "the camera has given no estimate of [camera] min_quality or better for [steer] camera_fallback_s";
+const NO_TRUSTED_FIX: &str =
+    "no trusted GNSS fix (of [gnss] trusted quality) for [steer] gnss_fallback_s";
+const NEITHER: &str = "neither the camera nor GNSS has given a usable row";
 use mechweed_hw::nmea::FixQuality;
 
 /// Which sensors steer and how long each has been without a good measurement, for the
@@ -47,6 +53,9 @@ pub struct SourceHealth {
     pub gnss_good_s: f64,
     /// The row filter's row offset at the rear axle, m (0 when the camera steers alone).
     pub row_offset_m: f64,
+    /// Why a sensor is not steering now (the camera's or GNSS's trouble), for the
+    /// notice of each change; None where the chosen sensors are all there are.
+    pub why: Option<&'static str>,
 }
 
 /// What the GNSS link and the row filter show, for the GUI, the record and the report
@@ -107,6 +116,8 @@ pub struct RowSources {
     /// may be steered by.
     held: Held,
     held_ok: bool,
+    /// What is wrong with the camera's rows, as of the last `watch`.
+    camera_trouble: &'static str,
     /// A new camera estimate came that the filter has not had yet.
     camera_unfused: bool,
     gap_hold_m: f64,
@@ -141,6 +152,7 @@ impl RowSources {
             hold: CameraHold::default(),
             held: Held::default(),
             held_ok: false,
+            camera_trouble: NO_USABLE_ROW,
             camera_unfused: false,
             gap_hold_m: settings.camera.gap_hold_m,
             last_fix_used: None,
@@ -160,6 +172,13 @@ impl RowSources {
             row_offset_m: match self.s.source {
                 SteerSource::Camera => 0.0,
                 _ => self.filter.state().offset_m,
+            },
+            why: match (self.steering, self.s.source) {
+                (Steering::FilterGnss, SteerSource::Fused) => Some(self.camera_trouble),
+                (Steering::FilterCamera, _) => Some(NO_TRUSTED_FIX),
+                (Steering::Nothing, SteerSource::Fused) => Some(NEITHER),
+                (Steering::Nothing, _) => Some(NO_TRUSTED_FIX),
+                _ => None,
             },
         }
     }
@@ -235,6 +254,13 @@ impl RowSources {
         if self.held_ok {
             self.camera_good_s = self.camera_good_s.max(link.last_usable_s);
         }
+        self.camera_trouble = if link.problem.is_some() {
+            "the camera's link is down"
+        } else if !self.held_ok {
+            "the camera has sent the same estimate for longer than [camera] gap_hold_m (a gap in the row, or its end)"
+        } else {
+            NO_USABLE_ROW
+        };
     }
 
     /// The steer tick in autonomous mode at `now_s`, after `watch`: the row to steer by,

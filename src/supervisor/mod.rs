@@ -296,6 +296,7 @@ impl Supervisor {
             self.steering_said = Some(steering);
             self.say(Notice::Steering {
                 steering,
+                why: steer.sources.why,
                 t_s: now_s,
             });
         }

@@ -22,6 +22,7 @@ pub fn mode_refusal(wanted: Mode, st: &Status) -> Option<Refusal> {
         Mode::Test => None,
         // Joystick or Autonomous: from Halt, or switching between the two.
         _ if !(st.mode == Mode::Halt || st.mode.drives()) => Some(Refusal::OnlyFromHalt(st.mode)),
+        _ if matches!(st.power, PowerState::Closing { .. }) => Some(Refusal::PowerComingOn),
         _ if st.power != PowerState::On => Some(Refusal::NotPowered),
         _ if !st.measured.calibrated => Some(Refusal::NotCalibrated),
         _ => None,
@@ -117,6 +118,18 @@ mod tests {
             Some("motor power is off: press Power up first")
         );
         assert_eq!(why_not(Mode::Test, &st), None, "test needs no power");
+        // Power up accepted, the contactor still closing: not "press Power up".
+        st.power = PowerState::Closing { since_s: 0.5 };
+        assert_eq!(
+            mode_refusal(Mode::Autonomous, &st),
+            Some(Refusal::PowerComingOn)
+        );
+        assert!(
+            why_not(Mode::Joystick, &st)
+                .unwrap()
+                .contains("still coming on")
+        );
+        st.power = PowerState::Off;
         assert_eq!(why_not(Mode::Halt, &st), None);
         st.power = PowerState::On;
         assert_eq!(

@@ -10,6 +10,7 @@ mod guards;
 mod input;
 mod secured;
 mod sockets;
+mod truth;
 
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};

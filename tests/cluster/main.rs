@@ -283,6 +283,26 @@ fn the_one_machine_graph_drives_restarts_the_camera_and_stops_with_safe_outputs(
     assert!(said.contains("modes: halt at"), "{said}");
     assert!(said.contains("autonomous at"), "{said}");
     assert!(said.contains("camera link lost"), "{said}");
+    // The rows came from camsim on the bus, not the simulated field: neither the
+    // off-board record nor the controller's own gives a cross-track figure.
+    let controller_csv = (robot_log.lines())
+        .find_map(|l| l.split("recording into ").nth(1))
+        .and_then(|files| files.split(", ").next())
+        .expect("the controller says where it records")
+        .to_string();
+    for record in [csv, controller_csv.as_str()] {
+        let summary = mechweed_in(folder)
+            .args(["record", "summary", record, "--from-m", "0"])
+            .output()
+            .unwrap();
+        let said = text(&summary.stdout);
+        assert!(summary.status.success(), "{said}{}", text(&summary.stderr));
+        assert!(
+            said.contains("tool cross-track: not meaningful (outside camera)"),
+            "{record}: {said}"
+        );
+        assert!(!said.contains(" cm, s.d. "), "{record}: {said}");
+    }
 }
 
 #[test]

@@ -1,0 +1,119 @@
+//! What the bus and its tools say is true: the loops' figures agree with the run's own
+//! summary, and a tool with nothing to reach, or a flow the robot does not have, says
+//! so in seconds instead of waiting in silence.
+
+use std::time::{Duration, Instant};
+
+use super::{Robot, endpoint, free_port, json_lines};
+use crate::common::{mechweed, text};
+
+/// `steer loop: N ticks at R Hz` from the run's closing summary.
+fn summary_ticks(stdout: &str, name: &str) -> f64 {
+    let line = (stdout.lines())
+        .find(|l| l.trim_start().starts_with(&format!("{name} loop: ")))
+        .unwrap_or_else(|| panic!("no {name} loop line: {stdout}"));
+    let after = line.split("loop: ").nth(1).unwrap();
+    after.split(' ').next().unwrap().parse().unwrap()
+}
+
+#[test]
+fn the_steer_loops_rate_on_the_bus_is_the_one_the_run_summary_gives() {
+    // Camera frames wake the steer thread between its scheduled ticks; it published its
+    // figures only on scheduled ticks that were a multiple of its rate, and the bus said
+    // "steer 0 Hz, 0 ticks" (or froze) while the summary counted over a thousand.
+    let robot = Robot::start(&["--mode", "autonomous", "--duration", "12"]);
+    let status_at = |wait_s: f64| {
+        std::thread::sleep(Duration::from_secs_f64(wait_s));
+        let out = robot.bus(&["echo", "status", "--count", "1"]);
+        let p = json_lines(&out)[0]["payload"].clone();
+        let steer = &p["loops"]["steer"];
+        (
+            p["t_s"].as_f64().unwrap(),
+            steer["ticks"].as_f64().unwrap(),
+            steer["rate_hz"].as_f64().unwrap(),
+        )
+    };
+    let (t0, ticks0, rate_hz) = status_at(2.0);
+    let (t1, ticks1, _) = status_at(6.0);
+    let (stdout, _, _) = robot.finish();
+    assert!(
+        rate_hz > 0.0 && ticks1 > ticks0,
+        "{ticks0} then {ticks1} ticks at {rate_hz} Hz"
+    );
+    let on_bus = (ticks1 - ticks0) / (t1 - t0);
+    let in_summary = summary_ticks(&stdout, "steer") / 12.0;
+    assert!(
+        (on_bus / in_summary - 1.0).abs() < 0.10,
+        "steer {on_bus:.2} ticks/s on the bus, {in_summary:.2} in the summary\n{stdout}"
+    );
+}
+
+#[test]
+fn tools_with_nothing_to_reach_say_so_in_seconds_naming_the_endpoint() {
+    let nowhere = endpoint(free_port());
+    for args in [
+        &["get", "supervisor.rate_hz"][..],
+        &["list", "--seconds", "1"],
+    ] {
+        let started = Instant::now();
+        let out = mechweed()
+            .arg("bus")
+            .args(args)
+            .args(["--connect", &nowhere])
+            .output()
+            .unwrap();
+        let said = text(&out.stderr);
+        assert!(!out.status.success(), "{args:?}: {said}");
+        assert!(
+            started.elapsed() < Duration::from_secs(15),
+            "{args:?} took {:?}",
+            started.elapsed()
+        );
+        assert!(
+            said.contains(&nowhere),
+            "{args:?} does not name {nowhere}: {said}"
+        );
+        assert!(
+            !said.contains(".rs:"),
+            "{args:?} quotes a source file: {said}"
+        );
+    }
+    // A subscriber waits for the robot, but not in silence.
+    let out = mechweed()
+        .args([
+            "bus",
+            "echo",
+            "status",
+            "--seconds",
+            "6",
+            "--connect",
+            &nowhere,
+        ])
+        .output()
+        .unwrap();
+    let said = text(&out.stderr);
+    assert!(
+        said.contains(&format!(
+            "no mechweed robot program 'mechweed' answers at {nowhere}"
+        )),
+        "{said}"
+    );
+}
+
+#[test]
+fn a_flow_the_robot_does_not_have_is_refused_with_the_ones_it_has() {
+    // "events" for "event": it waited for ever.
+    let started = Instant::now();
+    let out = mechweed()
+        .args(["bus", "echo", "events", "--connect", &endpoint(free_port())])
+        .output()
+        .unwrap();
+    let said = text(&out.stderr);
+    assert!(!out.status.success(), "{said}");
+    assert!(started.elapsed() < Duration::from_secs(5));
+    assert!(
+        said.contains("'events' is not a flow of the robot"),
+        "{said}"
+    );
+    assert!(said.contains("status, tick, event, camera/row"), "{said}");
+}
