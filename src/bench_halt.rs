@@ -13,12 +13,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use x11rb::connection::Connection;
-use x11rb::protocol::xproto::{
-    AtomEnum, ConnectionExt as _, InputFocus, KEY_PRESS_EVENT, KEY_RELEASE_EVENT, Window,
-};
+use x11rb::protocol::xproto::{ConnectionExt as _, InputFocus, KEY_PRESS_EVENT, KEY_RELEASE_EVENT};
 use x11rb::protocol::xtest::ConnectionExt as _;
 use x11rb::wrapper::ConnectionExt as _;
 
+use crate::gui::x11_focus::{TITLE, window_named};
 use crate::modes::Mode;
 use crate::operator::OperatorScript;
 use crate::request_channel::SupervisorHandle;
@@ -54,7 +53,8 @@ pub fn press_space(
         if done.load(Ordering::Relaxed) {
             break;
         }
-        let window = gui_window(&conn, root)?;
+        let window = window_named(&conn, root, TITLE)?
+            .ok_or_else(|| format!("no window named {TITLE} on the X server"))?;
         conn.set_input_focus(InputFocus::PARENT, window, x11rb::CURRENT_TIME)
             .map_err(|e| fail(&e))?;
         conn.sync().map_err(|e| fail(&e))?;
@@ -84,27 +84,6 @@ pub fn press_space(
         }
     }
     Ok(latencies_ms)
-}
-
-/// The GUI's top-level window: the root's child named "mechweed".
-fn gui_window(conn: &impl Connection, root: Window) -> Result<Window, String> {
-    let fail = |e: &dyn std::fmt::Display| format!("X server: {e}");
-    let tree = conn
-        .query_tree(root)
-        .map_err(|e| fail(&e))?
-        .reply()
-        .map_err(|e| fail(&e))?;
-    for window in tree.children {
-        let name = conn
-            .get_property(false, window, AtomEnum::WM_NAME, AtomEnum::ANY, 0, 64)
-            .map_err(|e| fail(&e))?
-            .reply()
-            .map_err(|e| fail(&e))?;
-        if name.value == b"mechweed" {
-            return Ok(window);
-        }
-    }
-    Err("no window named mechweed on the X server".to_string())
 }
 
 /// The keycode the X server gives the space bar.

@@ -19,6 +19,9 @@ use watch_harness::{fed, sent, shows, watching, window};
 #[allow(dead_code)]
 mod gui_harness;
 
+mod common;
+use common::{mechweed as mechweed_command, test_run_settings, text};
+
 /// Every piece of text drawn in the last frame, with its colour.
 fn texts(harness: &Harness<'static, GuiApp>) -> Vec<(String, Color32)> {
     let mut out = Vec::new();
@@ -143,4 +146,107 @@ fn at_1280_by_720_every_panel_reaches_its_last_line() {
             "'{last}' at {rect:?}, outside the 1280x720 window"
         );
     }
+}
+
+/// A bare X server (Xvfb, no window manager) on a display of its own, or None where
+/// the machine has no Xvfb. Killed when dropped.
+struct BareX {
+    server: std::process::Child,
+    display: String,
+}
+
+impl Drop for BareX {
+    fn drop(&mut self) {
+        let _ = self.server.kill();
+        let _ = self.server.wait();
+    }
+}
+
+fn bare_x() -> Option<BareX> {
+    let number = (100..200)
+        .map(|n| n + std::process::id() % 100)
+        .find(|n| !std::path::Path::new(&format!("/tmp/.X{n}-lock")).exists())?;
+    let display = format!(":{number}");
+    // Larger than the window, so that the pointer can rest outside it.
+    let server = std::process::Command::new("Xvfb")
+        .args([
+            display.as_str(),
+            "-screen",
+            "0",
+            "1920x1080x24",
+            "-nolisten",
+            "tcp",
+        ])
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .ok()?;
+    let socket = format!("/tmp/.X11-unix/X{number}");
+    let end = std::time::Instant::now() + Duration::from_secs(10);
+    while !std::path::Path::new(&socket).exists() {
+        if std::time::Instant::now() > end {
+            return None;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    Some(BareX { server, display })
+}
+
+/// Press and release Space through the X server's test extension, as a keyboard does;
+/// the pointer put first where no window of ours is.
+fn press_space_away_from_the_window(display: &str) {
+    use x11rb::connection::Connection;
+    use x11rb::protocol::xproto::{ConnectionExt as _, KEY_PRESS_EVENT, KEY_RELEASE_EVENT};
+    use x11rb::protocol::xtest::ConnectionExt as _;
+    let (conn, screen) = x11rb::connect(Some(display)).unwrap();
+    let root = conn.setup().roots[screen].root;
+    conn.warp_pointer(x11rb::NONE, root, 0, 0, 0, 0, 1900, 1060)
+        .unwrap();
+    let (first, last) = (conn.setup().min_keycode, conn.setup().max_keycode);
+    let map = conn
+        .get_keyboard_mapping(first, last - first + 1)
+        .unwrap()
+        .reply()
+        .unwrap();
+    let per = usize::from(map.keysyms_per_keycode).max(1);
+    let space = (map.keysyms.chunks(per))
+        .position(|syms| syms.contains(&0x20))
+        .map(|k| first + k as u8)
+        .unwrap();
+    for kind in [KEY_PRESS_EVENT, KEY_RELEASE_EVENT] {
+        conn.xtest_fake_input(kind, space, x11rb::CURRENT_TIME, root, 0, 0, 0)
+            .unwrap();
+    }
+    conn.flush().unwrap();
+}
+
+#[test]
+fn space_halts_a_window_nobody_clicked_on_a_bare_x_server() {
+    // The robot computer's case: no window manager gives the new window the keyboard,
+    // and Space did nothing until someone clicked the window.
+    let Some(x) = bare_x() else {
+        eprintln!("skipped: no Xvfb on this machine (apt-get install xvfb) to run the window on");
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    // The operator script powers up and drives at once; Space comes well after.
+    let run = mechweed_command()
+        .args(["run", "--mode", "autonomous", "--duration", "16"])
+        .args(test_run_settings(dir.path()))
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_secs(10));
+    press_space_away_from_the_window(&x.display);
+    let out = run.wait_with_output().unwrap();
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    assert!(out.status.success(), "{stdout}{stderr}");
+    let distance_m: f64 = (stdout.lines())
+        .find_map(|l| l.split("final mode: halt, distance ").nth(1))
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|m| m.parse().ok())
+        .unwrap_or_else(|| panic!("not halted at the end: {stdout}{stderr}"));
+    assert!(distance_m > 1.0, "it never drove: {stdout}");
 }

@@ -40,6 +40,7 @@ pub mod test_panel;
 pub mod theme;
 pub mod tuning;
 pub mod view;
+pub mod x11_focus;
 
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
@@ -133,7 +134,7 @@ pub fn run_gui(
 fn show_window(app: GuiApp, stop: Arc<AtomicBool>) -> (Result<(), eframe::Error>, u64) {
     let native = eframe::NativeOptions {
         viewport: eframe::egui::ViewportBuilder::default()
-            .with_title("mechweed")
+            .with_title(x11_focus::TITLE)
             .with_inner_size([1280.0, 720.0]),
         // Dithering costs a software renderer a tenth of each frame, for gradients the
         // panels do not have.
@@ -147,6 +148,17 @@ fn show_window(app: GuiApp, stop: Arc<AtomicBool>) -> (Result<(), eframe::Error>
         "mechweed",
         native,
         Box::new(|cc| {
+            // Space = HALT from the first frame, also where no window manager gives the
+            // new window the keyboard (a bare X server on the robot computer).
+            let _ = std::thread::Builder::new()
+                .name("gui-keyboard".into())
+                .spawn(|| {
+                    if let Err(why) = x11_focus::take_keyboard() {
+                        crate::say!(
+                            "operator GUI: cannot take the keyboard ({why}): click the window before Space = HALT works"
+                        );
+                    }
+                });
             let ctx = cc.egui_ctx.clone();
             let spawned = pacer::spawn(ctx, app.shared.clone(), stop, quit_pacer.clone());
             pacer = Some(spawned.map_err(|e| format!("cannot start the GUI's pacer thread: {e}"))?);

@@ -7,11 +7,37 @@
 //! frame, then draws from those buffers with the lock released.
 
 use eframe::egui::{self, RichText};
-use egui_plot::{Legend, Line, Plot, PlotPoint, PlotPoints};
+use egui_plot::{GridInput, Legend, Line, Plot, PlotPoint, PlotPoints, uniform_grid_spacer};
 
 use super::pacer::SharedGui;
 use super::plot_data::{Sample, WINDOW_S, thin};
 use super::view::View;
+
+/// The closest two grid lines may be, px (egui_plot's `base_step_size` is this many
+/// pixels in the plot's unit).
+const GRID_MIN_PX: f32 = 8.0;
+/// A labelled y step is at least this tall, px: egui_plot labels from 20 px on.
+const LABEL_PX: f64 = 30.0;
+
+/// The y axis's steps: 1, 2 or 5 times a power of ten, the labelled one at least
+/// LABEL_PX apart. egui_plot's own powers of ten left a 150 px plot of a few degrees
+/// with a lone "0".
+fn steps_1_2_5(input: GridInput) -> [f64; 3] {
+    let least = input.base_step_size / f64::from(GRID_MIN_PX) * LABEL_PX;
+    let decade = 10f64.powf(least.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .map(|m| m * decade)
+        .into_iter()
+        .find(|&s| s >= least)
+        .unwrap_or(10.0 * decade);
+    [step / 5.0, step, step * 5.0]
+}
+
+/// A tick's value with as many decimals as its step needs (0.5 is "0.5", not "0").
+fn tick_label(value: f64, step: f64) -> String {
+    let decimals = (-step.log10().floor()).max(0.0) as usize;
+    format!("{value:.decimals$}")
+}
 
 /// A line's name and how to read its value from a sample.
 type Series = (&'static str, fn(&Sample) -> f64);
@@ -153,6 +179,9 @@ impl Plots {
                 .include_y(chart.least_y[0])
                 .include_y(chart.least_y[1])
                 .y_axis_label(unit)
+                .grid_spacing(GRID_MIN_PX..=300.0)
+                .y_grid_spacer(uniform_grid_spacer(steps_1_2_5))
+                .y_axis_formatter(|mark, _| tick_label(mark.value, mark.step_size))
                 .link_axis(egui::Id::unique("plots-time"), [true, false])
                 .show(ui, |plot_ui| {
                     for ((name, _), points) in chart.lines.iter().zip(mine) {
@@ -172,5 +201,19 @@ mod tests {
             let [low, high] = chart.least_y;
             assert!(high - low >= 1.0, "{}: {low}..{high}", chart.id);
         }
+    }
+
+    #[test]
+    fn the_labelled_y_step_is_a_round_number_tall_enough_for_its_label() {
+        // A plot of -6..6 deg, 120 px tall: 0.1 deg a pixel, 0.8 deg per 8 px.
+        let input = egui_plot::GridInput {
+            bounds: (-6.0, 6.0),
+            base_step_size: 0.8,
+        };
+        let [_, step, _] = super::steps_1_2_5(input);
+        assert_eq!(step, 5.0, "3 deg (30 px) rounds up to 5");
+        assert_eq!(super::tick_label(0.5, 0.5), "0.5");
+        assert_eq!(super::tick_label(-5.0, 5.0), "-5");
+        assert_eq!(super::tick_label(0.25, 0.05), "0.25");
     }
 }

@@ -86,7 +86,7 @@ impl SimPanel {
         ui.heading("Simulated robot");
         let i = &view.status.inputs;
         ui.label(RichText::new("Emergency stops").strong());
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             act(EventAction::EstopFront, ui, "Press e-stop front");
             act(EventAction::EstopBack, ui, "Press e-stop back");
         });
@@ -156,7 +156,7 @@ impl SimPanel {
         ui.separator();
 
         ui.label(RichText::new("Row and reset").strong());
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             for row in [RowShape::Straight, RowShape::SCurve, RowShape::Arc] {
                 ui.selectable_value(&mut self.row, row, row_name(row));
             }
