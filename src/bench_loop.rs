@@ -95,7 +95,8 @@ pub fn bench_loop(
         status_every_s: 5.0,
         inject: None,
     };
-    let stop = Arc::new(AtomicBool::new(false));
+    // Ctrl-C ends the bench as it ends a run: the supervisor writes the safe outputs.
+    let stop = crate::console::ctrl_c();
     let cpu_before_s = process_cpu_s();
     let done = Arc::new(AtomicBool::new(false));
     let (pressed_tx, pressed) = crossbeam_channel::bounded(1);

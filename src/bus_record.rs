@@ -123,16 +123,16 @@ pub fn record(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
 }
 
 /// The robot's cross-track meaning from its `[hw] backend` and `[camera] port`, by the
-/// one rule (cross_track.rs); a robot that does not say is taken as not meaningful, so
-/// that its record never vouches for a figure it cannot.
+/// one rule (cross_track.rs); a robot that does not say vouches for no figure.
 fn cross_track_of(backend: Option<&str>, port: Option<&str>) -> CrossTrackMeaning {
     let backend = match backend {
         Some("sim") => Backend::Sim,
         Some("cards") => Backend::Cards,
-        _ => return CrossTrackMeaning::OutsideCamera,
+        _ => return CrossTrackMeaning::Unknown,
     };
+    // The baud does not matter to the rule; any of the camera's will do.
     match port.map(|p| CameraPort::parse(p, 115_200)) {
-        Some(Ok(port)) if !port.is_outside_of(backend) => CrossTrackMeaning::Meaningful,
-        _ => CrossTrackMeaning::OutsideCamera,
+        Some(Ok(port)) => CrossTrackMeaning::of_robot(backend, &port),
+        _ => CrossTrackMeaning::Unknown,
     }
 }

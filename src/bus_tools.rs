@@ -20,15 +20,20 @@ const ANSWER_WAIT: Duration = Duration::from_secs(3);
 /// The flows a robot program publishes or takes, as `bus echo` names them.
 pub const FLOWS: [&str; 4] = ["status", "tick", "event", "camera/row"];
 
+/// Key prefixes under which other programs publish (the cluster's master and
+/// launchers, the programs' tokens): taken as given.
+const OTHER_PROGRAMS: [&str; 2] = ["cluster/", "alive/"];
+
 /// Refuse a flow name the robot does not have (a typo waits for ever otherwise). Keys
-/// taken whole (`/farm/robot2/status`) and patterns (`*`) are another robot's or the
-/// user's own: taken as given.
+/// taken whole (`/farm/robot2/status`), patterns (`*`) and the other programs' keys are
+/// taken as given.
 pub fn check_flow(key: &str) -> Result<(), String> {
-    if key.starts_with('/') || key.contains('*') || FLOWS.contains(&key) {
+    let others = OTHER_PROGRAMS.iter().any(|p| key.starts_with(p));
+    if key.starts_with('/') || key.contains('*') || others || FLOWS.contains(&key) {
         return Ok(());
     }
     Err(format!(
-        "'{key}' is not a flow of the robot: its flows are {} (another robot's: /NAME/status; a pattern: '*')",
+        "'{key}' is not a flow of the robot: its flows are {} (the cluster's: cluster/...; another robot's: /NAME/status; a pattern: '*')",
         FLOWS.join(", ")
     ))
 }
@@ -107,6 +112,13 @@ impl Tool {
         ))
     }
 
+    /// Whether the robot program's token answers within `wait` (one look).
+    fn controller_answers(&self, wait: Duration) -> bool {
+        let key = self.key("alive/controller");
+        let replies = self.session.liveliness().get(&key).timeout(wait).wait();
+        replies.is_ok_and(|replies| replies.recv().is_ok())
+    }
+
     /// Ask `key` with `payload`; the first answer as text, or the error's text.
     pub fn ask(&self, key: &str, payload: Option<String>) -> Result<String, String> {
         self.wait_for_controller()?;
@@ -155,7 +167,6 @@ impl Tool {
         seconds: Option<f64>,
         slow_s: f64,
     ) -> Result<Vec<f64>, String> {
-        check_flow(key)?;
         let key = self.key(key);
         // A receiver that falls behind drops the oldest messages, never the sender's
         // pace: of a status only the newest counts; of other flows the newest 256 wait.
@@ -191,7 +202,7 @@ impl Tool {
             else {
                 if printed == 0 && !absence_said && asked_at.elapsed() >= ANSWER_WAIT {
                     absence_said = true;
-                    if self.wait_for_controller().is_err() {
+                    if !self.controller_answers(Duration::from_millis(500)) {
                         eprintln!(
                             "bus echo: nothing yet on {key}: no mechweed robot program '{}' answers at {} (is it running, with [bus] enabled = yes and this endpoint?); still waiting, Ctrl-C to stop",
                             self.robot, self.endpoint

@@ -170,13 +170,9 @@ pub fn ctrl_c() -> Arc<AtomicBool> {
             .name("signals".into())
             .spawn(move || {
                 for signal in signals.forever() {
-                    let _ = STOPPED_BY.compare_exchange(
-                        0,
-                        signal,
-                        Ordering::Relaxed,
-                        Ordering::Relaxed,
-                    );
-                    flag.store(true, Ordering::Relaxed);
+                    let _ =
+                        STOPPED_BY.compare_exchange(0, signal, Ordering::SeqCst, Ordering::SeqCst);
+                    flag.store(true, Ordering::SeqCst);
                 }
             })
     });
@@ -188,7 +184,7 @@ pub fn ctrl_c() -> Arc<AtomicBool> {
 
 /// Who asked this program to stop, in words; None: no signal came.
 pub fn stop_request() -> Option<&'static str> {
-    match STOPPED_BY.load(Ordering::Relaxed) {
+    match STOPPED_BY.load(Ordering::SeqCst) {
         SIGINT => Some("the operator (Ctrl-C)"),
         SIGTERM => {
             Some("a stop request from the system (SIGTERM: a service manager, kill or a shutdown)")

@@ -7,11 +7,12 @@
 //! computer on a port, camsim, a vision program on the bus) while the robot is the
 //! simulated one, the robot steers along rows that are not the field's, and the
 //! field's cross-track says nothing about the steering: it is then "not meaningful",
-//! never a number. On the real robot there is no truth at all.
+//! never a number. On the real robot there is no truth at all, and a robot program or
+//! record that does not say is vouched for by no figure either.
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::Settings;
+use crate::config::{Backend, CameraPort, Settings};
 
 /// What a cross-track figure of a run is worth.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -22,15 +23,37 @@ pub enum CrossTrackMeaning {
     Meaningful,
     /// The simulated robot steered by rows from outside ([camera] port is not sim).
     OutsideCamera,
+    /// The real robot: nobody knows where the row truly is.
+    RealRobot,
+    /// Not said (a robot program or a record from before this rule): no figure is
+    /// vouched for.
+    Unknown,
 }
 
 /// What is shown instead of a number, everywhere.
 pub const NOT_MEANINGFUL_OUTSIDE: &str = "not meaningful (outside camera)";
+const NOT_KNOWN_REAL: &str = "not known on the real robot";
+const NOT_SAID: &str = "not known (the robot did not say whether it means anything)";
+
+const ALL: [CrossTrackMeaning; 4] = [
+    CrossTrackMeaning::Meaningful,
+    CrossTrackMeaning::OutsideCamera,
+    CrossTrackMeaning::RealRobot,
+    CrossTrackMeaning::Unknown,
+];
 
 impl CrossTrackMeaning {
-    /// The rule: the simulated robot with a camera outside this program.
+    /// The rule: the simulated robot with its own camera, or not.
     pub fn of(settings: &Settings) -> CrossTrackMeaning {
-        if settings.camera_port.is_outside_of(settings.backend) {
+        CrossTrackMeaning::of_robot(settings.backend, &settings.camera_port)
+    }
+
+    /// The same, from a robot's `[hw] backend` and `[camera] port` alone (what the
+    /// off-board recorder asks of a robot over the bus).
+    pub fn of_robot(backend: Backend, camera_port: &CameraPort) -> CrossTrackMeaning {
+        if backend != Backend::Sim {
+            CrossTrackMeaning::RealRobot
+        } else if camera_port.is_outside_of(backend) {
             CrossTrackMeaning::OutsideCamera
         } else {
             CrossTrackMeaning::Meaningful
@@ -46,6 +69,8 @@ impl CrossTrackMeaning {
         match self {
             CrossTrackMeaning::Meaningful => None,
             CrossTrackMeaning::OutsideCamera => Some(NOT_MEANINGFUL_OUTSIDE),
+            CrossTrackMeaning::RealRobot => Some(NOT_KNOWN_REAL),
+            CrossTrackMeaning::Unknown => Some(NOT_SAID),
         }
     }
 
@@ -63,13 +88,11 @@ impl CrossTrackMeaning {
         self.instead().unwrap_or("meaningful")
     }
 
-    /// Read back from the bus's word; an unknown word is taken as not meaningful, so
-    /// that a view never shows a number it cannot vouch for.
+    /// Read back from the bus's word; a missing or unknown word vouches for nothing.
     pub fn from_word(word: Option<&str>) -> CrossTrackMeaning {
-        match word {
-            None | Some("meaningful") => CrossTrackMeaning::Meaningful,
-            Some(_) => CrossTrackMeaning::OutsideCamera,
-        }
+        ALL.into_iter()
+            .find(|m| Some(m.word()) == word)
+            .unwrap_or(CrossTrackMeaning::Unknown)
     }
 }
 
@@ -85,6 +108,25 @@ mod tests {
         assert_eq!(o.cm(-0.414), "not meaningful (outside camera)");
         assert_eq!(CrossTrackMeaning::from_word(Some(o.word())), o);
         assert_eq!(CrossTrackMeaning::from_word(Some(m.word())), m);
-        assert_eq!(CrossTrackMeaning::from_word(Some("???")), o);
+        assert_eq!(
+            CrossTrackMeaning::from_word(Some("???")),
+            CrossTrackMeaning::Unknown
+        );
+        // A robot program from before the rule says nothing: no figure is vouched for.
+        assert_eq!(
+            CrossTrackMeaning::from_word(None),
+            CrossTrackMeaning::Unknown
+        );
+        for m in ALL {
+            assert_eq!(CrossTrackMeaning::from_word(Some(m.word())), m);
+        }
+        let shipped = Settings::shipped();
+        assert_eq!(CrossTrackMeaning::of(&shipped), m);
+        let mut cards = shipped;
+        cards.backend = Backend::Cards;
+        assert_eq!(
+            CrossTrackMeaning::of(&cards).cm(0.0),
+            "not known on the real robot"
+        );
     }
 }

@@ -155,7 +155,7 @@ fn run_command(args: RunArgs) -> ExitCode {
         ),
         Backend::Cards => mechweed::say!("mechweed on the I/O cards; start mode {start_mode}"),
     }
-    if (settings.camera_port).is_outside_of(settings.backend) {
+    if !mechweed::cross_track::CrossTrackMeaning::of(&settings).meaningful() {
         mechweed::say!(
             "camera: {}; {}",
             settings.camera_port.describe(),
@@ -328,6 +328,14 @@ fn bench_loop(
     }
     if press_space_s.is_some_and(|s| !(0.2..=60.0).contains(&s)) {
         eprintln!("--press-space must be 0.2 to 60 s");
+        return ExitCode::FAILURE;
+    }
+    // It powers up and drives in autonomous with no one asked: never the real robot.
+    if settings.backend != Backend::Sim {
+        eprintln!(
+            "bench loop drives the simulated robot and starts in autonomous without asking: it does not run on the real robot ([hw] backend = cards in {}); add --set hw.backend=sim",
+            settings.source.label
+        );
         return ExitCode::FAILURE;
     }
     match mechweed::bench_loop::bench_loop(&settings, rate, seconds, gui, press_space_s) {

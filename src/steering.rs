@@ -10,9 +10,10 @@ pub enum Steering {
     Camera,
     /// The row filter, fed by the camera and GNSS.
     Fused,
-    /// The row filter, fed by the camera alone (GNSS lost).
+    /// The row filter, fed by the camera alone (no trusted GNSS fix).
     FilterCamera,
-    /// The row filter, fed by GNSS alone (the camera lost), at reduced speed.
+    /// The row filter, fed by GNSS alone (no usable camera row, or [steer] source =
+    /// gnss); with source = fused at reduced speed.
     FilterGnss,
     /// Nothing usable: the robot stops.
     Nothing,

@@ -123,7 +123,7 @@ pub fn taught_row(record: &Path, name: &str, s: &Settings) -> Result<Taught, Str
 /// left of the tool); None without an estimate of [camera] min_quality.
 fn camera_row_at_tool(t: &Table, row: usize, s: &Settings) -> Result<Option<f64>, String> {
     let cell = |name: &str| -> Result<Option<f64>, String> {
-        let col = t.column(name).unwrap_or_default();
+        let col = (t.column(name)).ok_or_else(|| format!("the record has no column {name}"))?;
         t.number(row, col).map_err(|e| e.to_string())
     };
     let (Some(offset_m), Some(angle_rad), Some(quality)) = (

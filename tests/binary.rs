@@ -252,6 +252,33 @@ fn run_on_the_cards_without_them_refuses_to_start() {
     assert!(stderr.contains("cannot start: no PCI-DAS08"), "{stderr}");
 }
 
+#[test]
+fn bench_loop_never_drives_the_real_robot() {
+    // It starts in autonomous without asking anyone: with robot.ini on the cards it
+    // would have powered up and driven the real robot.
+    let out = mechweed()
+        .args([
+            "bench",
+            "loop",
+            "--seconds",
+            "1",
+            "--set",
+            "hw.backend=cards",
+        ])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("does not run on the real robot"),
+        "{stderr}"
+    );
+    assert!(
+        !stderr.contains("PCI-DAS08"),
+        "it tried the cards: {stderr}"
+    );
+}
+
 /// The shipped robot.ini on the I/O cards, with `[sim] events` as given, in a folder.
 fn cards_ini(events: &str) -> (tempfile::TempDir, std::path::PathBuf) {
     let shipped =

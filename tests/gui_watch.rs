@@ -168,6 +168,24 @@ fn a_robot_that_fell_silent_is_counted_up_each_second_then_greyed_then_unknown()
 }
 
 #[test]
+fn before_the_robot_says_whether_it_takes_requests_nothing_is_claimed_about_it() {
+    // The first status came; the answer to "accept_requests?" not yet.
+    let remote = RemoteView::offline("mechweed", "tcp/10.0.0.7:7447");
+    for (flow, payload) in recorded() {
+        remote.feed(flow, payload.to_string().as_bytes(), Instant::now());
+    }
+    let harness = watch_harness::window(remote, Settings::shipped(), [1280.0, 1000.0]);
+    assert!(shows(&harness, "requests: HALT; the rest not known yet"));
+    assert!(!shows(&harness, "requests: HALT only"));
+    assert!(shows(
+        &harness,
+        "asking the robot whether it takes requests"
+    ));
+    assert!(!enabled(&harness, "Power up"));
+    assert!(enabled(&harness, "HALT"));
+}
+
+#[test]
 fn a_fault_on_the_robot_is_shown_in_its_words() {
     let harness = watching(Duration::from_millis(100), |flow, payload| {
         if flow == Flow::Status {

@@ -127,8 +127,9 @@ impl Child {
         before != (self.state, self.restarts)
     }
 
-    /// Stop it: SIGINT to its process group (a mechweed program ends as at Ctrl-C, the
-    /// controller with its safe outputs), then SIGKILL if it has not ended within
+    /// Stop it: SIGTERM to its process group (a mechweed program ends as at Ctrl-C, the
+    /// controller with its safe outputs, and says the system asked), then SIGKILL if it
+    /// has not ended within
     /// `patience`. No restart
     /// follows. Returns how it ended, in words.
     pub fn stop(&mut self, patience: Duration) -> String {
@@ -147,7 +148,7 @@ impl Child {
         // Its whole process group (a shell's children too). The pid is ours and not
         // yet reaped, so the group cannot be another's.
         let group = -(process.id() as libc::pid_t);
-        unsafe { libc::kill(group, libc::SIGINT) };
+        unsafe { libc::kill(group, libc::SIGTERM) };
         let end = Instant::now() + patience;
         let status = loop {
             match process.try_wait() {
@@ -162,7 +163,7 @@ impl Child {
                 unsafe { libc::kill(group, libc::SIGKILL) };
                 let _ = process.wait();
                 format!(
-                    "killed: it did not end within {:.0} s of SIGINT",
+                    "killed: it did not end within {:.0} s of SIGTERM",
                     patience.as_secs_f64()
                 )
             }

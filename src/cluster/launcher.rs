@@ -24,7 +24,7 @@ use super::{Keys, answer, ask};
 use crate::bus::session::{Role, open};
 use crate::config::TlsFiles;
 
-/// How long a process has to end after SIGINT before it is killed.
+/// How long a process has to end after SIGTERM before it is killed.
 const STOP_PATIENCE: Duration = Duration::from_secs(10);
 /// States are published when they change and this often besides, so that a master
 /// started (or restarted) later learns them.
@@ -203,7 +203,9 @@ impl Launcher {
         let mut reported = Instant::now();
         loop {
             if stop.load(Ordering::Relaxed) {
-                return "Ctrl-C".to_string();
+                return crate::console::stop_request()
+                    .unwrap_or("a stop request")
+                    .to_string();
             }
             for i in 0..self.children.len() {
                 if self.children[i].poll() {

@@ -50,7 +50,10 @@ pub fn show(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
             if let Some(warning) = &view.not_realtime {
                 ui.label(RichText::new(warning).strong().color(theme::warning(ui)));
             }
-            if !ui.input(|i| i.focused) {
+            // Always one line, so that the layout stays when the keyboard comes and goes.
+            if ui.input(|i| i.focused) {
+                ui.label(RichText::new("Space = HALT: this window has the keyboard").weak());
+            } else {
                 ui.label(
                     RichText::new(
                         "the keyboard is another window's: Space = HALT only after a click in this window",
@@ -62,7 +65,8 @@ pub fn show(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
             if let Some(link) = &view.remote {
                 remote(ui, link);
             }
-            fault_line(ui, view);
+            // In a scope of its own: a stale fault line greys only itself.
+            ui.scope(|ui| fault_line(ui, view));
             if view.remote.is_none() && view.status.tick > 0 && view.now_s - view.status.t_s > SUPERVISOR_SILENT_S {
                 ui.label(
                     RichText::new("the controller has stopped: close this window and see the log")
@@ -119,11 +123,20 @@ fn mode_line(ui: &mut egui::Ui, view: &View) {
     });
 }
 
-/// The active fault, or "no fault"; over the bus, the robot's own words, and nothing
-/// before its first status.
+/// The active fault, or "no fault"; over the bus, the robot's own words, not known
+/// before its first status or once its mode is unknown, and greyed while stale.
 fn fault_line(ui: &mut egui::Ui, view: &View) {
-    if view.remote.as_ref().is_some_and(RemoteLink::no_data) {
+    if let Some(link) = view.remote.as_ref().filter(|link| link.mode_unknown()) {
+        let words = if link.no_data() {
+            "fault: no data yet"
+        } else {
+            "fault: not known (the robot is silent)"
+        };
+        ui.label(RichText::new(words).size(18.0).color(theme::unknown(ui)));
         return;
+    }
+    if view.remote.as_ref().is_some_and(RemoteLink::stale) {
+        ui.disable();
     }
     let remote_fault = view.remote.as_ref().and_then(|link| link.fault.as_ref());
     let text = match (view.status.fault, remote_fault) {

@@ -141,6 +141,9 @@ fn show_window(app: GuiApp, stop: Arc<AtomicBool>) -> (Result<(), eframe::Error>
         dithering: false,
         ..Default::default()
     };
+    let mut app = app;
+    // A real window: it takes the keyboard where nothing gives it one (app.rs).
+    app.take_keyboard = true;
     let shared = app.shared.clone();
     let quit_pacer = Arc::new(AtomicBool::new(false));
     let mut pacer = None;
@@ -148,17 +151,6 @@ fn show_window(app: GuiApp, stop: Arc<AtomicBool>) -> (Result<(), eframe::Error>
         "mechweed",
         native,
         Box::new(|cc| {
-            // Space = HALT from the first frame, also where no window manager gives the
-            // new window the keyboard (a bare X server on the robot computer).
-            let _ = std::thread::Builder::new()
-                .name("gui-keyboard".into())
-                .spawn(|| {
-                    if let Err(why) = x11_focus::take_keyboard() {
-                        crate::say!(
-                            "operator GUI: cannot take the keyboard ({why}): click the window before Space = HALT works"
-                        );
-                    }
-                });
             let ctx = cc.egui_ctx.clone();
             let spawned = pacer::spawn(ctx, app.shared.clone(), stop, quit_pacer.clone());
             pacer = Some(spawned.map_err(|e| format!("cannot start the GUI's pacer thread: {e}"))?);

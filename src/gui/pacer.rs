@@ -150,7 +150,11 @@ pub fn look_once(ctx: &egui::Context, shared: &SharedGui, pace: &mut Pace, t_s: 
     let look = {
         let mut s = shared.lock();
         let view = s.source.view();
-        s.samples.record(&view);
+        // A watched robot's plots take what arrived: nothing before its first status,
+        // and no flat line drawn on from old values while it is silent.
+        if !view.remote.as_ref().is_some_and(|link| link.stale()) {
+            s.samples.record(&view);
+        }
         let look = pace.look(&view, s.tab, s.passes, t_s);
         if look.beat {
             s.source.beat(view.now_s);

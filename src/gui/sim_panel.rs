@@ -3,7 +3,7 @@
 //! dead-man button) standing in for the analog one. All of it goes to the plant through
 //! `SimControl`, as a person at the robot would act: never to the controller directly.
 
-use eframe::egui::{self, Color32, RichText, Sense};
+use eframe::egui::{self, RichText, Sense};
 use mechweed_hw::sim::{EventAction, RowShape, SimControl};
 use mechweed_hw::{EncoderId, Side};
 
@@ -216,20 +216,16 @@ impl SimPanel {
         }
         let painter = ui.painter_at(rect);
         painter.rect_filled(rect, 6.0, ui.visuals().extreme_bg_color);
-        painter.line_segment(
-            [rect.center_top(), rect.center_bottom()],
-            (1.0, Color32::GRAY),
-        );
-        painter.line_segment(
-            [rect.left_center(), rect.right_center()],
-            (1.0, Color32::GRAY),
-        );
+        let lines = ui.visuals().weak_text_color();
+        painter.line_segment([rect.center_top(), rect.center_bottom()], (1.0, lines));
+        painter.line_segment([rect.left_center(), rect.right_center()], (1.0, lines));
         let knob = rect.center()
             + egui::vec2(self.stick[0] as f32, -self.stick[1] as f32) * (PAD / 2.0 - 12.0);
+        // Held: the autonomous colour of the theme; released: the weak text's grey.
         let colour = if self.dead_man {
-            Color32::from_rgb(90, 220, 120)
+            super::theme::mode(ui, Mode::Autonomous)
         } else {
-            Color32::GRAY
+            ui.visuals().weak_text_color()
         };
         painter.circle_filled(knob, 12.0, colour);
     }

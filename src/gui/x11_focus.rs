@@ -46,26 +46,34 @@ pub fn take_keyboard() -> Result<(), String> {
     }
 }
 
-/// The root's child window named `title`, if there is one.
+/// The window named `title` among the root's children, or theirs: a window manager
+/// wraps each window in a frame of its own, so on a desktop it is a grandchild.
 pub fn window_named(
     conn: &impl Connection,
     root: Window,
     title: &str,
 ) -> Result<Option<Window>, String> {
     let fail = |e: &dyn std::fmt::Display| format!("X server: {e}");
-    let tree = conn
-        .query_tree(root)
-        .map_err(|e| fail(&e))?
-        .reply()
-        .map_err(|e| fail(&e))?;
-    for window in tree.children {
+    let children = |of: Window| -> Result<Vec<Window>, String> {
+        let tree = conn.query_tree(of).map_err(|e| fail(&e))?;
+        Ok(tree.reply().map_err(|e| fail(&e))?.children)
+    };
+    let named = |window: Window| -> Result<bool, String> {
         let name = conn
             .get_property(false, window, AtomEnum::WM_NAME, AtomEnum::ANY, 0, 64)
             .map_err(|e| fail(&e))?
             .reply()
             .map_err(|e| fail(&e))?;
-        if name.value == title.as_bytes() {
-            return Ok(Some(window));
+        Ok(name.value == title.as_bytes())
+    };
+    for top in children(root)? {
+        if named(top)? {
+            return Ok(Some(top));
+        }
+        for inner in children(top)? {
+            if named(inner)? {
+                return Ok(Some(inner));
+            }
         }
     }
     Ok(None)

@@ -26,13 +26,17 @@ pub struct RunHeader {
     pub settings_as_read: bool,
     /// Whether the run's cross-track figures mean anything (not when the simulated
     /// robot steered by rows from outside): every reader of the record says so instead
-    /// of a number. Records from before this field was written read as meaningful.
-    #[serde(default)]
+    /// of a number. Records from before this field was written read as not known.
+    #[serde(default = "not_said")]
     pub cross_track: CrossTrackMeaning,
     /// Recorded off-board from the robot's flows (`record --bus`): the settings are not
     /// known, and the record cannot be replayed.
     #[serde(default)]
     pub off_board: bool,
+}
+
+fn not_said() -> CrossTrackMeaning {
+    CrossTrackMeaning::Unknown
 }
 
 /// This program's name and version, as a header names it.

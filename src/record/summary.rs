@@ -188,7 +188,8 @@ fn figures(record: &Record, from_m: f64) -> Result<Summary, ReadProblem> {
         notices,
         from_m,
         cross_track: simulated.then(|| cross_track(&mut samples).unwrap_or_default()),
-        cross_track_meaning: CrossTrackMeaning::Meaningful,
+        // Until the header beside the record says otherwise.
+        cross_track_meaning: CrossTrackMeaning::Unknown,
         notes: record.notes.clone(),
     })
 }
@@ -226,8 +227,14 @@ impl Summary {
         for (t_s, what) in &self.notices {
             let _ = writeln!(out, "at {t_s:.2} s: {what}");
         }
+        let meaning = self.cross_track_meaning;
+        // Without a header's word the figures are given, with a note that says so.
+        let unvouched = meaning == CrossTrackMeaning::Unknown && self.cross_track.is_some();
+        if unvouched {
+            out += "tool cross-track: no header beside this record says whether it means anything (a record from before mechweed said so, or its .run.json removed): the figures hold only if the simulated robot steered by its own camera\n";
+        }
         match &self.cross_track {
-            _ if !self.cross_track_meaning.meaningful() => {
+            _ if !meaning.meaningful() && !unvouched => {
                 let words = self.cross_track_meaning.instead().unwrap_or_default();
                 let _ = writeln!(out, "tool cross-track: {words}");
             }

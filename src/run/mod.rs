@@ -344,7 +344,8 @@ impl Running {
         };
         // The supervisor thread has ended and dropped its tap: the recorder closes the files.
         let record = self.recorder.finish();
-        let outside_camera = !CrossTrackMeaning::of(&self.settings).meaningful();
+        let outside_camera =
+            CrossTrackMeaning::of(&self.settings) == CrossTrackMeaning::OutsideCamera;
         RunOutcome {
             final_status: *supervisor.status(),
             faults: supervisor.faults().to_vec(),
