@@ -3,6 +3,7 @@
 //! state; they meet only through protected objects (state.rs) and bounded channels.
 
 mod realtime;
+mod robot;
 mod types;
 
 use std::sync::Arc;
@@ -12,17 +13,17 @@ use std::time::Instant;
 
 use crossbeam_channel::bounded;
 use mechweed_hw::Hw;
-use mechweed_hw::sim::{SimControl, SimHw, SimRobot, TruthHandle, byte_pipe};
+use mechweed_hw::sim::TruthHandle;
 
 use crate::bus::BusFigures;
 use crate::bus::rows::{BusRows, RowCounts};
 use crate::bus::thread::BusWires;
 use crate::camlink::thread::{LinkThread, LinkWires, READ_TIMEOUT};
-use crate::camlink::{LinkCore, LinkStatus, simwire};
+use crate::camlink::{LinkCore, LinkStatus};
 use crate::config::{Backend, JoystickSource, Settings};
 use crate::config::{CameraPort, GnssPort};
 use crate::cross_track::CrossTrackMeaning;
-use crate::gamepad::{self, PadHw};
+use crate::gamepad::{self, PadHw, PadState};
 use crate::health::{self, PanicFlag, ThreadName};
 use crate::modes::Gains;
 use crate::record::{self, RecordTap, Recorder};
@@ -33,6 +34,7 @@ use crate::status::Status;
 use crate::steer::{SteerCommand, SteerCore};
 use crate::supervisor::Supervisor;
 use realtime::rt_setup;
+use robot::{camera_port, open_robot};
 
 use crate::threads::{SteerThread, SteerWires, SupervisorThread, SupervisorWires};
 pub use realtime::not_realtime;
@@ -71,51 +73,18 @@ pub struct Running {
     stop: Arc<AtomicBool>,
 }
 
-/// Start the controller's threads on the simulated robot; the caller is the operator
-/// interface (console or GUI) and calls `Running::finish` at the end.
+/// Start the controller's threads; the caller is the operator interface (console or
+/// GUI) and calls `Running::finish` at the end. The steps that can fail come first and
+/// start nothing a failure would leave behind; the threads start last.
 pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Running), RunError> {
     let s = &opts.settings;
-    let (camera_end, robot_end) = byte_pipe(4096);
-    let (mut receiver, mut planted) = (None, None);
-    let (hw, truth, sim_control): (Box<dyn Hw>, TruthHandle, Option<SimControl>) = match s.backend {
-        Backend::Sim => {
-            let mut receiver_end = None;
-            if s.gnss.port == GnssPort::Link(CameraPort::Sim) {
-                let (robot_end, program_end) = byte_pipe(8192);
-                receiver_end = Some(robot_end);
-                receiver = Some(program_end);
-            }
-            let robot = SimRobot::with_gnss(&s.sim, camera_end, receiver_end);
-            if s.gnss.port != GnssPort::None {
-                planted = Some(robot.planted_map());
-            }
-            let sim = SimHw::new(robot);
-            let (truth, control) = (sim.truth_handle(), sim.control());
-            (Box::new(sim), truth, Some(control))
-        }
-        // No simulated camera computer, no truth and no simulator panel on the real robot.
-        Backend::Cards => (
-            crate::backend::open_hw(s).map_err(RunError::Cards)?,
-            TruthHandle::none(),
-            None,
-        ),
-    };
-    // The row map and the GNSS receiver's line, before anything starts that an error
-    // here would leave behind (the record).
-    let mut gnss = crate::gnss::run::prepare(s, receiver, planted, &stop)?;
-    // The simulated camera computer speaks through a pseudo-terminal, unless robot.ini
-    // names a real port: then it stays unplugged and the port's camera computer is used.
-    let (camera_port, cable) = match (&s.camera_port, s.backend) {
-        (CameraPort::Sim, Backend::Sim) => {
-            let (path, cable) =
-                simwire::start(robot_end, stop.clone()).map_err(RunError::SimulatedCameraWire)?;
-            (CameraPort::Serial { path, baud: 115200 }, Some(cable))
-        }
-        (CameraPort::Sim, Backend::Cards) => {
-            return Err(RunError::SimulatedCameraOnRealRobot);
-        }
-        (port, _) => (port.clone(), None),
-    };
+    // 1. The robot, the row map with the GNSS receiver's line, the camera's port.
+    let robot = open_robot(s)?;
+    let mut gnss = crate::gnss::run::prepare(s, robot.receiver, robot.planted, &stop)?;
+    let (camera_port, cable) = camera_port(s, robot.camera_line, &stop)?;
+    let truth = robot.truth;
+
+    // 2. Real time, the panic watch, the record and the bus.
     let clock = Instant::now();
     let (rt_warnings, priorities_refused) = rt_setup(&s.rt);
     let priority = |p: u8| if priorities_refused.is_some() { 0 } else { p };
@@ -124,6 +93,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
     let (record_tap, recorder) = record::start_for_run(s, truth.clone());
     let bus_session = crate::bus::open_for_run(s).map_err(RunError::Bus)?;
 
+    // 3. What the threads meet through: protected objects and bounded channels.
     let (status_w, status_r) = shared(Status::default());
     let (steer_w, steer_r) = shared(SteerCommand::default());
     let (link_w, link_r) = shared(LinkStatus::default());
@@ -146,7 +116,41 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         None => (RecordTap::off(), None),
     };
 
-    let wires = SupervisorWires {
+    // 4. Each thread with its wires. The camera link is the last step that can fail
+    //    (rows from the bus); the gamepad thread starts after it.
+    let steer = SteerThread::new(
+        SteerCore::with_map(s, gnss.place.take()),
+        s.steer.rate_hz,
+        clock,
+        SteerWires {
+            new_estimate: estimate_rx,
+            command: steer_w,
+            status: status_r.clone(),
+            link: link_r.clone(),
+            gnss: gnss.status.clone(),
+            figures: steer_figures_w,
+            new_settings: new_steer_settings_rx,
+            settings: steer_settings_w,
+            panics: panics.clone(),
+            stop: stop.clone(),
+        },
+    )
+    .with_priority(priority(s.rt.steer_priority))
+    .with_injection(opts.inject);
+    let link_wires = LinkWires {
+        new_estimate: estimate_tx,
+        ping_requests: ping_rx,
+        status: link_w,
+        robot: status_r.clone(),
+        panics: panics.clone(),
+        stop: stop.clone(),
+    };
+    let link = LinkThread::new(LinkCore::new(&s.camera), camera_port, clock, link_wires)
+        .with_priority(priority(s.rt.camlink_priority))
+        .with_injection(opts.inject);
+    let link = with_rows_from_the_bus(link, s, bus_session.as_ref(), &row_counts)?;
+    let (hw, gamepad, gamepad_thread) = with_gamepad(robot.hw, s, &panics, &stop);
+    let supervisor_wires = SupervisorWires {
         requests: request_rx,
         status: status_w,
         steer: steer_r.clone(),
@@ -160,59 +164,6 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         panics: panics.clone(),
         stop: stop.clone(),
     };
-    let supervisor_wires = wires;
-    let wires = SteerWires {
-        new_estimate: estimate_rx,
-        command: steer_w,
-        status: status_r.clone(),
-        link: link_r.clone(),
-        gnss: gnss.status.clone(),
-        figures: steer_figures_w,
-        new_settings: new_steer_settings_rx,
-        settings: steer_settings_w,
-        panics: panics.clone(),
-        stop: stop.clone(),
-    };
-    let steer = SteerThread::new(
-        SteerCore::with_map(s, gnss.place.take()),
-        s.steer.rate_hz,
-        clock,
-        wires,
-    )
-    .with_priority(priority(s.rt.steer_priority))
-    .with_injection(opts.inject);
-    let wires = LinkWires {
-        new_estimate: estimate_tx,
-        ping_requests: ping_rx,
-        status: link_w,
-        robot: status_r.clone(),
-        panics: panics.clone(),
-        stop: stop.clone(),
-    };
-    let mut link = LinkThread::new(LinkCore::new(&s.camera), camera_port, clock, wires)
-        .with_priority(priority(s.rt.camlink_priority))
-        .with_injection(opts.inject);
-    if let (CameraPort::Bus, Some(session)) = (&s.camera_port, &bus_session) {
-        let rows = BusRows::subscribe(
-            session,
-            &s.bus.key("camera/row"),
-            READ_TIMEOUT,
-            s.camera.link_timeout_s,
-            row_counts.clone(),
-        )
-        .map_err(|e| RunError::BusRows(e.to_string()))?;
-        link = link.with_stream(Box::new(rows), row_counts.rivals.clone());
-    }
-    // A gamepad in place of the wired joystick: the supervisor reads it with the inputs.
-    // Started after the last step that can fail, so that no error leaves it running.
-    let (hw, gamepad, gamepad_thread) = match s.joystick.source {
-        JoystickSource::Analog => (hw, None, None),
-        JoystickSource::Gamepad => {
-            let (pad, thread) = gamepad::start(s, panics.clone(), stop.clone());
-            let hw: Box<dyn Hw> = Box::new(PadHw::new(hw, pad.clone()));
-            (hw, Some(pad), Some(thread))
-        }
-    };
     let supervisor = SupervisorThread::new(
         hw,
         Supervisor::new(s),
@@ -222,43 +173,35 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
     )
     .with_priority(priority(s.rt.supervisor_priority), s.rt.supervisor_cpu)
     .with_injection(opts.inject);
-    let bus = match (bus_session, bus_flow) {
-        (Some(session), Some(flow)) => {
-            let wires = BusWires {
-                status: status_r.clone(),
-                link: link_r.clone(),
-                steer: steer_r.clone(),
-                loops: [supervisor_figures.clone(), steer_figures.clone()],
-                flow,
-                supervisor: handle.clone(),
-                tuning: tuning_r,
-                figures: bus_figures_w,
-                rows: row_counts,
-                stop: stop.clone(),
-            };
-            let settings = s.clone();
-            let panics = panics.clone();
-            Some(spawn("bus", move || {
-                health::watch_this_thread(&panics, ThreadName::Bus);
-                crate::bus::thread::run(session, &settings, wires).unwrap_or_else(|e| {
-                    tracing::error!("the bus stopped: {e}");
-                    BusFigures::default()
-                })
-            }))
-        }
-        _ => None,
-    };
+
+    // 5. Start them.
+    let bus = bus_session.zip(bus_flow).map(|(session, flow)| {
+        let wires = BusWires {
+            status: status_r.clone(),
+            link: link_r.clone(),
+            steer: steer_r.clone(),
+            loops: [supervisor_figures.clone(), steer_figures.clone()],
+            flow,
+            supervisor: handle.clone(),
+            tuning: tuning_r,
+            figures: bus_figures_w,
+            rows: row_counts,
+            stop: stop.clone(),
+        };
+        start_bus(session, s.clone(), wires, panics.clone())
+    });
     let supervisor = spawn("supervisor", move || supervisor.run());
     let steer = spawn("steer", move || steer.run());
     let link = spawn("camlink", move || link.run());
     let gnss_thread = gnss.start(clock, panics.clone(), stop.clone());
 
+    // 6. What the operator interface reads, and what `finish` stops.
     let handles = Handles {
         supervisor: handle,
         link: link_r.clone(),
         loops: [supervisor_figures, steer_figures],
         truth: truth.clone(),
-        sim: sim_control,
+        sim: robot.sim,
         ping: ping_tx,
         gui_beat: gui_beat_w,
         steer_settings: steer_settings_r,
@@ -279,7 +222,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         cable,
         gamepad: gamepad_thread,
         gnss_status: gnss.status.clone(),
-        steer_command: steer_r.clone(),
+        steer_command: steer_r,
         gnss: gnss_thread,
         gnss_cable: gnss.cable.take(),
         link_status: link_r,
@@ -291,6 +234,68 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         stop,
     };
     Ok((handles, running))
+}
+
+/// With `[camera] port = bus`, the camera link reads its rows from the bus instead of a
+/// port; a subscription that fails is the run's error.
+fn with_rows_from_the_bus(
+    link: LinkThread,
+    s: &Settings,
+    session: Option<&zenoh::Session>,
+    row_counts: &Arc<RowCounts>,
+) -> Result<LinkThread, RunError> {
+    let (CameraPort::Bus, Some(session)) = (&s.camera_port, session) else {
+        return Ok(link);
+    };
+    let rows = BusRows::subscribe(
+        session,
+        &s.bus.key("camera/row"),
+        READ_TIMEOUT,
+        s.camera.link_timeout_s,
+        row_counts.clone(),
+    )
+    .map_err(|e| RunError::BusRows(e.to_string()))?;
+    Ok(link.with_stream(Box::new(rows), row_counts.rivals.clone()))
+}
+
+/// A gamepad in place of the wired joystick ([joystick] source = gamepad): its thread
+/// started, and the hardware with the pad's values in the joystick's inputs, which the
+/// supervisor reads with the rest.
+#[allow(clippy::type_complexity)]
+fn with_gamepad(
+    hw: Box<dyn Hw>,
+    s: &Settings,
+    panics: &Arc<PanicFlag>,
+    stop: &Arc<AtomicBool>,
+) -> (
+    Box<dyn Hw>,
+    Option<Reader<PadState>>,
+    Option<JoinHandle<()>>,
+) {
+    match s.joystick.source {
+        JoystickSource::Analog => (hw, None, None),
+        JoystickSource::Gamepad => {
+            let (pad, thread) = gamepad::start(s, panics.clone(), stop.clone());
+            let hw: Box<dyn Hw> = Box::new(PadHw::new(hw, pad.clone()));
+            (hw, Some(pad), Some(thread))
+        }
+    }
+}
+
+/// The bus thread; a bus that stops with an error is said, and its figures are zero.
+fn start_bus(
+    session: zenoh::Session,
+    settings: Settings,
+    wires: BusWires,
+    panics: Arc<PanicFlag>,
+) -> JoinHandle<BusFigures> {
+    spawn("bus", move || {
+        health::watch_this_thread(&panics, ThreadName::Bus);
+        crate::bus::thread::run(session, &settings, wires).unwrap_or_else(|e| {
+            tracing::error!("the bus stopped: {e}");
+            BusFigures::default()
+        })
+    })
 }
 
 impl Running {
