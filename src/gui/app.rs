@@ -159,13 +159,7 @@ impl GuiApp {
         if let Some(running) = slot.take() {
             running.finish();
         }
-        let opts = RunOptions {
-            settings,
-            start_mode: Mode::Halt,
-            duration_s: None,
-            status_every_s: 0.0,
-            inject: None,
-        };
+        let opts = RunOptions::in_halt(settings);
         let at_s = self.view.now_s;
         // What the old controller was asked will not be answered.
         self.requests.forget_open();

@@ -180,14 +180,8 @@ pub fn run_watch(
     if let Some(why) = display_missing() {
         return Err(format!("{why}: {advice}"));
     }
-    let opts = RunOptions {
-        settings,
-        start_mode: crate::modes::Mode::Halt,
-        // The robot's clock is not this window's: the time limit is kept here.
-        duration_s: None,
-        status_every_s: 0.0,
-        inject: None,
-    };
+    // The robot's clock is not this window's: the time limit is kept here.
+    let opts = RunOptions::in_halt(settings);
     if let Some(seconds) = duration_s {
         let stop = stop.clone();
         std::thread::Builder::new()

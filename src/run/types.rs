@@ -61,6 +61,20 @@ pub struct RunOptions {
     pub inject: Option<Injection>,
 }
 
+impl RunOptions {
+    /// Standing in Halt until the operator asks, with no time limit and no status line:
+    /// how the GUI starts (and restarts) a controller.
+    pub fn in_halt(settings: Settings) -> RunOptions {
+        RunOptions {
+            settings,
+            start_mode: Mode::Halt,
+            duration_s: None,
+            status_every_s: 0.0,
+            inject: None,
+        }
+    }
+}
+
 /// Why a run could not start (nothing has started then).
 #[derive(Debug, thiserror::Error)]
 pub enum RunError {

@@ -14,7 +14,6 @@ use mechweed::fault_cause::FaultCause;
 use mechweed::gui::pace::Pace;
 use mechweed::gui::pacer::{Source, look_once};
 use mechweed::gui::{Controller, GuiApp};
-use mechweed::modes::Mode;
 use mechweed::run::{Handles, RunOptions, RunOutcome, Running, start};
 use mechweed::status::PowerState;
 
@@ -46,13 +45,7 @@ pub fn gui_from(
     settings.bus.enabled = false;
     // Software rendering is slow: a late tick now and then is not these tests' subject.
     settings.rt.max_late_periods = 100.0;
-    let opts = RunOptions {
-        settings,
-        start_mode: Mode::Halt,
-        duration_s: None,
-        status_every_s: 0.0,
-        inject: None,
-    };
+    let opts = RunOptions::in_halt(settings);
     let stop = Arc::new(AtomicBool::new(false));
     let (mut handles, running) = start(&opts, stop.clone()).expect("the controller starts");
     adjust(&mut handles);

@@ -15,7 +15,6 @@ use mechweed::config::Settings;
 use mechweed::gui::pacer::Source;
 use mechweed::gui::remote::{Flow, RemoteView};
 use mechweed::gui::{Controller, GuiApp};
-use mechweed::modes::Mode;
 use mechweed::run::RunOptions;
 use serde_json::Value;
 
@@ -52,13 +51,7 @@ pub fn fed(age: Duration, change: impl Fn(Flow, &mut Value)) -> RemoteView {
 
 /// The window over `remote`, `size` points large, with these settings, after two passes.
 pub fn window(remote: RemoteView, settings: Settings, size: [f32; 2]) -> Harness<'static, GuiApp> {
-    let opts = RunOptions {
-        settings,
-        start_mode: Mode::Halt,
-        duration_s: None,
-        status_every_s: 0.0,
-        inject: None,
-    };
+    let opts = RunOptions::in_halt(settings);
     let controller: Controller = Arc::new(Mutex::new(None));
     let stop = Arc::new(AtomicBool::new(false));
     let app = GuiApp::new(
