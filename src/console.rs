@@ -38,12 +38,7 @@ pub fn operate(
     any_thread_ended: impl Fn() -> bool,
 ) {
     let Handles {
-        supervisor,
-        link,
-        loops,
-        truth,
-        clock,
-        ..
+        supervisor, clock, ..
     } = handles;
     let mut script = OperatorScript::new(&opts.settings.sim.events, opts.start_mode);
     // Every scripted event, the plant's and the operator's, is said as it becomes due,
@@ -99,58 +94,84 @@ pub fn operate(
             }
         }
         if opts.status_every_s > 0.0 && now_s >= next_line_s {
-            let l = link.snapshot();
-            let frames = l.counters.frames_ok;
-            let rate = (frames - frames_at_last_line) as f64 / opts.status_every_s;
-            frames_at_last_line = frames;
-            let t = truth.truth();
-            let c = &l.counters;
-            let errors = c.crc_errors + c.bad_values + c.unknown_kinds;
-            let link_state = match (l.problem, l.opening) {
-                (Some(problem), _) => format!("DOWN: {problem}"),
-                (None, Some(step)) => step.to_string(),
-                (None, None) => format!(
-                    "{rate:4.1} frames/s, {errors} errors, {} gaps, {} duplicates",
-                    c.seq_gaps, c.duplicates
-                ),
+            let seen = StatusLine {
+                now_s,
+                status: &status,
+                period_s: opts.status_every_s,
+                cross_track,
             };
-            crate::say!(
-                "{now_s:7.2} s  {:<10} speed {:5.2} m/s  wheel {:5.1} deg  tool off row {}  camera {link_state}",
-                status.mode.name(),
-                status.measured.speed_mps,
-                status.measured.wheel_angle_rad.to_degrees(),
-                cross_track.cm(t.tool_cross_track_m),
-            );
-            let steer = handles.steer.snapshot();
-            let r = &steer.row;
-            if let Some(f) = &r.filter {
-                crate::say!(
-                    "           steering by {}; GNSS {}, {} satellites; row filter {:+.1} +- {:.1} cm, gate rejected {} camera rows, {} fixes",
-                    steer.sources.steering.words(),
-                    mechweed_hw::nmea::FixQuality::from_code(r.gnss_quality).words(),
-                    r.gnss_satellites,
-                    f.offset_m * 100.0,
-                    f.offset_sd_m * 100.0,
-                    f.camera_rejected,
-                    f.gnss_rejected
-                );
-            }
-            let [supervisor_loop, steer_loop] = loops.each_ref().map(Reader::snapshot);
-            let check = liu_layland(&[supervisor_loop, steer_loop]);
-            crate::say!(
-                "           supervisor late p99 {} us, max {} us, exec max {} us, {} overruns; steer exec max {} us; Liu-Layland load {:.3} of {:.3}",
-                supervisor_loop.late_us.p99,
-                supervisor_loop.late_us.max,
-                supervisor_loop.exec_us.max,
-                supervisor_loop.overruns,
-                steer_loop.exec_us.max,
-                check.utilisation,
-                check.bound,
-            );
-            if let Some(warning) = &handles.not_realtime {
-                crate::say!("           {warning}");
-            }
+            seen.say(handles, &mut frames_at_last_line);
             next_line_s += opts.status_every_s;
+        }
+    }
+}
+
+/// What the status line every few seconds is made of.
+struct StatusLine<'a> {
+    now_s: f64,
+    status: &'a crate::status::Status,
+    /// Since the last line, s.
+    period_s: f64,
+    cross_track: CrossTrackMeaning,
+}
+
+impl StatusLine<'_> {
+    /// Say the mode, speed, wheel, the tool off its row and the camera link; the row
+    /// filter when it runs; the loops' worst figures; and that the robot is not
+    /// real-time, when it is not. `frames_before` is the camera's frame count at the
+    /// last line, moved on to now.
+    fn say(&self, handles: &Handles, frames_before: &mut u64) {
+        let (now_s, status) = (self.now_s, self.status);
+        let l = handles.link.snapshot();
+        let frames = l.counters.frames_ok;
+        let rate = (frames - *frames_before) as f64 / self.period_s;
+        *frames_before = frames;
+        let t = handles.truth.truth();
+        let c = &l.counters;
+        let errors = c.crc_errors + c.bad_values + c.unknown_kinds;
+        let link_state = match (l.problem, l.opening) {
+            (Some(problem), _) => format!("DOWN: {problem}"),
+            (None, Some(step)) => step.to_string(),
+            (None, None) => format!(
+                "{rate:4.1} frames/s, {errors} errors, {} gaps, {} duplicates",
+                c.seq_gaps, c.duplicates
+            ),
+        };
+        crate::say!(
+            "{now_s:7.2} s  {:<10} speed {:5.2} m/s  wheel {:5.1} deg  tool off row {}  camera {link_state}",
+            status.mode.name(),
+            status.measured.speed_mps,
+            status.measured.wheel_angle_rad.to_degrees(),
+            self.cross_track.cm(t.tool_cross_track_m),
+        );
+        let steer = handles.steer.snapshot();
+        let r = &steer.row;
+        if let Some(f) = &r.filter {
+            crate::say!(
+                "           steering by {}; GNSS {}, {} satellites; row filter {:+.1} +- {:.1} cm, gate rejected {} camera rows, {} fixes",
+                steer.sources.steering.words(),
+                mechweed_hw::nmea::FixQuality::from_code(r.gnss_quality).words(),
+                r.gnss_satellites,
+                f.offset_m * 100.0,
+                f.offset_sd_m * 100.0,
+                f.camera_rejected,
+                f.gnss_rejected
+            );
+        }
+        let [supervisor_loop, steer_loop] = handles.loops.each_ref().map(Reader::snapshot);
+        let check = liu_layland(&[supervisor_loop, steer_loop]);
+        crate::say!(
+            "           supervisor late p99 {} us, max {} us, exec max {} us, {} overruns; steer exec max {} us; Liu-Layland load {:.3} of {:.3}",
+            supervisor_loop.late_us.p99,
+            supervisor_loop.late_us.max,
+            supervisor_loop.exec_us.max,
+            supervisor_loop.overruns,
+            steer_loop.exec_us.max,
+            check.utilisation,
+            check.bound,
+        );
+        if let Some(warning) = &handles.not_realtime {
+            crate::say!("           {warning}");
         }
     }
 }
