@@ -155,6 +155,12 @@ impl SimPanel {
         );
         ui.separator();
 
+        self.row_and_reset(ui, view);
+    }
+
+    /// The row to reset the robot to and its speed, the reset (standing only), and the
+    /// simulated truth.
+    fn row_and_reset(&mut self, ui: &mut egui::Ui, view: &View) {
         ui.label(RichText::new("Row and reset").strong());
         ui.horizontal_wrapped(|ui| {
             for row in [RowShape::Straight, RowShape::SCurve, RowShape::Arc] {
