@@ -63,6 +63,11 @@ pub fn taught_row(record: &Path, name: &str, s: &Settings) -> Result<Taught, Str
         col("gnss_lat_deg")?,
         col("gnss_lon_deg")?,
     );
+    let camera = [
+        col("cam_offset_m")?,
+        col("cam_angle_rad")?,
+        col("cam_quality")?,
+    ];
     let num = |row: usize, c: usize| t.number(row, c).map_err(|e| e.to_string());
     let settings = TeachSettings::default();
     let trusted = settings.trusted_fix.clone();
@@ -74,7 +79,7 @@ pub fn taught_row(record: &Path, name: &str, s: &Settings) -> Result<Taught, Str
         if t.text(row, mode) != "joystick" {
             continue;
         }
-        if let Some(from_tool_m) = camera_row_at_tool(t, row, s)? {
+        if let Some(from_tool_m) = camera_row_at_tool(t, row, camera, s)? {
             camera_row_m.push(from_tool_m);
         }
         let (Some(lat_deg), Some(lon_deg), Some(distance_m)) =
@@ -120,17 +125,18 @@ pub fn taught_row(record: &Path, name: &str, s: &Settings) -> Result<Taught, Str
 }
 
 /// Where the camera's row was at the tool in record line `row`, m (positive: the row
-/// left of the tool); None without an estimate of [camera] min_quality.
-fn camera_row_at_tool(t: &Table, row: usize, s: &Settings) -> Result<Option<f64>, String> {
-    let cell = |name: &str| -> Result<Option<f64>, String> {
-        let col = (t.column(name)).ok_or_else(|| format!("the record has no column {name}"))?;
-        t.number(row, col).map_err(|e| e.to_string())
-    };
-    let (Some(offset_m), Some(angle_rad), Some(quality)) = (
-        cell("cam_offset_m")?,
-        cell("cam_angle_rad")?,
-        cell("cam_quality")?,
-    ) else {
+/// left of the tool); None without an estimate of [camera] min_quality. `camera` are
+/// the columns cam_offset_m, cam_angle_rad and cam_quality.
+fn camera_row_at_tool(
+    t: &Table,
+    row: usize,
+    camera: [usize; 3],
+    s: &Settings,
+) -> Result<Option<f64>, String> {
+    let cell = |col: usize| t.number(row, col).map_err(|e| e.to_string());
+    let (Some(offset_m), Some(angle_rad), Some(quality)) =
+        (cell(camera[0])?, cell(camera[1])?, cell(camera[2])?)
+    else {
         return Ok(None);
     };
     if quality < f64::from(s.camera.min_quality) {

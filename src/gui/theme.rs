@@ -52,44 +52,45 @@ fn visuals(theme: Theme) -> Visuals {
     }
 }
 
-fn dark(ui: &egui::Ui) -> bool {
-    ui.visuals().dark_mode
+/// The colour for the ground the window has now: `on_dark` or `on_light`.
+fn on_ground(ui: &egui::Ui, on_dark: Color32, on_light: Color32) -> Color32 {
+    if ui.visuals().dark_mode {
+        on_dark
+    } else {
+        on_light
+    }
 }
 
 /// A fault, an e-stop pressed, anything abnormal.
 pub fn fault(ui: &egui::Ui) -> Color32 {
-    if dark(ui) {
-        Color32::from_rgb(255, 90, 90)
-    } else {
-        Color32::from_rgb(190, 0, 0)
-    }
+    on_ground(
+        ui,
+        Color32::from_rgb(255, 90, 90),
+        Color32::from_rgb(190, 0, 0),
+    )
 }
 
 /// A warning that is not a fault (a refusal, no real-time priority).
 pub fn warning(ui: &egui::Ui) -> Color32 {
-    if dark(ui) {
-        Color32::from_rgb(255, 170, 60)
-    } else {
-        Color32::from_rgb(170, 80, 0)
-    }
+    on_ground(
+        ui,
+        Color32::from_rgb(255, 170, 60),
+        Color32::from_rgb(170, 80, 0),
+    )
 }
 
 /// The link to a robot watched over the bus, while it is fresh.
 pub fn link(ui: &egui::Ui) -> Color32 {
-    if dark(ui) {
-        Color32::from_rgb(120, 200, 255)
-    } else {
-        Color32::from_rgb(0, 70, 160)
-    }
+    on_ground(
+        ui,
+        Color32::from_rgb(120, 200, 255),
+        Color32::from_rgb(0, 70, 160),
+    )
 }
 
 /// What is no longer known (a silent robot's mode).
 pub fn unknown(ui: &egui::Ui) -> Color32 {
-    if dark(ui) {
-        Color32::from_gray(140)
-    } else {
-        Color32::from_gray(110)
-    }
+    on_ground(ui, Color32::from_gray(140), Color32::from_gray(110))
 }
 
 pub fn mode(ui: &egui::Ui, mode: Mode) -> Color32 {
@@ -100,6 +101,6 @@ pub fn mode(ui: &egui::Ui, mode: Mode) -> Color32 {
         Mode::Test => ((240, 200, 80), (150, 100, 0)),
         Mode::Fault => ((255, 90, 90), (190, 0, 0)),
     };
-    let (r, g, b) = if dark(ui) { on_dark } else { on_light };
-    Color32::from_rgb(r, g, b)
+    let rgb = |(r, g, b)| Color32::from_rgb(r, g, b);
+    on_ground(ui, rgb(on_dark), rgb(on_light))
 }
