@@ -11,11 +11,11 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 
 use mechweed::config::Settings;
-use mechweed::lockstep::{Io, Lockstep};
-use mechweed::modes::Mode;
+use mechweed::state::modes::Mode;
+use mechweed::threads::lockstep::{Io, Lockstep};
 use mechweed_hw::Hw;
+use mechweed_hw::cards::port::AccessCount;
 use mechweed_hw::emulated::CardRig;
-use mechweed_hw::port::AccessCount;
 
 /// Driving autonomously through emulated cards whose accesses are counted.
 fn driving(count: &AccessCount) -> Lockstep {

@@ -16,7 +16,7 @@ use mechweed::camlink::{LinkCore, LinkStatus};
 use mechweed::config::CameraPort;
 use mechweed::config::Settings;
 use mechweed::state::shared;
-use mechweed::status::Status;
+use mechweed::state::status::Status;
 use mechweed_hw::camproto::{RowEstimate, encode_row};
 use serialport::{SerialPort, TTYPort};
 

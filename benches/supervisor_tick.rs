@@ -11,8 +11,8 @@ use std::time::{Duration, Instant};
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use mechweed::config::Settings;
-use mechweed::lockstep::Lockstep;
-use mechweed::modes::Mode;
+use mechweed::state::modes::Mode;
+use mechweed::threads::lockstep::Lockstep;
 
 /// A robot driving autonomously, 3 s into its row.
 fn driving() -> Lockstep {

@@ -9,23 +9,15 @@
 
 pub mod camproto;
 pub mod cards;
-pub mod das08;
-pub mod dda06;
 pub mod emulated;
 pub mod geo;
 pub mod nmea;
-pub mod pci;
-pub mod port;
-pub mod quad04;
 pub mod sim;
-pub mod watchdog;
-pub mod wiring;
 
 mod error;
-mod open_error;
 
+pub use cards::open_error::{CardOpenError, OpenError, Refusal, StartError};
 pub use error::{CardFault, HwError};
-pub use open_error::{CardOpenError, OpenError, Refusal, StartError};
 
 /// Every input of the robot, read once per supervisor tick.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

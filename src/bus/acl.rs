@@ -24,7 +24,7 @@
 
 use serde_json::{Value, json};
 
-use crate::keys::{Role, Roster};
+use crate::bus::keys::{Role, Roster};
 
 const PUT: &str = "put";
 const SUBSCRIBE: &str = "declare_subscriber";

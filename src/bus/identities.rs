@@ -16,7 +16,7 @@ use crossbeam_channel::{Receiver, bounded};
 use zenoh::sample::SampleKind;
 use zenoh::{Session, Wait};
 
-use crate::keys::{Role, Roster};
+use crate::bus::keys::{Role, Roster};
 
 /// Names and connections kept at most; more are counted under "others".
 const MAX_NAMES: usize = 32;

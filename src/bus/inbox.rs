@@ -19,7 +19,7 @@ use zenoh::{Session, Wait};
 use super::payload::parse_request;
 use super::queries::Port;
 use crate::config::BusSettings;
-use crate::modes::{Mode, Request};
+use crate::state::modes::{Mode, Request};
 
 /// Places in each queue: HALTs, requests, settings changed, settings read, and requests
 /// other than HALT on ROBOT/request of a secured bus.

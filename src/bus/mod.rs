@@ -12,6 +12,7 @@
 pub mod acl;
 pub mod identities;
 pub mod inbox;
+pub mod keys;
 pub mod payload;
 pub mod peers;
 pub mod queries;

@@ -7,9 +7,9 @@ use mechweed_hw::camproto::{MAX_ANGLE_RAD, MAX_OFFSET_M, RowEstimate};
 use serde_json::{Value, json};
 
 use crate::camlink::LinkStatus;
-use crate::modes::{Mode, Request};
 use crate::rt::LoopSummary;
-use crate::status::{PowerState, Status};
+use crate::state::modes::{Mode, Request};
+use crate::state::status::{PowerState, Status};
 use crate::steer::SteerCommand;
 
 /// `ROBOT/status`, about ten times a second.

@@ -12,9 +12,9 @@ use zenoh::bytes::Encoding;
 use zenoh::query::Query;
 
 use crate::config::{AcceptRequests, Backend, PiSettings, Settings, SteerSettings};
-use crate::modes::{Gains, Mode, Request};
-use crate::request_channel::SupervisorHandle;
 use crate::state::Reader;
+use crate::state::modes::{Gains, Mode, Request};
+use crate::state::request_channel::SupervisorHandle;
 
 use super::BusFigures;
 use super::payload::{parse_request, parse_set};
@@ -315,7 +315,7 @@ pub fn unit_of(key: &str) -> &'static str {
 mod tests {
     use super::*;
     use crate::state::shared;
-    use crate::status::Status;
+    use crate::state::status::Status;
 
     /// The answers to a power-up over the bus, on `backend`, with `remote_power_up`, from
     /// a supervisor that takes every request it is given (so that a refusal is the bus's).
@@ -325,7 +325,7 @@ mod tests {
         settings.bus.accept_requests = AcceptRequests::Operator;
         settings.bus.remote_power_up = remote_power_up;
         let (_, status) = shared(Status::default());
-        let (handle, inbox) = crate::request_channel::channel(status);
+        let (handle, inbox) = crate::state::request_channel::channel(status);
         let answering = std::thread::spawn(move || {
             if let Ok(envelope) = inbox.recv_timeout(std::time::Duration::from_secs(2)) {
                 let _ = envelope.reply.send((envelope.request, Ok(())));

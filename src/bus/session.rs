@@ -5,8 +5,8 @@
 
 use zenoh::{Session, Wait};
 
+use crate::bus::keys::Roster;
 use crate::config::{BusSettings, TlsFiles, endpoint_address};
-use crate::keys::Roster;
 
 /// The largest message a program takes, bytes: a status or a plan is a few kilobytes.
 /// Zenoh's own limit is a gigabyte, which a flood of large payloads would fill.

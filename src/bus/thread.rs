@@ -24,13 +24,13 @@ use super::rows::RowCounts;
 use super::{BusFigures, BusState};
 use crate::camlink::LinkStatus;
 use crate::config::{Settings, SteerSettings};
-use crate::cross_track::CrossTrackMeaning;
-use crate::modes::Gains;
 use crate::record::{TickFlow, tick_json};
-use crate::request_channel::SupervisorHandle;
 use crate::rt::LoopSummary;
+use crate::state::cross_track::CrossTrackMeaning;
+use crate::state::modes::Gains;
+use crate::state::request_channel::SupervisorHandle;
+use crate::state::status::Status;
 use crate::state::{Reader, Writer};
-use crate::status::Status;
 use crate::steer::SteerCommand;
 
 /// How often ROBOT/status goes out: ten a second is what a person reads.
@@ -92,7 +92,7 @@ pub fn run(session: Session, settings: &Settings, w: BusWires) -> zenoh::Result<
     let mut identities = bus
         .tls
         .as_ref()
-        .and_then(|tls| crate::keys::Roster::read(&tls.roster()).ok())
+        .and_then(|tls| crate::bus::keys::Roster::read(&tls.roster()).ok())
         .map(Identities::new);
     let (link_changes, _links) = super::identities::watch_links(&session)?;
     let mut rivals_said = false;

@@ -16,7 +16,7 @@ use super::device::{Found, INPUT_DIR, InputDevices};
 use super::mapping::{DeadMan, Opened, PadMap};
 use super::{Label, PadState};
 use crate::config::Settings;
-use crate::health::{self, PanicFlag, ThreadName};
+use crate::rt::health::{self, PanicFlag, ThreadName};
 use crate::state::{Reader, Writer, shared};
 
 /// How often a missing pad is looked for again.

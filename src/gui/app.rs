@@ -22,9 +22,9 @@ use super::tuning::Tuning;
 use super::view::{View, ViewSource};
 use super::{header, modes, status, theme};
 use crate::config::{Settings, Theme};
-use crate::modes::Mode;
-use crate::operator::needs_confirmation;
 use crate::run::{RunOptions, start};
+use crate::state::modes::Mode;
+use crate::state::operator::needs_confirmation;
 
 /// While an answer of the supervisor is awaited, and while a test ramp or step is under
 /// way (it is sent from the pass), the GUI thread passes this often of its own accord,
@@ -167,7 +167,7 @@ impl GuiApp {
         // themselves (`rt::set_this_thread`).
         match start(&opts, Arc::new(AtomicBool::new(false))) {
             Ok((handles, running)) => {
-                running.watch_this_thread_as(crate::health::ThreadName::Gui);
+                running.watch_this_thread_as(crate::rt::health::ThreadName::Gui);
                 *slot = Some(running);
                 {
                     let mut shared = self.shared.lock();
@@ -289,7 +289,7 @@ impl GuiApp {
             self.theme_set = Some(self.theme);
             // This frame was laid out in the old looks: the next, in the new, at once.
             // (Applied from eframe's creator instead, before the first frame, Space did
-            // nothing on a bare X server in tests/gui_field.rs; why is not known.)
+            // nothing on a bare X server in tests/gui/gui_field.rs; why is not known.)
             ui.ctx().request_repaint();
         }
         self.show_confirmation(&ui.ctx().clone());

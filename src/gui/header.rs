@@ -7,7 +7,7 @@ use eframe::egui::{self, Color32, RichText};
 use super::requests::Requests;
 use super::theme;
 use super::view::{RemoteLink, View};
-use crate::modes::{Mode, Request};
+use crate::state::modes::{Mode, Request};
 
 /// If the supervisor has not published for this long, it has stopped, s.
 pub const SUPERVISOR_SILENT_S: f64 = 1.0;
@@ -205,10 +205,10 @@ fn remote(ui: &mut egui::Ui, link: &RemoteLink) {
     );
 }
 
-pub fn power_text(power: crate::status::PowerState) -> &'static str {
+pub fn power_text(power: crate::state::status::PowerState) -> &'static str {
     match power {
-        crate::status::PowerState::Off => "off",
-        crate::status::PowerState::Closing { .. } => "closing",
-        crate::status::PowerState::On => "on",
+        crate::state::status::PowerState::Off => "off",
+        crate::state::status::PowerState::Closing { .. } => "closing",
+        crate::state::status::PowerState::On => "on",
     }
 }

@@ -19,7 +19,7 @@
 //! robot.ini by `ini_edit`), `test_panel` (mode Test), `sim_panel` (the simulated
 //! robot's e-stops, joystick and faults). Every panel draws from a `View` and asks
 //! through `Requests` only, so it can be tested from a `View`
-//! made by hand (tests/gui_panels.rs).
+//! made by hand (tests/gui/gui_panels.rs).
 
 pub mod app;
 mod display;
@@ -48,9 +48,9 @@ use std::sync::{Arc, Mutex};
 
 use std::time::Instant;
 
-use crate::health::ThreadName;
-use crate::request_channel::SupervisorHandle;
+use crate::rt::health::ThreadName;
 use crate::run::{RunOptions, RunOutcome, Running, start};
+use crate::state::request_channel::SupervisorHandle;
 
 /// The controller's threads now running: the GUI replaces them when the operator resets
 /// the simulated robot, and `run_gui` stops the last ones when the window closes.

@@ -7,7 +7,7 @@ use eframe::egui::{self, RichText};
 use super::requests::Requests;
 use super::theme;
 use super::view::View;
-use crate::modes::{Mode, Request};
+use crate::state::modes::{Mode, Request};
 use crate::supervisor::rules::{power_up_refusal, why_not};
 
 /// A wide button that may be disabled, with the reason in small text under it.

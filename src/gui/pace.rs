@@ -28,9 +28,9 @@ use super::header::SUPERVISOR_SILENT_S;
 use super::view::View;
 use crate::bus::BusState;
 use crate::camlink::{LinkProblem, OpenStep};
-use crate::fault_cause::FaultCause;
-use crate::modes::Mode;
-use crate::status::{FaultRecord, Notice, PowerState};
+use crate::state::fault_cause::FaultCause;
+use crate::state::modes::Mode;
+use crate::state::status::{FaultRecord, Notice, PowerState};
 use mechweed_hw::Side;
 
 /// The pacer looks this often, s (also the plots' sample period).

@@ -21,9 +21,9 @@ use super::pace::{LOOK_S, Pace};
 use super::plot_data::PlotSamples;
 use super::remote::RemoteView;
 use super::view::{View, ViewSource};
-use crate::modes::Request;
-use crate::request_channel::Answer;
 use crate::run::Handles;
+use crate::state::modes::Request;
+use crate::state::request_channel::Answer;
 
 /// Where the window's view comes from.
 pub enum Source {

@@ -16,9 +16,9 @@ use zenoh::{Session, Wait};
 use super::remote_view::{fill_from_status, fill_from_tick};
 use super::view::{RemoteLink, View, ViewSource};
 use crate::bus::session::{Role, open};
-use crate::modes::{Mode, Request};
 use crate::record::received::parse_tick;
-use crate::request_channel::Answer;
+use crate::state::modes::{Mode, Request};
+use crate::state::request_channel::Answer;
 
 /// Messages waiting for the next look; beyond, the oldest are not needed (only the
 /// newest status and tick are drawn) and new ones are dropped.

@@ -9,12 +9,12 @@ use mechweed_hw::sim::Truth;
 use serde_json::Value;
 
 use super::view::View;
-use crate::cross_track::CrossTrackMeaning;
-use crate::modes::Mode;
 use crate::rt::LoopSummary;
-use crate::status::PowerState;
+use crate::state::cross_track::CrossTrackMeaning;
+use crate::state::modes::Mode;
+use crate::state::status::PowerState;
+use crate::state::steering::Steering;
 use crate::steer::{FilterFigures, RowFigures};
-use crate::steering::Steering;
 
 fn num(json: &Value, key: &str) -> f64 {
     json[key].as_f64().unwrap_or(f64::NAN)

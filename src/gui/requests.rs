@@ -10,8 +10,8 @@ use std::collections::VecDeque;
 use crossbeam_channel::{Receiver, Sender, bounded};
 
 use super::view::ViewSource;
-use crate::modes::Request;
-use crate::request_channel::Answer;
+use crate::state::modes::Request;
+use crate::state::request_channel::Answer;
 
 /// Answers the GUI can hold between two passes. The supervisor never waits to answer
 /// (a full channel loses the answer), and the GUI reads them every pass, every 50 ms at

@@ -10,8 +10,8 @@ use mechweed_hw::sim::SimEvent;
 
 use super::requests::{AskId, Requests};
 use super::view::View;
-use crate::modes::{Mode, Request};
-use crate::operator::OperatorScript;
+use crate::state::modes::{Mode, Request};
+use crate::state::operator::OperatorScript;
 
 /// A status from a later tick comes within a supervisor period; look again after, s.
 const STATUS_LOOK_S: f64 = 0.05;

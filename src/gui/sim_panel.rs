@@ -9,9 +9,9 @@ use mechweed_hw::{EncoderId, Side};
 
 use super::requests::Requests;
 use super::view::View;
-use crate::bench_rows::row_name;
+use crate::bench::rows::row_name;
 use crate::config::Settings;
-use crate::modes::Mode;
+use crate::state::modes::Mode;
 
 /// Battery reading of the "battery low" fault, V (below [faults] battery_min_v).
 const LOW_BATTERY_V: f64 = 19.0;

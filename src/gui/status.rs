@@ -236,7 +236,7 @@ fn loops_grid(ui: &mut egui::Ui, view: &View) {
 /// Which sensors steer, the GNSS fix and the row filter ([steer] source gnss or fused).
 pub fn sources_grid(ui: &mut egui::Ui, view: &View) {
     let (sources, r) = (&view.steer.sources, &view.steer.row);
-    let autonomous = view.status.mode == crate::modes::Mode::Autonomous;
+    let autonomous = view.status.mode == crate::state::modes::Mode::Autonomous;
     egui::Grid::new("sources").striped(true).show(ui, |ui| {
         let steering = if autonomous {
             sources.steering.words().to_string()

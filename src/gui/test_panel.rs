@@ -17,7 +17,7 @@ use mechweed_hw::Outputs;
 use super::requests::Requests;
 use super::status::inputs_grid;
 use super::view::View;
-use crate::modes::{Mode, Request};
+use crate::state::modes::{Mode, Request};
 use crate::supervisor::rules::why_not;
 
 /// A step waits this long at 0 V before jumping, so the plot shows the jump, s.

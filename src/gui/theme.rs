@@ -5,7 +5,7 @@
 use eframe::egui::{self, Color32, FontId, TextStyle, Visuals};
 
 use crate::config::Theme;
-use crate::modes::Mode;
+use crate::state::modes::Mode;
 
 /// The smallest text in the window, px: hints and reasons stay readable in sunlight.
 pub const SMALLEST_TEXT_PX: f32 = 12.5;

@@ -15,7 +15,7 @@ use super::ini_edit::{NewValue, set_values, write_atomic};
 use super::requests::Requests;
 use super::view::View;
 use crate::config::{DEFAULT_INI, Settings};
-use crate::modes::{Gains, Mode, Refusal, Request};
+use crate::state::modes::{Gains, Mode, Refusal, Request};
 
 /// One tunable value: where it lives in robot.ini, how it is shown, and how to read
 /// it from the settings.

@@ -15,14 +15,14 @@ use mechweed_hw::sim::Truth;
 
 use crate::bus::BusFigures;
 use crate::camlink::LinkStatus;
-use crate::cross_track::CrossTrackMeaning;
 use crate::gamepad::{PadJoystick, PadState};
-use crate::modes::Request;
-use crate::request_channel::Answer;
 use crate::rt::LoopSummary;
 use crate::run::Handles;
 use crate::state::Reader;
-use crate::status::Status;
+use crate::state::cross_track::CrossTrackMeaning;
+use crate::state::modes::Request;
+use crate::state::request_channel::Answer;
+use crate::state::status::Status;
 use crate::steer::SteerCommand;
 
 /// Copies of the controller's objects, taken once per pass: every panel draws the same

@@ -19,10 +19,10 @@ use std::path::{Path, PathBuf};
 use mechweed_hw::Outputs;
 
 use crate::config::Settings;
-use crate::modes::Mode;
 use crate::record::header::program;
 use crate::record::request_text::{answer_text, request_text};
 use crate::record::{self, Delivery, RecordTap};
+use crate::state::modes::Mode;
 use crate::supervisor::Supervisor;
 pub use recorded::{Recorded, RecordedTick, read_for_replay};
 use steer::SteerReplay;

@@ -9,11 +9,11 @@ use mechweed_hw::{Inputs, Outputs};
 
 use super::row::{Row, WANTED};
 use crate::camlink::LinkStatus;
-use crate::modes::{Mode, Request};
 use crate::record::header::RunHeader;
 use crate::record::read::{self, Table};
 use crate::record::request_text::parse_event_text;
 use crate::record::{Given, Place};
+use crate::state::modes::{Mode, Request};
 use crate::steer::SteerCommand;
 
 /// One tick as the record has it.

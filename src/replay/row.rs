@@ -3,17 +3,18 @@
 //! holds is named with its line.
 
 use mechweed_hw::camproto::RowEstimate;
-use mechweed_hw::{Inputs, Outputs, Side, das08, dda06, quad04};
+use mechweed_hw::cards::{das08, dda06, quad04};
+use mechweed_hw::{Inputs, Outputs, Side};
 
 use super::recorded::RecordedTick;
 use crate::camlink::LinkStatus;
-use crate::health::{ThreadHealth, ThreadName};
-use crate::modes::Mode;
 use crate::record::read::Table;
 use crate::record::{Given, HwFailure, Place};
+use crate::rt::health::{ThreadHealth, ThreadName};
+use crate::state::modes::Mode;
+use crate::state::steering::Steering;
 use crate::steer::law::LawOutput;
 use crate::steer::{EndSwitchState, SourceHealth, SteerCommand};
-use crate::steering::Steering;
 
 /// Every column a replay reads.
 pub const WANTED: &[&str] = &[

@@ -14,7 +14,7 @@
 use crate::camlink::LinkStatus;
 use crate::config::{Settings, SteerSettings};
 use crate::gnss::GnssStatus;
-use crate::status::Status;
+use crate::state::status::Status;
 use crate::steer::{SteerCommand, SteerCore};
 
 /// Commands within this of the recorded count as the same.

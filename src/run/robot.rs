@@ -55,7 +55,7 @@ pub(super) fn open_robot(s: &Settings) -> Result<Robot, RunError> {
         }
         // No simulated camera computer, no truth and no simulator panel on the real robot.
         Backend::Cards => Ok(Robot {
-            hw: crate::backend::open_hw(s).map_err(RunError::Cards)?,
+            hw: crate::threads::backend::open_hw(s).map_err(RunError::Cards)?,
             truth: TruthHandle::none(),
             sim: None,
             camera_line,

@@ -10,13 +10,13 @@ use crate::bus::BusFigures;
 use crate::camlink::LinkStatus;
 use crate::config::{Settings, SteerSettings};
 use crate::gamepad::PadState;
-use crate::inject::Injection;
-use crate::modes::Mode;
 use crate::record::RecordOutcome;
-use crate::request_channel::SupervisorHandle;
 use crate::rt::LoopSummary;
+use crate::rt::inject::Injection;
+use crate::state::modes::Mode;
+use crate::state::request_channel::SupervisorHandle;
+use crate::state::status::{FaultRecord, Notice, Status};
 use crate::state::{Reader, Writer};
-use crate::status::{FaultRecord, Notice, Status};
 use crate::steer::SteerCommand;
 
 /// What an operator interface (the console or the GUI) reads and sends.
@@ -48,7 +48,7 @@ pub struct Handles {
     /// The gamepad ([joystick] source = gamepad), as the supervisor reads it.
     pub gamepad: Option<Reader<PadState>>,
     /// Whether the simulated field's cross-track means anything in this run.
-    pub cross_track: crate::cross_track::CrossTrackMeaning,
+    pub cross_track: crate::state::cross_track::CrossTrackMeaning,
 }
 
 pub struct RunOptions {

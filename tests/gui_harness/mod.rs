@@ -10,12 +10,12 @@ use std::time::{Duration, Instant};
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
 use mechweed::config::Settings;
-use mechweed::fault_cause::FaultCause;
 use mechweed::gui::pace::Pace;
 use mechweed::gui::pacer::{Source, look_once};
 use mechweed::gui::{Controller, GuiApp};
 use mechweed::run::{Handles, RunOptions, RunOutcome, Running, start};
-use mechweed::status::PowerState;
+use mechweed::state::fault_cause::FaultCause;
+use mechweed::state::status::PowerState;
 
 pub struct Gui {
     pub harness: Harness<'static, GuiApp>,

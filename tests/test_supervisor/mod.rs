@@ -6,10 +6,10 @@
 use std::cell::Cell;
 
 use mechweed::gui::view::{View, ViewSource};
-use mechweed::modes::{Mode, Refusal, Request};
-use mechweed::request_channel::{Answer, Envelope, RequestReceiver, SupervisorHandle};
+use mechweed::state::modes::{Mode, Refusal, Request};
+use mechweed::state::request_channel::{Answer, Envelope, RequestReceiver, SupervisorHandle};
 use mechweed::state::shared;
-use mechweed::status::{PowerState, Status};
+use mechweed::state::status::{PowerState, Status};
 
 /// The supervisor's end of a real request channel, played by the test.
 pub struct TestSupervisor {
@@ -25,7 +25,7 @@ pub struct TestSupervisor {
 impl TestSupervisor {
     pub fn new(view: View) -> TestSupervisor {
         let (_status, reader) = shared(Status::default());
-        let (handle, inbox) = mechweed::request_channel::channel(reader);
+        let (handle, inbox) = mechweed::state::request_channel::channel(reader);
         TestSupervisor {
             handle,
             inbox: Some(inbox),

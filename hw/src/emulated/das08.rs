@@ -5,7 +5,7 @@ use std::io;
 use std::sync::{Arc, Mutex};
 
 use super::{lock, no_register};
-use crate::port::PortIo;
+use crate::cards::port::PortIo;
 
 /// Status reads that show "busy" after a conversion starts, unless told otherwise.
 /// A real conversion takes about 10 us, a few port reads.

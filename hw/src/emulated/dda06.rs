@@ -5,8 +5,8 @@ use std::io;
 use std::sync::{Arc, Mutex};
 
 use super::{lock, no_register};
-use crate::dda06::DacRange;
-use crate::port::PortIo;
+use crate::cards::dda06::DacRange;
+use crate::cards::port::PortIo;
 
 struct Dda06Regs {
     /// The range switches on the card, which software cannot read.

@@ -2,7 +2,7 @@
 //! tested against the cards' behaviour rather than against an echo.
 //!
 //! Each emulated card is a cloneable handle to one set of registers: one clone goes to
-//! the driver as its [`PortIo`](crate::port::PortIo), another stays with the test or
+//! the driver as its [`PortIo`](crate::cards::port::PortIo), another stays with the test or
 //! the simulated plant, which sets the card's "wires" from physical signals (volts on
 //! an A/D input, switch levels, encoder edges) and reads back what the card drives
 //! (DAC volts, digital outputs). Failures on demand: an A/D that never finishes, a
@@ -45,7 +45,7 @@ pub(crate) mod recording {
     use std::io;
     use std::sync::{Arc, Mutex};
 
-    use crate::port::PortIo;
+    use crate::cards::port::PortIo;
 
     #[derive(Debug, Clone, Copy, PartialEq, Eq)]
     pub enum Access {

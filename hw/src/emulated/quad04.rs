@@ -10,7 +10,7 @@ use std::io;
 use std::sync::{Arc, Mutex};
 
 use super::{lock, no_register};
-use crate::port::PortIo;
+use crate::cards::port::PortIo;
 
 const WRAP: i64 = 1 << 24;
 const MASK: u32 = 0xFF_FFFF;

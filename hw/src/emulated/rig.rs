@@ -4,9 +4,9 @@
 //! [`CardRig::set_wires`] and takes what the cards drive with [`CardRig::plant_outputs`].
 
 use super::{EmulatedDas08, EmulatedDda06, EmulatedQuad04};
+use crate::cards::port::{AccessCount, CountingPort, PortIo};
+use crate::cards::wiring::{CardOutputs, Wiring};
 use crate::cards::{CardPorts, CardsHw, CardsSettings};
-use crate::port::{AccessCount, CountingPort, PortIo};
-use crate::wiring::{CardOutputs, Wiring};
 use crate::{HwError, Inputs, Outputs};
 
 pub struct CardRig {

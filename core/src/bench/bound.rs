@@ -1,0 +1,327 @@
+//! What the best linear steering could do on the realistic field: the tool's error s.d.
+//! that a linear-quadratic-Gaussian (LQG) steering leaves on a linear model of the
+//! field, the robot and its sensors, measured as the benchmark measures (over the
+//! measured stretch of one row, its mean taken out). `bench rows --field realistic`
+//! prints it beside the tool's measured s.d., as `floor` (bench_floor.rs) is printed
+//! beside the filter's error. LQG is the best law of all for a linear model with
+//! Gaussian disturbances; the field's bumps are sparse kicks and its slope's levels are
+//! uniform, so a law that exploits that could in principle do a little better, and the
+//! LQG minimises the whole mean square where the benchmark takes the row's mean out. A
+//! figure asked of the benchmark below the bound asks more than a linear law can give.
+//!
+//! The model, per camera frame (period T): the floor's field (bumps, the camera's and the
+//! map's lasting errors, the sensors' noise) and the robot that moves in it:
+//!     y' = v (h + c) (the rear axle's offset from the row),  h' = v δ / wheelbase,
+//!     δ the wheel angle, turned by the steering regulator (kp, kd) through the motor
+//!     (rate per volt, lag) towards the angle commanded at each frame and held;
+//!     c the crab, moved at a rate that is a Gauss-Markov process over distance: the
+//!     field's slope is a smooth profile between levels `slope_length_m` apart, whose
+//!     rate has the s.d. max π / (√48 length) over half that length;
+//! the steering sees the wheel angle and its rate (the encoder), the camera and GNSS as
+//! the floor does, and minimises the tool's mean square offset (a small price on the
+//! commanded angle keeps the problem well posed). The Kalman filter's and the optimal
+//! gain's Riccati equations and the closed loop's steady covariance are solved by
+//! doubling (the slope's and the map's slow errors take thousands of frames to settle).
+//!
+//! Left out, because they can only add: gaps, weed patches, float episodes, wheel slip,
+//! a curved row, every latency, the wheel angle's rate limit and its largest angle (so
+//! the regulator's gain matters little here: the model's steering may ask for any
+//! angle). It is an expectation over fields like this one, like the floor: one row can
+//! fall either side of it, and the smooth slope is a model of the field's profile, not
+//! the profile itself.
+
+use mechweed_hw::sim::SimParams;
+use nalgebra::{SMatrix, SVector};
+
+use crate::bench::floor::{
+    DOUBLINGS, Geometry, riccati, sensor_variances, steady_filter, within_stretch_variance,
+};
+use crate::config::{PdSettings, SteerSource};
+
+const N: usize = 8;
+const Y: usize = 0;
+const HEADING: usize = 1;
+const WHEEL: usize = 2;
+const WHEEL_RATE: usize = 3;
+const CRAB: usize = 4;
+const CRAB_RATE: usize = 5;
+const CAMERA_BIAS: usize = 6;
+const MAP_BIAS: usize = 7;
+type Matrix = SMatrix<f64, N, N>;
+type Column = SVector<f64, N>;
+/// The closed loop: the state and the filter's error.
+type Loop = SMatrix<f64, { 2 * N }, { 2 * N }>;
+
+/// The price of the commanded wheel angle against the tool's offset, m² per rad²: small
+/// enough that the steering is as fast as the model lets it be.
+const ANGLE_PRICE: f64 = 1e-5;
+/// The crab's own drift back to level, in slope lengths: slow, only so that the model
+/// has a steady state.
+const CRAB_RETURN_LENGTHS: f64 = 20.0;
+
+/// The tool's error s.d. over `measured_m` of row under the best linear steering of the
+/// model when `source` steers at `speed_mps` on `plant`'s realistic field with the
+/// steering regulator `steering`, cm (None for a speed, a distance or a camera rate that
+/// is not positive, or where the model has no steady state).
+pub fn bound_cm(
+    plant: &SimParams,
+    at: Geometry,
+    steering: &PdSettings,
+    source: SteerSource,
+    speed_mps: f64,
+    measured_m: f64,
+) -> Option<f64> {
+    if !(speed_mps > 0.0 && plant.camera_rate_hz > 0.0 && measured_m > 0.0) {
+        return None;
+    }
+    let period_s = 1.0 / plant.camera_rate_hz;
+    let (a, b, q) = discrete(plant, steering, speed_mps, period_s);
+    let model = (&a, &b, &q);
+    let ([camera_offset_r, camera_angle_r], gnss_r) = sensor_variances(plant);
+    // The encoder's wheel angle and rate: a little noise keeps the filter's equations
+    // regular; half or five times as much moves no figure the benchmark prints.
+    let wheel_r = [0.05f64.to_radians().powi(2), 0.5f64.to_radians().powi(2)];
+    let row = |entries: &[(usize, f64)]| {
+        let mut h = [0.0; N];
+        entries.iter().for_each(|&(i, value)| h[i] = value);
+        h
+    };
+    let camera_offset = row(&[(Y, 1.0), (HEADING, at.camera_x_m), (CAMERA_BIAS, 1.0)]);
+    let camera_angle = row(&[(HEADING, 1.0)]);
+    let gnss = row(&[(Y, 1.0), (HEADING, at.antenna_x_m), (MAP_BIAS, 1.0)]);
+    let (wheel, wheel_rate) = (row(&[(WHEEL, 1.0)]), row(&[(WHEEL_RATE, 1.0)]));
+    let (x, closed) = match source {
+        SteerSource::Camera => closed_loop::<4>(
+            model,
+            at.tool_x_m,
+            [camera_offset, camera_angle, wheel, wheel_rate],
+            [camera_offset_r, camera_angle_r, wheel_r[0], wheel_r[1]],
+        ),
+        SteerSource::Gnss => closed_loop::<3>(
+            model,
+            at.tool_x_m,
+            [gnss, wheel, wheel_rate],
+            [gnss_r, wheel_r[0], wheel_r[1]],
+        ),
+        SteerSource::Fused => closed_loop::<5>(
+            model,
+            at.tool_x_m,
+            [camera_offset, camera_angle, gnss, wheel, wheel_rate],
+            [
+                camera_offset_r,
+                camera_angle_r,
+                gnss_r,
+                wheel_r[0],
+                wheel_r[1],
+            ],
+        ),
+    }?;
+    let mut tool = SVector::<f64, { 2 * N }>::zeros();
+    (tool[Y], tool[HEADING]) = (1.0, at.tool_x_m);
+    let frames = ((measured_m / (speed_mps * period_s)).round() as usize).max(1);
+    let variance = within_stretch_variance(&x, &closed, &tool, frames);
+    (variance >= 0.0).then(|| variance.sqrt() * 100.0)
+}
+
+/// The model over one period: (A, B, Q) of x' = A x + B u + w, u the commanded wheel
+/// angle held over the period, w of covariance Q.
+fn discrete(
+    plant: &SimParams,
+    steering: &PdSettings,
+    v: f64,
+    period_s: f64,
+) -> (Matrix, Column, Matrix) {
+    let t = &plant.tier;
+    // How fast a Gauss-Markov process over `length_m` forgets at this speed, 1/s (the
+    // floor's `forget` is the share kept over a frame instead).
+    let forget_per_s = |length_m: f64| if length_m > 0.0 { v / length_m } else { 1e3 };
+    // The regulator's volts move the wheel at rate_rps_per_v through the motor's lag.
+    let rate_rps_per_v = plant.steer_rate_dps_per_v.to_radians();
+    let lag_s = plant.steer_lag_s.max(1e-3);
+    let mut a = Matrix::zeros();
+    let mut b = Column::zeros();
+    a[(Y, HEADING)] = v;
+    a[(Y, CRAB)] = v;
+    a[(HEADING, WHEEL)] = v / plant.wheelbase_m;
+    a[(WHEEL, WHEEL_RATE)] = 1.0;
+    a[(WHEEL_RATE, WHEEL)] = -rate_rps_per_v * steering.kp / lag_s;
+    a[(WHEEL_RATE, WHEEL_RATE)] = -(1.0 + rate_rps_per_v * steering.kd) / lag_s;
+    b[WHEEL_RATE] = rate_rps_per_v * steering.kp / lag_s;
+    let slope_m = t.slope_length_m.max(1e-3);
+    a[(CRAB, CRAB)] = -v / (CRAB_RETURN_LENGTHS * slope_m);
+    a[(CRAB, CRAB_RATE)] = v;
+    a[(CRAB_RATE, CRAB_RATE)] = -forget_per_s(slope_m / 2.0);
+    a[(CAMERA_BIAS, CAMERA_BIAS)] = -forget_per_s(t.camera_bias_length_m);
+    a[(MAP_BIAS, MAP_BIAS)] = -forget_per_s(plant.gnss.map_error_length_m);
+    let crab_rate_sd_per_m =
+        t.slope_max_deg.to_radians() * std::f64::consts::PI / 48f64.sqrt() / slope_m;
+    let bumps_per_s = v / t.bump_every_m.max(f64::MIN_POSITIVE);
+    let mut qc = Matrix::zeros();
+    qc[(Y, Y)] = t.bump_side_sd_m.powi(2) * bumps_per_s;
+    qc[(HEADING, HEADING)] = t.bump_heading_sd_deg.to_radians().powi(2) * bumps_per_s;
+    // A Gauss-Markov process of s.d. sd forgetting at rate k has white noise 2 k sd².
+    qc[(CRAB_RATE, CRAB_RATE)] = 2.0 * forget_per_s(slope_m / 2.0) * crab_rate_sd_per_m.powi(2);
+    qc[(CAMERA_BIAS, CAMERA_BIAS)] =
+        2.0 * forget_per_s(t.camera_bias_length_m) * t.camera_bias_sd_m.powi(2);
+    qc[(MAP_BIAS, MAP_BIAS)] =
+        2.0 * forget_per_s(plant.gnss.map_error_length_m) * plant.gnss.map_error_sd_m.powi(2);
+    // Exact over the period: A and B from one exponential, Q from Van Loan's.
+    let mut ab = SMatrix::<f64, { N + 1 }, { N + 1 }>::zeros();
+    ab.fixed_view_mut::<N, N>(0, 0).copy_from(&(a * period_s));
+    ab.fixed_view_mut::<N, 1>(0, N).copy_from(&(b * period_s));
+    let ab = ab.exp();
+    let mut van_loan = SMatrix::<f64, { 2 * N }, { 2 * N }>::zeros();
+    van_loan
+        .fixed_view_mut::<N, N>(0, 0)
+        .copy_from(&(-a * period_s));
+    van_loan
+        .fixed_view_mut::<N, N>(0, N)
+        .copy_from(&(qc * period_s));
+    van_loan
+        .fixed_view_mut::<N, N>(N, N)
+        .copy_from(&(a.transpose() * period_s));
+    let e = van_loan.exp();
+    let a_d: Matrix = e.fixed_view::<N, N>(N, N).transpose();
+    let q_d = a_d * e.fixed_view::<N, N>(0, N);
+    (
+        a_d,
+        ab.fixed_view::<N, 1>(0, N).into(),
+        (q_d + q_d.transpose()) / 2.0,
+    )
+}
+
+/// The steady covariance of (state, filter's error) under the optimal gain and the
+/// steady Kalman filter of the M measurements h (rows) with variances r, and how it
+/// carries from one period to the next; None if anything does not stay finite.
+fn closed_loop<const M: usize>(
+    (a, b, q): (&Matrix, &Column, &Matrix),
+    tool_x_m: f64,
+    rows: [[f64; N]; M],
+    variances: [f64; M],
+) -> Option<(Loop, Loop)> {
+    let h = SMatrix::<f64, M, N>::from_row_slice(rows.as_flattened());
+    let r = SMatrix::<f64, M, M>::from_diagonal(&SVector::from(variances));
+    let (_, l) = steady_filter(a, q, &h, &r)?;
+    let k = optimal_gain(a, b, tool_x_m)?;
+    // u = -K x̂, x̂ = x - (I - L H) e + L v, e the predicted estimate's error.
+    let i_lh = Matrix::identity() - l * h;
+    let mut closed = Loop::zeros();
+    closed.fixed_view_mut::<N, N>(0, 0).copy_from(&(a - b * k));
+    closed
+        .fixed_view_mut::<N, N>(0, N)
+        .copy_from(&(b * k * i_lh));
+    closed
+        .fixed_view_mut::<N, N>(N, N)
+        .copy_from(&(a - a * l * h));
+    let mut w_in = SMatrix::<f64, { 2 * N }, N>::zeros();
+    w_in.fixed_view_mut::<N, N>(0, 0)
+        .copy_from(&Matrix::identity());
+    w_in.fixed_view_mut::<N, N>(N, 0)
+        .copy_from(&Matrix::identity());
+    let mut v_in = SMatrix::<f64, { 2 * N }, M>::zeros();
+    v_in.fixed_view_mut::<N, M>(0, 0).copy_from(&(-b * k * l));
+    v_in.fixed_view_mut::<N, M>(N, 0).copy_from(&(-a * l));
+    // X = Σ Aᵏ W Aᵏᵀ, by doubling: after n rounds, 2ⁿ terms.
+    let (mut x, mut power) = (
+        w_in * q * w_in.transpose() + v_in * r * v_in.transpose(),
+        closed,
+    );
+    for _ in 0..DOUBLINGS {
+        x += power * x * power.transpose();
+        power *= power;
+    }
+    let finite = x.iter().chain(closed.iter()).all(|v| v.is_finite());
+    finite.then_some((x, closed))
+}
+
+/// The gain K of u = -K x that minimises the mean of the tool's offset squared (the tool
+/// `tool_x_m` ahead of the rear axle) plus ANGLE_PRICE u².
+fn optimal_gain(a: &Matrix, b: &Column, tool_x_m: f64) -> Option<SMatrix<f64, 1, N>> {
+    let mut tool = Column::zeros();
+    (tool[Y], tool[HEADING]) = (1.0, tool_x_m);
+    let s = riccati(
+        a,
+        &(b * b.transpose() / ANGLE_PRICE),
+        &(tool * tool.transpose()),
+    )?;
+    let k = (b.transpose() * s * a) / (ANGLE_PRICE + (b.transpose() * s * b)[0]);
+    k.iter().all(|v| v.is_finite()).then_some(k)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bench::floor::sensor_variances;
+    use crate::bench::floor::tests::{AT, realistic, still};
+    use crate::config::Settings;
+
+    fn bound(plant: &SimParams, steering: &PdSettings, source: SteerSource) -> f64 {
+        bound_cm(plant, AT, steering, source, 1.0, 55.0).unwrap()
+    }
+
+    #[test]
+    fn the_closed_loop_agrees_with_the_estimate_driven_by_its_innovations() {
+        // Written the other way round: the current estimate moves as
+        // x̂' = (A - B K) x̂ + L ν, the innovations ν white with covariance H P Hᵀ + R
+        // (P the predicted covariance), and the state is the estimate plus its error,
+        // uncorrelated with it: cov(x) = Y + (I - L H) P, Y = (A - B K) Y (A - B K)ᵀ +
+        // L (H P Hᵀ + R) Lᵀ, here by plain iteration. GNSS and the encoder steer.
+        let plant = realistic();
+        let steering = Settings::shipped().pid_steer;
+        let (a, b, q) = discrete(&plant, &steering, 1.0, 0.1);
+        let (_, gnss_r) = sensor_variances(&plant);
+        let mut rows = [[0.0; N]; 3];
+        (rows[0][Y], rows[0][HEADING], rows[0][MAP_BIAS]) = (1.0, AT.antenna_x_m, 1.0);
+        (rows[1][WHEEL], rows[2][WHEEL_RATE]) = (1.0, 1.0);
+        let variances = [gnss_r, 1e-6, 1e-4];
+        let (x, _) = closed_loop::<3>((&a, &b, &q), AT.tool_x_m, rows, variances).unwrap();
+        let h = SMatrix::<f64, 3, N>::from_row_slice(rows.as_flattened());
+        let r = SMatrix::<f64, 3, 3>::from_diagonal(&SVector::from(variances));
+        let (predicted, l) = steady_filter(&a, &q, &h, &r).unwrap();
+        let innovations = h * predicted * h.transpose() + r;
+        let steered = a - b * optimal_gain(&a, &b, AT.tool_x_m).unwrap();
+        let mut y = Matrix::zeros();
+        for _ in 0..100_000 {
+            y = steered * y * steered.transpose() + l * innovations * l.transpose();
+        }
+        let want = y + (Matrix::identity() - l * h) * predicted;
+        let got: Matrix = x.fixed_view::<N, N>(0, 0).into();
+        assert!((got - want).norm() < 1e-9 * want.norm(), "{got} {want}");
+        // The filter's error, the other block, is the predicted covariance.
+        let error: Matrix = x.fixed_view::<N, N>(N, N).into();
+        assert!((error - predicted).norm() < 1e-9 * predicted.norm());
+    }
+
+    #[test]
+    fn with_nothing_moving_the_robot_and_no_lasting_errors_the_bound_vanishes() {
+        let plant = still();
+        let steering = Settings::shipped().pid_steer;
+        let b = bound(&plant, &steering, SteerSource::Fused);
+        assert!(b < 0.05, "{b} cm");
+        let at = |speed, metres| bound_cm(&plant, AT, &steering, SteerSource::Fused, speed, metres);
+        assert_eq!((at(0.0, 55.0), at(1.0, 0.0)), (None, None));
+    }
+
+    #[test]
+    fn both_sensors_beat_either_the_floor_lies_beneath_and_level_ground_lowers_it() {
+        let plant = realistic();
+        let steering = Settings::shipped().pid_steer;
+        let fused = bound(&plant, &steering, SteerSource::Fused);
+        assert!(
+            fused < bound(&plant, &steering, SteerSource::Camera),
+            "{fused}"
+        );
+        assert!(
+            fused < bound(&plant, &steering, SteerSource::Gnss),
+            "{fused}"
+        );
+        // The tool cannot be steered better than it is known; the slope's changing crab,
+        // which moves the robot unseen until it has moved, costs the steering most.
+        let floor = crate::bench::floor::floor_cm(&plant, AT, SteerSource::Fused, 1.0, 55.0);
+        assert!(floor.is_some_and(|f| f < fused), "{floor:?} {fused}");
+        let mut level = plant.clone();
+        level.tier.slope_max_deg = 0.0;
+        let on_level = bound(&level, &steering, SteerSource::Fused);
+        assert!(on_level < 0.8 * fused, "{on_level} {fused}");
+    }
+}

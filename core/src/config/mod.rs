@@ -1,0 +1,400 @@
+//! robot.ini -> typed settings. Every setting lives in config/robot.ini with a comment
+//! and its unit; there are no hidden defaults in the code, so what the file says is
+//! what the robot does. Errors name the file, line, section and key.
+
+mod bus;
+mod camera_port;
+mod checks;
+mod filter;
+mod gnss;
+mod gui;
+mod io;
+mod joystick;
+mod lines;
+mod reader;
+mod record;
+mod sim;
+mod source;
+
+use std::path::Path;
+
+pub use bus::{
+    AcceptRequests, BusSettings, ROSTER_FILE, TlsFiles, endpoint_address, is_loopback,
+    listen_refusal, optional_yes, parse_endpoints, parse_prefix, tls_files,
+};
+pub use camera_port::{BAUD_RATES, CameraPort};
+pub use filter::{FILTER_MAX_STEP_M, FilterConfig};
+pub use gnss::{GnssPort, GnssSettings, MapSource, SourceSettings, SteerSource};
+pub use joystick::{GamepadDevice, GamepadSettings, JoystickSettings, JoystickSource};
+pub use lines::{parse_seconds, read_text};
+
+pub use gui::{GuiSettings, Theme};
+pub use reader::{ConfigError, Place, Reader, override_parts};
+pub use record::{RecordFormats, RecordSettings};
+pub use source::SettingsSource;
+
+/// The settings file shipped with the program, used when no file is given and
+/// config/robot.ini is not in the working directory.
+pub const DEFAULT_INI: &str = include_str!("../../../config/robot.ini");
+
+/// Every section the file must have.
+const SECTIONS: &[&str] = &[
+    "robot",
+    "supervisor",
+    "faults",
+    "pid.left",
+    "pid.right",
+    "pid.steer",
+    "steer",
+    "joystick",
+    "camera",
+    "hw",
+    "rt",
+    "io",
+    "sim",
+    "record",
+    "bus",
+    "gnss",
+    "filter",
+    "gui",
+];
+
+/// The controller's model of the robot (the simulated plant has its own, in [sim]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RobotSettings {
+    pub wheelbase_m: f64,
+    pub track_m: f64,
+    pub enc_counts_per_m: f64,
+    pub steer_counts_per_deg: f64,
+    pub pot_centre_v: f64,
+    pub pot_v_per_deg: f64,
+    pub max_wheel_angle_deg: f64,
+    pub end_switch_deg: f64,
+    pub tool_offset_m: f64,
+    pub camera_lookahead_m: f64,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct SupervisorSettings {
+    pub rate_hz: f64,
+    pub max_speed_mps: f64,
+    pub accel_mps2: f64,
+    pub wheel_angle_rate_dps: f64,
+    pub calibration_s: f64,
+    pub power_up_timeout_s: f64,
+    pub speed_filter_s: f64,
+    /// Length of the rows, m; 0 = not known (see `Settings::row_length_m`).
+    pub row_length_m: f64,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct FaultSettings {
+    pub battery_min_v: f64,
+    pub battery_low_s: f64,
+    pub pot_min_v: f64,
+    pub pot_max_v: f64,
+    pub pot_disagree_deg: f64,
+    pub pot_disagree_s: f64,
+    pub encoder_stuck_v: f64,
+    pub encoder_stuck_s: f64,
+    pub endswitch_unhandled_s: f64,
+    pub endswitch_timeout_s: f64,
+    pub contactor_drop_s: f64,
+    /// Steering by GNSS or the fused row: the row filter's row farther than this from
+    /// the rear axle is the robot off its row, m.
+    pub off_row_m: f64,
+}
+
+/// PI speed regulator of one drive wheel, with feed-forward.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PiSettings {
+    /// Proportional gain, V per m/s of speed error.
+    pub kp: f64,
+    /// Integral gain, V per m of accumulated speed error.
+    pub ki: f64,
+    /// Feed-forward, V per m/s of speed reference.
+    pub kff: f64,
+    pub out_max_v: f64,
+}
+
+/// PD angle regulator of the steering.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PdSettings {
+    /// Proportional gain, V per rad of angle error.
+    pub kp: f64,
+    /// Derivative gain on the measured angle, V per rad/s.
+    pub kd: f64,
+    /// Time constant of the derivative's low-pass filter, s.
+    pub d_filter_s: f64,
+    pub out_max_v: f64,
+}
+
+/// The steering law and the steer thread.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SteerSettings {
+    pub rate_hz: f64,
+    pub speed_mps: f64,
+    pub lookahead_m: f64,
+    pub ki_per_m2: f64,
+    pub integral_max_deg: f64,
+    pub curvature_filter_m: f64,
+    pub latency_s: f64,
+    pub endswitch_back_deg: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraSettings {
+    pub link_timeout_s: f64,
+    pub restart_after_s: f64,
+    pub min_quality: u8,
+    /// A camera repeating its last estimate (a gap in the row) steers for this far, m.
+    pub gap_hold_m: f64,
+}
+
+/// Real-time scheduling and the supervisor's watch over the other threads.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RtSettings {
+    pub supervisor_priority: u8,
+    pub steer_priority: u8,
+    pub camlink_priority: u8,
+    pub lock_memory: bool,
+    pub supervisor_cpu: i32,
+    /// CPU the operator GUI (and its software renderer) is pinned to, -1 = any.
+    pub gui_cpu: i32,
+    pub heartbeat_timeout_s: f64,
+    pub gui_heartbeat_timeout_s: f64,
+    pub max_overruns: u32,
+    pub overrun_window_s: f64,
+    pub max_late_periods: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Backend {
+    Sim,
+    /// The robot's three I/O cards, wired as [io] says.
+    Cards,
+}
+
+/// Everything in robot.ini, typed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Settings {
+    pub robot: RobotSettings,
+    pub supervisor: SupervisorSettings,
+    pub faults: FaultSettings,
+    pub pid_left: PiSettings,
+    pub pid_right: PiSettings,
+    pub pid_steer: PdSettings,
+    pub steer: SteerSettings,
+    /// Which sensors steer ([steer] source and its fallbacks).
+    pub sources: SourceSettings,
+    /// The row filter ([filter]).
+    pub filter: FilterConfig,
+    pub joystick: JoystickSettings,
+    /// The gamepad's device, buttons and axes ([joystick] gamepad_*).
+    pub gamepad: GamepadSettings,
+    pub camera: CameraSettings,
+    /// Where the camera computer is: [camera] port and baud.
+    pub camera_port: CameraPort,
+    pub rt: RtSettings,
+    pub backend: Backend,
+    /// Where the I/O cards are and how they are set ([hw]).
+    pub cards: mechweed_hw::cards::CardsSettings,
+    /// How the robot is wired to the cards ([io]).
+    pub io: mechweed_hw::cards::wiring::Wiring,
+    pub sim: mechweed_hw::sim::SimParams,
+    /// Where and how each run is recorded.
+    pub record: RecordSettings,
+    /// The data flows to and from other programs ([bus]).
+    pub bus: BusSettings,
+    /// The RTK GNSS receiver and the row map ([gnss]).
+    pub gnss: GnssSettings,
+    /// The operator's window ([gui]).
+    pub gui: GuiSettings,
+    /// The text these settings were read from, for the bus's configuration ports.
+    pub source: SettingsSource,
+}
+
+impl Settings {
+    /// Read and check a settings file, with `--set SECTION.KEY=VALUE` overrides.
+    pub fn load(path: &Path, overrides: &[String]) -> Result<Settings, Vec<ConfigError>> {
+        let label = path.display().to_string();
+        let text = lines::read_text(path, "the settings file")?;
+        Settings::parse(&label, &text, overrides)
+    }
+
+    /// The settings shipped with the program, as in config/robot.ini.
+    pub fn shipped() -> Settings {
+        Settings::parse("config/robot.ini", DEFAULT_INI, &[])
+            .expect("the shipped config/robot.ini is checked by the tests")
+    }
+
+    /// Read settings from text (`file` names it in messages).
+    pub fn parse(
+        file: &str,
+        text: &str,
+        overrides: &[String],
+    ) -> Result<Settings, Vec<ConfigError>> {
+        let mut r = Reader::new(file, text, overrides);
+        let settings = Settings {
+            robot: robot(&mut r),
+            supervisor: supervisor(&mut r),
+            faults: faults(&mut r),
+            pid_left: pi(&mut r, "pid.left"),
+            pid_right: pi(&mut r, "pid.right"),
+            pid_steer: pd(&mut r, "pid.steer"),
+            steer: steer(&mut r),
+            sources: gnss::sources(&mut r),
+            filter: filter::load(&mut r),
+            joystick: joystick::load(&mut r),
+            gamepad: joystick::gamepad(&mut r),
+            camera: camera(&mut r),
+            camera_port: camera_port::load(&mut r),
+            rt: rt(&mut r),
+            backend: [Backend::Sim, Backend::Cards][r.choice("hw", "backend", &["sim", "cards"])],
+            cards: io::cards(&mut r),
+            io: io::wiring(&mut r),
+            sim: sim::load(&mut r),
+            record: record::load(&mut r),
+            bus: bus::load(&mut r),
+            gnss: gnss::load(&mut r),
+            gui: gui::load(&mut r),
+            source: SettingsSource {
+                label: file.to_string(),
+                text: text.to_string(),
+                overrides: overrides.to_vec(),
+            },
+        };
+        checks::across(&settings, &mut r);
+        gnss::check(&settings, &mut r);
+        let errors = r.finish(SECTIONS);
+        if errors.is_empty() {
+            Ok(settings)
+        } else {
+            Err(errors)
+        }
+    }
+}
+
+fn robot(r: &mut Reader) -> RobotSettings {
+    let s = "robot";
+    RobotSettings {
+        wheelbase_m: r.f64(s, "wheelbase_m", 0.2, 5.0),
+        track_m: r.f64(s, "track_m", 0.2, 5.0),
+        enc_counts_per_m: r.f64(s, "enc_counts_per_m", 1.0, 1e7),
+        steer_counts_per_deg: r.f64(s, "steer_counts_per_deg", 1.0, 1e6),
+        pot_centre_v: r.f64(s, "pot_centre_v", 0.0, 5.0),
+        pot_v_per_deg: r.f64(s, "pot_v_per_deg", 0.001, 1.0),
+        max_wheel_angle_deg: r.f64(s, "max_wheel_angle_deg", 1.0, 45.0),
+        end_switch_deg: r.f64(s, "end_switch_deg", 1.0, 60.0),
+        tool_offset_m: r.f64(s, "tool_offset_m", -3.0, 3.0),
+        camera_lookahead_m: r.f64(s, "camera_lookahead_m", 0.0, 5.0),
+    }
+}
+
+fn supervisor(r: &mut Reader) -> SupervisorSettings {
+    let s = "supervisor";
+    SupervisorSettings {
+        rate_hz: r.f64(s, "rate_hz", 10.0, 2000.0),
+        max_speed_mps: r.f64(s, "max_speed_mps", 0.0, 3.0),
+        accel_mps2: r.f64(s, "accel_mps2", 0.01, 10.0),
+        wheel_angle_rate_dps: r.f64(s, "wheel_angle_rate_dps", 1.0, 200.0),
+        calibration_s: r.f64(s, "calibration_s", 0.0, 5.0),
+        power_up_timeout_s: r.f64(s, "power_up_timeout_s", 0.05, 10.0),
+        speed_filter_s: r.f64(s, "speed_filter_s", 0.0, 1.0),
+        row_length_m: r.f64(s, "row_length_m", 0.0, 10000.0),
+    }
+}
+
+fn faults(r: &mut Reader) -> FaultSettings {
+    let s = "faults";
+    FaultSettings {
+        battery_min_v: r.f64(s, "battery_min_v", 0.0, 60.0),
+        // The robot drives on a low battery this long: enough to ride out a load dip.
+        battery_low_s: r.f64(s, "battery_low_s", 0.0, 10.0),
+        pot_min_v: r.f64(s, "pot_min_v", 0.0, 5.0),
+        pot_max_v: r.f64(s, "pot_max_v", 0.0, 5.0),
+        // 30 deg of disagreement would hide a slipping steering encoder on a 25 deg robot.
+        pot_disagree_deg: r.f64(s, "pot_disagree_deg", 0.1, 10.0),
+        // Times that guard motion (a wrong wheel angle, a wheel without feedback, a
+        // steering at its end switch): at most about a second of driving.
+        pot_disagree_s: r.f64(s, "pot_disagree_s", 0.0, 1.0),
+        encoder_stuck_v: r.f64(s, "encoder_stuck_v", 0.5, 10.0),
+        encoder_stuck_s: r.f64(s, "encoder_stuck_s", 0.05, 1.0),
+        endswitch_unhandled_s: r.f64(s, "endswitch_unhandled_s", 0.01, 1.0),
+        // The robot stands while the procedure steers back, so this one may be longer.
+        endswitch_timeout_s: r.f64(s, "endswitch_timeout_s", 0.1, 10.0),
+        // A real contactor drops in tens of milliseconds; a second is plenty.
+        contactor_drop_s: r.f64(s, "contactor_drop_s", 0.02, 1.0),
+        off_row_m: r.f64(s, "off_row_m", 0.02, 2.0),
+    }
+}
+
+fn pi(r: &mut Reader, s: &str) -> PiSettings {
+    PiSettings {
+        kp: r.f64(s, "kp", 0.0, 1000.0),
+        ki: r.f64(s, "ki", 0.0, 10000.0),
+        kff: r.f64(s, "kff", 0.0, 1000.0),
+        out_max_v: r.f64(s, "out_max_v", 0.0, 10.0),
+    }
+}
+
+fn pd(r: &mut Reader, s: &str) -> PdSettings {
+    PdSettings {
+        kp: r.f64(s, "kp", 0.0, 10000.0),
+        kd: r.f64(s, "kd", 0.0, 1000.0),
+        d_filter_s: r.f64(s, "d_filter_s", 0.0, 1.0),
+        out_max_v: r.f64(s, "out_max_v", 0.0, 10.0),
+    }
+}
+
+fn steer(r: &mut Reader) -> SteerSettings {
+    let s = "steer";
+    SteerSettings {
+        rate_hz: r.f64(s, "rate_hz", 1.0, 200.0),
+        speed_mps: r.f64(s, "speed_mps", 0.0, 3.0),
+        lookahead_m: r.f64(s, "lookahead_m", 0.1, 10.0),
+        ki_per_m2: r.f64(s, "ki_per_m2", 0.0, 10.0),
+        integral_max_deg: r.f64(s, "integral_max_deg", 0.0, 30.0),
+        curvature_filter_m: r.f64(s, "curvature_filter_m", 0.01, 100.0),
+        latency_s: r.f64(s, "latency_s", 0.0, 1.0),
+        endswitch_back_deg: r.f64(s, "endswitch_back_deg", 0.0, 45.0),
+    }
+}
+
+fn rt(r: &mut Reader) -> RtSettings {
+    let s = "rt";
+    RtSettings {
+        supervisor_priority: r.u64(s, "supervisor_priority", 0, 99) as u8,
+        steer_priority: r.u64(s, "steer_priority", 0, 99) as u8,
+        camlink_priority: r.u64(s, "camlink_priority", 0, 99) as u8,
+        lock_memory: r.choice(s, "lock_memory", &["no", "yes"]) == 1,
+        // A CPU number is whole: 1.7 is an error, not CPU 1. The range fits i32.
+        supervisor_cpu: r.i64(s, "supervisor_cpu", -1, 1023) as i32,
+        gui_cpu: r.i64(s, "gui_cpu", -1, 1023) as i32,
+        // A stopped steer or camera-link thread leaves its last command standing: the
+        // robot must not drive on it for more than about a second.
+        heartbeat_timeout_s: r.f64(s, "heartbeat_timeout_s", 0.05, 1.0),
+        // The GUI runs at normal priority and may stall a few frames on a loaded computer
+        // (and a frame owed stops its beat until drawn); it holds the HALT button but
+        // not the driving (the e-stops are wired), so it may take up to 5 s.
+        gui_heartbeat_timeout_s: r.f64(s, "gui_heartbeat_timeout_s", 0.1, 5.0),
+        max_overruns: r.u64(s, "max_overruns", 0, 1_000_000) as u32,
+        overrun_window_s: r.f64(s, "overrun_window_s", 0.1, 3600.0),
+        max_late_periods: r.f64(s, "max_late_periods", 1.0, 100.0),
+    }
+}
+
+fn camera(r: &mut Reader) -> CameraSettings {
+    let s = "camera";
+    CameraSettings {
+        // The oldest estimate the robot steers by: at most about a second of driving.
+        link_timeout_s: r.f64(s, "link_timeout_s", 0.05, 1.0),
+        // Only when START is sent again (link_timeout_s guards the driving); longer than a
+        // few seconds just delays finding a rebooted camera computer.
+        restart_after_s: r.f64(s, "restart_after_s", 0.05, 5.0),
+        // Quality 0 means "no row seen" (function_spec.md section 7): such a frame must never steer.
+        min_quality: r.u64(s, "min_quality", 1, 100) as u8,
+        // Beyond a few metres odometry alone no longer keeps the tool on the row.
+        gap_hold_m: r.f64(s, "gap_hold_m", 0.0, 10.0),
+    }
+}

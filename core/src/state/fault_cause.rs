@@ -1,0 +1,203 @@
+//! Why the robot stopped: every fault cause, in words a field technician understands.
+//! The checks that find them are in faults/mod.rs.
+
+use std::fmt;
+
+use mechweed_hw::{EncoderId, Side};
+
+use crate::rt::health::ThreadName;
+
+/// Why the robot stopped, in words a field technician understands.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FaultCause {
+    EstopFront,
+    EstopBack,
+    MotorPowerLost,
+    PowerUpFailed,
+    /// Motor power stayed on after the contactor was commanded open (welded contacts).
+    ContactorWelded,
+    BatteryLow {
+        volts: f64,
+    },
+    PotOutOfRange {
+        volts: f64,
+    },
+    PotDisagrees {
+        pot_deg: f64,
+        encoder_deg: f64,
+    },
+    BothEndSwitches,
+    EndSwitchUnhandled(Side),
+    EndSwitchStuck(Side),
+    EncoderStuck(EncoderId),
+    CameraLinkLost {
+        silent_s: f64,
+    },
+    CameraSeesNoRow {
+        for_s: f64,
+    },
+    /// Rows from the bus: two programs with the camera's identity send them.
+    TwoRowSources,
+    /// [steer] source = gnss or fused: neither sensor gives a row to steer by.
+    NoRowSource {
+        camera_s: f64,
+        gnss_s: f64,
+    },
+    /// [steer] source = gnss or fused: the row filter's row is this far from the robot.
+    OffTheRow {
+        offset_m: f64,
+    },
+    ThreadStopped {
+        thread: ThreadName,
+        for_s: f64,
+    },
+    ThreadPanicked {
+        thread: ThreadName,
+    },
+    Overruns {
+        count: u32,
+        window_s: f64,
+    },
+    /// One supervisor tick started this late after its deadline.
+    LateTick {
+        late_ms: f64,
+        limit_ms: f64,
+    },
+    /// A joystick axis read beyond what the joystick can give: a broken wiper.
+    JoystickAxis {
+        axis: JoystickAxis,
+        volts: f64,
+    },
+    Hardware {
+        card: &'static str,
+    },
+}
+
+/// The joystick's two axes, for the fault that names one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JoystickAxis {
+    Speed,
+    Steer,
+}
+
+fn side_name(side: Side) -> &'static str {
+    match side {
+        Side::Left => "left",
+        Side::Right => "right",
+    }
+}
+
+impl fmt::Display for FaultCause {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            FaultCause::EstopFront => {
+                write!(f, "front emergency stop pressed (or its wire is broken)")
+            }
+            FaultCause::EstopBack => {
+                write!(f, "back emergency stop pressed (or its wire is broken)")
+            }
+            FaultCause::MotorPowerLost => write!(f, "motor power lost: the motor contactor opened"),
+            FaultCause::PowerUpFailed => write!(f, "motor power did not come on after power-up"),
+            FaultCause::ContactorWelded => write!(
+                f,
+                "the motor contactor did not open: motor power stays on although it was switched off (welded contacts?)"
+            ),
+            FaultCause::BatteryLow { volts } => write!(f, "battery low: {volts:.1} V"),
+            FaultCause::PotOutOfRange { volts } => {
+                write!(
+                    f,
+                    "steering potentiometer reads {volts:.2} V: wire broken or loose?"
+                )
+            }
+            FaultCause::PotDisagrees {
+                pot_deg,
+                encoder_deg,
+            } => write!(
+                f,
+                "steering potentiometer ({pot_deg:.1} deg) and steering encoder ({encoder_deg:.1} deg) disagree"
+            ),
+            FaultCause::BothEndSwitches => {
+                write!(
+                    f,
+                    "both steering end switches closed at once: check their wiring"
+                )
+            }
+            FaultCause::EndSwitchUnhandled(s) => {
+                write!(
+                    f,
+                    "{} steering end switch closed and the steer thread did not react",
+                    side_name(s)
+                )
+            }
+            FaultCause::EndSwitchStuck(s) => write!(
+                f,
+                "could not steer off the {} end switch: steering jammed or switch stuck",
+                side_name(s)
+            ),
+            FaultCause::EncoderStuck(e) => {
+                let which = match e {
+                    EncoderId::Left => "left wheel",
+                    EncoderId::Right => "right wheel",
+                    EncoderId::Steer => "steering",
+                };
+                write!(
+                    f,
+                    "{which} encoder does not count while its motor is driven"
+                )
+            }
+            FaultCause::CameraLinkLost { silent_s } => {
+                write!(f, "camera link lost: no row frame for {silent_s:.2} s")
+            }
+            FaultCause::CameraSeesNoRow { for_s } => {
+                write!(f, "camera sees no row: no usable estimate for {for_s:.2} s")
+            }
+            FaultCause::TwoRowSources => write!(
+                f,
+                "two programs send camera rows (the console names both): the rows of neither are taken"
+            ),
+            FaultCause::OffTheRow { offset_m } => write!(
+                f,
+                "the robot is off its row: the row is {:.0} cm to its {} (steering by GNSS or the fused row)",
+                offset_m.abs() * 100.0,
+                if offset_m > 0.0 { "left" } else { "right" }
+            ),
+            FaultCause::NoRowSource { camera_s, gnss_s } => write!(
+                f,
+                "no row to steer by: the camera has given no usable row for {camera_s:.2} s and GNSS no trusted fix for {gnss_s:.2} s"
+            ),
+            FaultCause::ThreadStopped { thread, for_s } => {
+                write!(
+                    f,
+                    "the {} thread stopped: no sign of life for {for_s:.2} s",
+                    thread.label()
+                )
+            }
+            FaultCause::ThreadPanicked { thread } => {
+                write!(
+                    f,
+                    "the {} thread failed (a program error): see the log",
+                    thread.label()
+                )
+            }
+            FaultCause::Overruns { count, window_s } => write!(
+                f,
+                "the supervisor missed {count} deadlines within {window_s:.0} s: the computer is overloaded"
+            ),
+            FaultCause::LateTick { late_ms, limit_ms } => write!(
+                f,
+                "the supervisor stalled: one tick started {late_ms:.0} ms late (limit {limit_ms:.0} ms)"
+            ),
+            FaultCause::JoystickAxis { axis, volts } => {
+                let which = match axis {
+                    JoystickAxis::Speed => "speed",
+                    JoystickAxis::Steer => "steer",
+                };
+                write!(
+                    f,
+                    "joystick {which} axis reads {volts:.2} V, beyond its full scale: wiper broken or loose?"
+                )
+            }
+            FaultCause::Hardware { card } => write!(f, "I/O card {card} stopped answering"),
+        }
+    }
+}

@@ -1,0 +1,401 @@
+//! The supervisor: once per tick (100 Hz) it takes every input, checks every fault,
+//! runs the three regulators and decides every output. It is a plain state machine:
+//! the real-time thread (run.rs) and the lockstep simulation (lockstep.rs) both call
+//! `tick`, so there is one copy of the control logic.
+//!
+//! Modes: Halt at start; Joystick, Autonomous and Test from Halt (and Joystick <->
+//! Autonomous directly, bumpless); any fault latches Fault with safe outputs in the
+//! same tick, until the cause is gone and the operator powers up again.
+
+mod endswitch;
+pub mod pid;
+mod requests;
+pub mod row_end;
+pub mod rules;
+pub mod test_mode;
+
+use mechweed_hw::{Inputs, Outputs};
+
+use crate::camlink::LinkStatus;
+use crate::config::Settings;
+use crate::config::{SteerSettings, SteerSource};
+use crate::faults::{CheckContext, FaultChecks};
+use crate::rt::health::ThreadHealth;
+use crate::state::fault_cause::FaultCause;
+use crate::state::measure::Measurement;
+use crate::state::modes::{Gains, Mode};
+use crate::state::status::{FaultRecord, Notice, PowerState, Status};
+use crate::state::steering::Steering;
+use crate::steer::SteerCommand;
+use crate::supervisor::pid::{Pd, Pi};
+use endswitch::{EndSwitchLatch, guard_steering};
+use row_end::RowEnd;
+
+/// Faults and notices kept for the report; fixed capacity so the tick never allocates.
+const LOG_CAPACITY: usize = 256;
+
+pub struct Supervisor {
+    settings: Settings,
+    period_s: f64,
+    measure: Measurement,
+    checks: FaultChecks,
+    left: Pi,
+    right: Pi,
+    steering: Pd,
+    mode_since_s: f64,
+    endswitch: EndSwitchLatch,
+    row_end: RowEnd,
+    test_outputs: Outputs,
+    /// Steering-law parameters accepted in Halt, not yet passed to the steer thread.
+    steer_settings: Option<SteerSettings>,
+    /// The steering law's parameters as last accepted (the steer thread follows).
+    steer_in_force: SteerSettings,
+    status: Status,
+    fault_log: Vec<FaultRecord>,
+    notice_log: Vec<Notice>,
+    /// Which sensors steered at the last notice of it (autonomous by GNSS or fused).
+    steering_said: Option<Steering>,
+    /// When the joystick's dead-man was last held, s: a person at the robot, whom the
+    /// bus never overrides (rules.rs, remote_refusal).
+    deadman_held_s: f64,
+}
+
+/// Move `value` towards `target` by at most `step`.
+fn ramp(value: f64, target: f64, step: f64) -> f64 {
+    value + (target - value).clamp(-step, step)
+}
+
+impl Supervisor {
+    pub fn new(settings: &Settings) -> Supervisor {
+        let s = settings;
+        Supervisor {
+            settings: s.clone(),
+            period_s: 1.0 / s.supervisor.rate_hz,
+            measure: Measurement::new(&s.robot, &s.supervisor, &s.faults),
+            checks: FaultChecks::new(s),
+            left: Pi::new(s.pid_left),
+            right: Pi::new(s.pid_right),
+            steering: Pd::new(s.pid_steer),
+            mode_since_s: 0.0,
+            endswitch: EndSwitchLatch::default(),
+            row_end: RowEnd::new(s),
+            test_outputs: Outputs::SAFE,
+            steer_settings: None,
+            steer_in_force: s.steer,
+            status: Status::default(),
+            fault_log: Vec::with_capacity(LOG_CAPACITY),
+            notice_log: Vec::with_capacity(LOG_CAPACITY),
+            steering_said: None,
+            deadman_held_s: f64::NEG_INFINITY,
+        }
+    }
+
+    pub fn status(&self) -> &Status {
+        &self.status
+    }
+
+    pub fn mode(&self) -> Mode {
+        self.status.mode
+    }
+
+    /// Every fault of the run so far, oldest first (at most 256 kept).
+    pub fn faults(&self) -> &[FaultRecord] {
+        &self.fault_log
+    }
+
+    /// Every notice of the run so far, oldest first (at most 256 kept).
+    pub fn notices(&self) -> &[Notice] {
+        &self.notice_log
+    }
+
+    /// The regulator gains in use.
+    pub fn gains(&self) -> Gains {
+        Gains {
+            left: self.left.gains,
+            right: self.right.gains,
+            steer: self.steering.gains,
+        }
+    }
+
+    /// The gains and steering-law parameters in force: what a change of one of them
+    /// (from the bus) starts from.
+    pub fn tuning(&self) -> (Gains, SteerSettings) {
+        (self.gains(), self.steer_in_force)
+    }
+
+    /// Steering-law parameters accepted since the last call, for the steer thread.
+    pub fn take_steer_settings(&mut self) -> Option<SteerSettings> {
+        self.steer_settings.take()
+    }
+
+    fn set_mode(&mut self, mode: Mode) {
+        if mode != self.status.mode {
+            self.status.mode = mode;
+            self.mode_since_s = self.status.t_s;
+        }
+    }
+
+    /// Leaving Halt: the robot stands, so the regulators start from rest and the
+    /// references from where the robot is. Between Joystick and Autonomous nothing is
+    /// reset: the references ramp on from their present values (bumpless transfer).
+    fn start_driving(&mut self) {
+        self.left.reset();
+        self.right.reset();
+        self.steering.reset();
+        self.status.speed_ref_mps = 0.0;
+        self.status.wheel_angle_ref_rad = self.status.measured.wheel_angle_rad;
+    }
+
+    fn enter_fault(&mut self, cause: FaultCause) {
+        let record = FaultRecord {
+            cause,
+            t_s: self.status.t_s,
+            tick_seen: self.status.tick,
+            tick_safe: self.status.tick,
+        };
+        if self.fault_log.len() < LOG_CAPACITY {
+            self.fault_log.push(record);
+        }
+        self.status.fault = Some(record);
+        self.status.power = PowerState::Off;
+        self.set_mode(Mode::Fault);
+    }
+
+    /// The hardware (`card`, by name) could not be read or written: fault now, safe
+    /// outputs.
+    pub fn hardware_failed(&mut self, now_s: f64, card: &'static str) -> Outputs {
+        self.status.t_s = now_s;
+        self.status.tick += 1;
+        if self.status.mode != Mode::Fault {
+            self.enter_fault(FaultCause::Hardware { card });
+        }
+        self.status.outputs = Outputs::SAFE;
+        Outputs::SAFE
+    }
+
+    /// One supervisor tick at `now_s`: inputs in, outputs out.
+    pub fn tick(
+        &mut self,
+        now_s: f64,
+        inputs: &Inputs,
+        steer: &SteerCommand,
+        link: &LinkStatus,
+        health: &ThreadHealth,
+    ) -> Outputs {
+        let gap_s = if self.status.tick == 0 {
+            self.period_s
+        } else {
+            now_s - self.status.t_s
+        };
+        self.status.t_s = now_s;
+        self.status.tick += 1;
+        self.status.inputs = *inputs;
+        if inputs.joystick_enable {
+            self.deadman_held_s = now_s;
+        }
+        self.status.standing_cause = self.checks.standing_cause(inputs);
+        // Speeds are counts over the true interval.
+        let measured = self.measure.update(inputs, gap_s);
+        self.status.measured = measured;
+
+        if self.status.mode == Mode::Test {
+            self.status.power = test_mode::power_after_panel(
+                self.test_outputs.main_power_on,
+                self.status.power,
+                now_s,
+            );
+        }
+        if let PowerState::Closing { .. } = self.status.power
+            && inputs.motor_power_present
+        {
+            self.status.power = PowerState::On;
+        }
+
+        // A finished end-switch procedure and the row's end first: a robot that stops
+        // in Halt there is not checked for a row the camera no longer sees.
+        self.follow_endswitch_procedure(steer, now_s);
+        if let Some(driven_m) = self.row_end.update(self.status.mode, measured.distance_m) {
+            self.say(Notice::RowEnded {
+                driven_m,
+                t_s: now_s,
+            });
+            self.set_mode(Mode::Halt);
+        }
+        self.say_steering(steer, now_s);
+        let driving = self.status.mode.drives();
+        self.endswitch
+            .latch(&mut self.status.endswitch_hit, driving, inputs, now_s);
+        let last = self.status.outputs;
+        let expected_mps = match self.status.mode {
+            Mode::Test => test_mode::expected_mps(&last, &self.left.gains, &self.right.gains),
+            _ => [self.status.v_left_ref_mps, self.status.v_right_ref_mps],
+        };
+        let context = CheckContext {
+            now_s,
+            tick_gap_s: gap_s,
+            mode: self.status.mode,
+            mode_since_s: self.mode_since_s,
+            power: self.status.power,
+            inputs,
+            measured: &measured,
+            driven_v: [last.amp_left_v, last.amp_right_v, last.amp_steer_v],
+            relay_closed: last.main_power_on,
+            expected_mps,
+            counts_moved: self.measure.counts_moved,
+            endswitch_hit: self.endswitch.hit(self.status.endswitch_hit),
+            steer,
+            link,
+            health,
+        };
+        if let Some(cause) = self.checks.check(&context)
+            && self.status.mode != Mode::Fault
+        {
+            self.enter_fault(cause);
+        }
+
+        let outputs = match self.status.mode {
+            Mode::Fault => Outputs::SAFE,
+            Mode::Halt => self.standing_outputs(),
+            Mode::Test => guard_steering(test_mode::limit_amplifiers(self.test_outputs), inputs),
+            Mode::Joystick | Mode::Autonomous => self.drive(now_s, steer, inputs, gap_s),
+        };
+        if !self.status.mode.drives() {
+            // Standing: no speed is asked of either wheel, and the steering holds.
+            self.status.speed_ref_mps = 0.0;
+            self.status.v_left_ref_mps = 0.0;
+            self.status.v_right_ref_mps = 0.0;
+            self.status.wheel_angle_ref_rad = measured.wheel_angle_rad;
+        }
+        self.status.outputs = outputs;
+        outputs
+    }
+
+    /// The steer thread finished an end-switch procedure: stop in Halt and say so.
+    fn follow_endswitch_procedure(&mut self, steer: &SteerCommand, now_s: f64) {
+        let finished = self
+            .endswitch
+            .finished(&mut self.status.endswitch_hit, steer);
+        if self.status.mode.drives()
+            && let Some(side) = finished
+        {
+            self.say(Notice::EndSwitchRecovered { side, t_s: now_s });
+            self.set_mode(Mode::Halt);
+        }
+    }
+
+    /// Publish a notice for the operator and keep it for the report.
+    /// Each change of the sensors that steer, while autonomous by GNSS or the fused row,
+    /// is a notice (the console's line, the GUI's, the record's event).
+    fn say_steering(&mut self, steer: &SteerCommand, now_s: f64) {
+        let autonomous = self.status.mode == Mode::Autonomous && steer.mode == Mode::Autonomous;
+        if !autonomous || self.settings.sources.source == SteerSource::Camera {
+            self.steering_said = None;
+            return;
+        }
+        let steering = steer.sources.steering;
+        if self.steering_said != Some(steering) {
+            self.steering_said = Some(steering);
+            self.say(Notice::Steering {
+                steering,
+                why: steer.sources.why,
+                t_s: now_s,
+            });
+        }
+    }
+
+    fn say(&mut self, notice: Notice) {
+        self.status.notice = Some(notice);
+        if self.notice_log.len() < LOG_CAPACITY {
+            self.notice_log.push(notice);
+        }
+    }
+
+    fn standing_outputs(&self) -> Outputs {
+        Outputs {
+            main_power_on: self.status.power != PowerState::Off,
+            ..Outputs::SAFE
+        }
+    }
+
+    /// Joystick and Autonomous: references from the steer thread, ramped; the
+    /// regulators turn them into amplifier voltages.
+    fn drive(&mut self, now_s: f64, steer: &SteerCommand, inputs: &Inputs, gap_s: f64) -> Outputs {
+        if self.status.mode == Mode::Joystick && !inputs.joystick_enable {
+            // The dead-man let go: stop as HALT does, brakes on at once. A person who
+            // lets go may have fallen; the spring brakes stop the robot in the shortest
+            // distance, where a ramp would roll on for up to a metre. Pressed again, the
+            // robot starts from rest.
+            self.start_driving();
+            self.status.v_left_ref_mps = 0.0;
+            self.status.v_right_ref_mps = 0.0;
+            return self.standing_outputs();
+        }
+        // Ramps and integrators take at most two periods at once: after a stall (itself
+        // a fault) none of them jumps by the whole gap.
+        let dt_s = gap_s.min(MAX_STEP_PERIODS * self.period_s);
+        let s = &self.settings;
+        let m = self.status.measured;
+        let end_switch = inputs.end_switch_left
+            || inputs.end_switch_right
+            || self.status.endswitch_hit.is_some();
+        // A command the steer thread made for another mode, or one it stopped renewing,
+        // asks for nothing: stand, and hold the wheel where its reference is.
+        let steer_age_s = now_s - steer.t_s;
+        let fresh = steer.mode == self.status.mode
+            && steer_age_s <= STEER_MAX_AGE_PERIODS / s.steer.rate_hz;
+        let max_speed_mps = s.supervisor.max_speed_mps;
+        let target_speed_mps = if end_switch || !fresh {
+            0.0
+        } else {
+            steer.speed_mps.clamp(-max_speed_mps, max_speed_mps)
+        };
+        // One limit in every mode; the end-switch procedure's angle lies within it
+        // (check-config refuses one that does not).
+        let max_angle_rad = s.robot.max_wheel_angle_deg.to_radians();
+        let target_angle_rad = if fresh {
+            steer.wheel_angle_rad.clamp(-max_angle_rad, max_angle_rad)
+        } else {
+            self.status.wheel_angle_ref_rad
+        };
+
+        let st = &mut self.status;
+        st.speed_ref_mps = ramp(
+            st.speed_ref_mps,
+            target_speed_mps,
+            s.supervisor.accel_mps2 * dt_s,
+        );
+        st.wheel_angle_ref_rad = ramp(
+            st.wheel_angle_ref_rad,
+            target_angle_rad,
+            s.supervisor.wheel_angle_rate_dps.to_radians() * dt_s,
+        );
+        // Ackermann: on a turn the inner rear wheel runs slower than the outer one.
+        let half_track_curvature =
+            0.5 * s.robot.track_m * m.wheel_angle_rad.tan() / s.robot.wheelbase_m;
+        st.v_left_ref_mps = st.speed_ref_mps * (1.0 - half_track_curvature);
+        st.v_right_ref_mps = st.speed_ref_mps * (1.0 + half_track_curvature);
+
+        let outputs = Outputs {
+            amp_left_v: self.left.update(st.v_left_ref_mps, m.v_left_mps, dt_s),
+            amp_right_v: self.right.update(st.v_right_ref_mps, m.v_right_mps, dt_s),
+            // A derivative is a rate: over the true interval, not the capped one.
+            amp_steer_v: self
+                .steering
+                .update(st.wheel_angle_ref_rad, m.wheel_angle_rad, gap_s),
+            main_power_on: true,
+            brake_release_left: true,
+            brake_release_right: true,
+            tool_on: st.mode == Mode::Autonomous && st.speed_ref_mps > TOOL_MIN_SPEED_MPS,
+        };
+        guard_steering(outputs, inputs)
+    }
+}
+
+/// The weeding tool runs only while the robot moves along the row, m/s.
+const TOOL_MIN_SPEED_MPS: f64 = 0.05;
+
+/// The longest interval ramps and integrators take in one tick, in supervisor periods.
+const MAX_STEP_PERIODS: f64 = 2.0;
+
+/// A steer command older than this many steer periods is stale: target speed 0.
+const STEER_MAX_AGE_PERIODS: f64 = 2.0;

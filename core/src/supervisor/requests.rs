@@ -1,0 +1,97 @@
+//! How the supervisor answers the requests of other threads (the GUI, the operator
+//! script, the command line): the same refusal rules the GUI greys its buttons with
+//! (modes.rs), then the change, all between two ticks.
+
+use crate::state::modes::{Gains, Mode, Refusal, Request};
+use crate::state::status::PowerState;
+
+use super::rules::{mode_refusal, power_up_refusal, remote_refusal};
+
+use super::Supervisor;
+use super::test_mode;
+
+impl Supervisor {
+    /// Act on a request; `from_bus`: it came from another program over the bus, and a
+    /// person at the robot comes first. The answer says why not, if not.
+    pub fn handle_from(&mut self, request: Request, from_bus: bool) -> Result<(), Refusal> {
+        if from_bus
+            && let Some(refusal) = remote_refusal(&request, &self.status, self.deadman_held_s)
+        {
+            return Err(refusal);
+        }
+        self.handle(request)
+    }
+
+    /// Act on a request from another thread; the answer says why not, if not.
+    pub fn handle(&mut self, request: Request) -> Result<(), Refusal> {
+        let st = &self.status;
+        if st.tick == 0 {
+            return Err(Refusal::NotStarted);
+        }
+        match request {
+            Request::PowerUp => {
+                if let Some(refusal) = power_up_refusal(st) {
+                    return Err(refusal);
+                }
+                if st.mode == Mode::Fault {
+                    // After any fault the steering encoder's zero may be what went wrong
+                    // (a slipped coupling, a potentiometer that read wrong): take it
+                    // again from the potentiometer, with the robot standing.
+                    self.measure.recalibrate();
+                    self.set_mode(Mode::Halt);
+                    self.status.fault = None;
+                }
+                self.status.power = PowerState::Closing {
+                    since_s: self.status.t_s,
+                };
+                Ok(())
+            }
+            Request::Mode(mode) => {
+                if let Some(refusal) = mode_refusal(mode, st) {
+                    return Err(refusal);
+                }
+                match mode {
+                    Mode::Test => self.test_outputs = test_mode::first_outputs(st.power),
+                    // Leaving Test restores the safe outputs, contactor open: whatever
+                    // the panel switched stays behind on the bench, not in Halt.
+                    Mode::Halt if st.mode == Mode::Test => self.status.power = PowerState::Off,
+                    Mode::Joystick | Mode::Autonomous if st.mode == Mode::Halt => {
+                        self.start_driving()
+                    }
+                    _ => {}
+                }
+                self.set_mode(mode);
+                Ok(())
+            }
+            Request::Gains(gains) => {
+                if st.mode != Mode::Halt {
+                    return Err(Refusal::OnlyInHalt);
+                }
+                self.set_gains(&gains);
+                Ok(())
+            }
+            Request::Tuning(gains, steer_law) => {
+                if st.mode != Mode::Halt {
+                    return Err(Refusal::OnlyInHalt);
+                }
+                self.set_gains(&gains);
+                self.steer_settings = Some(steer_law);
+                self.steer_in_force = steer_law;
+                Ok(())
+            }
+            Request::TestOutputs(outputs) => {
+                if st.mode != Mode::Test {
+                    return Err(Refusal::NotInTest);
+                }
+                self.test_outputs = outputs;
+                Ok(())
+            }
+        }
+    }
+
+    fn set_gains(&mut self, gains: &Gains) {
+        self.left.gains = gains.left;
+        self.right.gains = gains.right;
+        self.steering.gains = gains.steer;
+    }
+}

@@ -1,0 +1,194 @@
+//! What the supervisor does with the driving commands it is given, through the real
+//! supervisor on the simulated robot: the dead-man checked every tick, a broken
+//! joystick axis, stale steer commands, and one wheel-angle limit in every mode.
+
+use crate::common;
+
+use common::{autonomous, record, settings_with};
+use mechweed_core::rt::health::ThreadHealth;
+use mechweed_core::state::fault_cause::{FaultCause, JoystickAxis};
+use mechweed_core::state::modes::Mode;
+use mechweed_core::steer::SteerCommand;
+use mechweed_core::threads::lockstep::Lockstep;
+use mechweed_hw::Outputs;
+
+/// Joystick mode, powered and calibrated, driving forward at full deflection.
+fn joystick_driving() -> Lockstep {
+    let s = settings_with("", &[]);
+    let mut sim = Lockstep::new(&s, Mode::Joystick);
+    record(&mut sim, 1.0);
+    assert_eq!(sim.supervisor.mode(), Mode::Joystick);
+    sim.robot.set_joystick(0.0, 4.0, true);
+    record(&mut sim, 3.0);
+    assert!(sim.robot.truth().speed_mps > 0.5, "not driving");
+    sim
+}
+
+#[test]
+fn releasing_the_dead_man_brakes_in_the_very_next_tick() {
+    let mut sim = joystick_driving();
+    sim.robot.set_joystick(0.0, 4.0, false);
+    let outputs = sim.tick();
+    // Not at the steer thread's next 10 Hz tick, and not a ramp with brakes released.
+    assert_eq!(
+        outputs,
+        Outputs {
+            main_power_on: true,
+            ..Outputs::SAFE
+        }
+    );
+    record(&mut sim, 2.0);
+    assert!(sim.robot.truth().speed_mps.abs() < 0.01, "still rolling");
+    assert_eq!(sim.supervisor.mode(), Mode::Joystick, "no fault, no halt");
+    // Pressed again: it starts from rest, the speed ramping up.
+    sim.robot.set_joystick(0.0, 4.0, true);
+    record(&mut sim, 0.3);
+    let speed_ref = sim.supervisor.status().speed_ref_mps;
+    assert!(
+        speed_ref > 0.0 && speed_ref < 0.3,
+        "speed reference {speed_ref}"
+    );
+}
+
+#[test]
+fn a_joystick_axis_beyond_full_scale_is_a_fault_not_full_speed() {
+    let mut sim = joystick_driving();
+    // A broken wiper reads the supply.
+    sim.robot.set_joystick(0.0, 4.95, true);
+    let ticks = record(&mut sim, 0.2);
+    let log = &sim.supervisor.faults();
+    assert_eq!(log.len(), 1, "{log:?}");
+    assert_eq!(
+        log[0].cause,
+        FaultCause::JoystickAxis {
+            axis: JoystickAxis::Speed,
+            volts: 4.95
+        }
+    );
+    assert!(ticks.iter().all(|t| t.outputs == Outputs::SAFE));
+}
+
+/// Supervisor ticks from `t0_s` on with a steer command the steer thread no longer
+/// renews; returns the speed reference after `seconds`.
+fn tick_with_frozen_command(
+    sim: &mut Lockstep,
+    t0_s: f64,
+    command: &SteerCommand,
+    seconds: f64,
+) -> f64 {
+    let ticks = (seconds * 100.0).round() as usize;
+    for k in 1..=ticks {
+        let now = t0_s + k as f64 * 0.01;
+        sim.robot.advance_to(now);
+        let outputs = sim.supervisor.tick(
+            now,
+            &sim.robot.inputs(),
+            command,
+            sim.link.status(),
+            &ThreadHealth::default(),
+        );
+        sim.robot.set_outputs(&outputs);
+    }
+    sim.supervisor.status().speed_ref_mps
+}
+
+#[test]
+fn a_steer_command_older_than_two_steer_periods_asks_for_no_speed() {
+    let s = settings_with("", &[]);
+    let mut sim = autonomous(&s);
+    record(&mut sim, 4.0);
+    let driving = sim.supervisor.status().speed_ref_mps;
+    assert!(driving > 0.4, "speed reference {driving}");
+    let frozen = sim.steer_command;
+    // Past two steer periods, within the camera's time-out (no fault yet).
+    let t0_s = sim.now_s();
+    let speed_ref = tick_with_frozen_command(&mut sim, t0_s, &frozen, 0.35);
+    assert!(
+        sim.supervisor.faults().is_empty(),
+        "{:?}",
+        sim.supervisor.faults()
+    );
+    assert!(
+        speed_ref < driving - 0.04,
+        "still asking {speed_ref} m/s of a command 0.35 s old"
+    );
+}
+
+#[test]
+fn a_steer_command_made_for_another_mode_asks_for_no_speed() {
+    let s = settings_with("", &[]);
+    let mut sim = autonomous(&s);
+    record(&mut sim, 4.0);
+    let driving = sim.supervisor.status().speed_ref_mps;
+    // A joystick command, fresh, arriving while the supervisor is autonomous.
+    let mut t = sim.now_s();
+    let mut speed_ref = driving;
+    for _ in 0..20 {
+        let command = SteerCommand {
+            t_s: t,
+            mode: Mode::Joystick,
+            speed_mps: 1.0,
+            ..sim.steer_command
+        };
+        speed_ref = tick_with_frozen_command(&mut sim, t, &command, 0.01);
+        t += 0.01;
+    }
+    assert!(
+        speed_ref < driving - 0.05,
+        "took a joystick command in autonomous: {speed_ref} m/s"
+    );
+}
+
+#[test]
+fn the_end_switch_procedure_angle_does_not_widen_the_wheel_angle_limit() {
+    // A procedure angle past the robot's limit (check-config refuses one; the
+    // supervisor must not trust that), and a joystick that asks for as much.
+    let mut s = settings_with("", &[]);
+    s.steer.endswitch_back_deg = 40.0;
+    s.joystick.max_angle_deg = 40.0;
+    let limit_deg = s.robot.max_wheel_angle_deg;
+    let mut sim = Lockstep::new(&s, Mode::Joystick);
+    record(&mut sim, 1.0);
+    sim.robot.set_joystick(-4.0, 1.0, true);
+    let mut widest_ref_deg: f64 = 0.0;
+    for _ in 0..300 {
+        sim.tick();
+        let st = sim.supervisor.status();
+        widest_ref_deg = widest_ref_deg.max(st.wheel_angle_ref_rad.to_degrees().abs());
+    }
+    assert!(
+        widest_ref_deg <= limit_deg + 1e-9,
+        "wheel angle reference {widest_ref_deg} deg, limit {limit_deg} deg"
+    );
+    assert!(widest_ref_deg > limit_deg - 0.5, "never reached the limit");
+    assert!(sim.supervisor.status().endswitch_hit.is_none());
+}
+
+#[test]
+fn the_end_switch_procedure_steers_back_within_the_wheel_angle_limit() {
+    // A procedure angle past the robot's limit: the procedure keeps inside the limit,
+    // and still finishes.
+    let mut s = settings_with("3 endswitch left", &[]);
+    s.steer.endswitch_back_deg = 40.0;
+    let limit_deg = s.robot.max_wheel_angle_deg;
+    let mut sim = autonomous(&s);
+    let mut widest_ref_deg: f64 = 0.0;
+    for _ in 0..800 {
+        sim.tick();
+        // While driving: standing, the reference follows the wheel wherever it is.
+        let st = sim.supervisor.status();
+        if st.mode.drives() {
+            widest_ref_deg = widest_ref_deg.max(st.wheel_angle_ref_rad.to_degrees().abs());
+        }
+    }
+    assert!(
+        widest_ref_deg <= limit_deg + 1e-9,
+        "wheel angle reference {widest_ref_deg} deg, limit {limit_deg} deg"
+    );
+    assert!(
+        sim.supervisor.faults().is_empty(),
+        "{:?}",
+        sim.supervisor.faults()
+    );
+    assert_eq!(sim.supervisor.notices().len(), 1, "the procedure finished");
+}

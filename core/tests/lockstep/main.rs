@@ -1,0 +1,19 @@
+//! The core's tests that need no thread: the controller in lockstep with the simulated
+//! robot (simulated time, the same tick functions as a run), the settings, the
+//! decoders' properties and the benchmark's figures. `cargo test -p mechweed-core`
+//! runs them with the core's own unit tests, without building the bus or the GUI.
+
+mod common;
+
+mod cards_closed_loop;
+mod config_errors;
+mod decoder_props;
+mod drive_guards;
+mod faults;
+mod gnss_safety;
+mod gnss_steering;
+mod no_alloc;
+mod power;
+mod records;
+mod regulators;
+mod row_following;

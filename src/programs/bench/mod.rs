@@ -1,0 +1,28 @@
+//! `mechweed bench ...`: the benchmarks, one file each. `loop` (control_loop.rs) times
+//! the real threads; `rows` (rows.rs) scores row following in simulated time, with the
+//! bound no filter and law can beat (bound.rs) and the filter's own floor (floor.rs);
+//! halt.rs measures the time from a key press to the supervisor's HALT.
+
+pub mod control_loop;
+pub mod halt;
+pub mod rows;
+
+use std::process::ExitCode;
+
+use clap::Subcommand;
+
+#[derive(Subcommand)]
+pub enum BenchCommand {
+    /// The real threads on the simulated robot: loop lateness and execution time.
+    Loop(control_loop::LoopArgs),
+    /// The row-following benchmark: 3 rows x 3 speeds, in simulated time.
+    Rows(rows::RowsArgs),
+}
+
+/// Runs the benchmark asked for.
+pub fn bench(command: BenchCommand) -> ExitCode {
+    match command {
+        BenchCommand::Loop(args) => control_loop::program(args),
+        BenchCommand::Rows(args) => rows::program(args),
+    }
+}

@@ -1,0 +1,155 @@
+//! The programs of `mechweed`, one file (or folder) each, with its options (clap)
+//! beside its code: `run`, `check-config`, `bench ...`, `camsim`, `teach`, `gnsssim`,
+//! `probe`, `record ...`, `replay`, `bus ...`, `cluster ...`, `watch` and `keys ...`.
+//! Here: the command line as a whole, and the few steps every program shares (its
+//! settings, its errors, its last line). src/main.rs only picks the program.
+
+pub mod bench;
+pub mod bus;
+pub mod camsim;
+pub mod check_config;
+pub mod cluster;
+pub mod gnsssim;
+pub mod keys;
+pub mod probe;
+pub mod record;
+pub mod replay;
+pub mod run;
+pub mod teach;
+pub mod watch;
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+use crate::config::{ConfigError, DEFAULT_INI, Settings};
+
+#[derive(Parser)]
+#[command(
+    name = "mechweed",
+    version,
+    about = "Control program for the weeding robot. Runs on the simulated robot unless config/robot.ini [hw] says otherwise.",
+    after_help = "Without a command, mechweed runs as `mechweed run` and takes its options (e.g. `mechweed --headless`): the operator GUI on the simulated robot.",
+    // `mechweed --headless` is `mechweed run --headless`; the run's options mean nothing
+    // before another command.
+    args_conflicts_with_subcommands = true
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+    /// The options of `run`, for `mechweed` without a command.
+    #[command(flatten)]
+    pub run: run::RunArgs,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// Run the controller on real threads and real time.
+    Run(run::RunArgs),
+    /// Check a settings file: prints "ok", or every error found (exit 1).
+    CheckConfig(check_config::CheckConfigArgs),
+    /// Benchmarks on the simulated robot.
+    #[command(subcommand)]
+    Bench(bench::BenchCommand),
+    /// A stand-alone simulated camera computer, for bench tests of a link.
+    Camsim(camsim::CamsimArgs),
+    /// Teach a row for the row map: drive it in joystick mode with the weeding tool on the
+    /// row (or give a record of such a drive); the tool's path goes into the map file.
+    Teach(teach::TeachArgs),
+    /// A stand-alone simulated RTK GNSS receiver (NMEA on a serial device or TCP), for
+    /// bench tests of the GNSS link.
+    Gnsssim(gnsssim::GnssSimArgs),
+    /// List the gamepads; find the I/O cards and read every input once (writes nothing
+    /// but safe outputs).
+    Probe(probe::ProbeArgs),
+    /// Run records (CSV or MCAP) left by `mechweed run`, and the off-board recorder
+    /// (`record --bus`).
+    Record(record::RecordArgs),
+    /// Feed a record's inputs through the supervisor again: the same outputs, or with
+    /// --set a what-if on the same inputs.
+    Replay(replay::ReplayArgs),
+    /// The robot's data flows on the bus, from this or another computer.
+    Bus(bus::BusArgs),
+    /// The virtual cluster: one graph file starts the programs of several machines.
+    #[command(subcommand)]
+    Cluster(cluster::ClusterCommand),
+    /// The operator GUI on another computer, fed by the robot's flows on the bus.
+    Watch(watch::WatchArgs),
+    /// The cluster's certificates: who may do what on the bus and the cluster.
+    #[command(subcommand)]
+    Keys(keys::KeysCommand),
+}
+
+pub fn print_errors(errors: &[ConfigError]) {
+    errors.iter().for_each(|e| eprintln!("{e}"));
+}
+
+/// The settings file: the one named, else config/robot.ini here, else the built-in copy.
+pub fn load_settings(
+    file: Option<&Path>,
+    overrides: &[String],
+) -> Result<Settings, Vec<ConfigError>> {
+    match settings_file(file) {
+        Some(path) => Settings::load(&path, overrides),
+        None => {
+            eprintln!("no config/robot.ini here: using the built-in settings");
+            Settings::parse("built-in robot.ini", DEFAULT_INI, overrides)
+        }
+    }
+}
+
+/// Which file the settings come from (None: the built-in copy).
+pub fn settings_file(file: Option<&Path>) -> Option<PathBuf> {
+    let default = Path::new("config/robot.ini");
+    match file {
+        Some(path) => Some(path.to_path_buf()),
+        None if default.exists() => Some(default.to_path_buf()),
+        None => None,
+    }
+}
+
+/// A command's closing line (none if empty), or why it failed.
+pub fn said(result: Result<String, String>) -> ExitCode {
+    match result {
+        Ok(line) => {
+            if !line.is_empty() {
+                crate::say!("{line}");
+            }
+            ExitCode::SUCCESS
+        }
+        Err(why) => {
+            eprintln!("{why}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// A command that prints nothing more when it works: its exit code, or why it failed.
+pub fn done(result: Result<(), String>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(why) => {
+            eprintln!("{why}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+pub fn write_json(path: Option<PathBuf>, value: &impl serde::Serialize) -> ExitCode {
+    if let Some(path) = path {
+        let text = serde_json::to_string_pretty(value).expect("plain data");
+        if let Err(e) = std::fs::write(&path, text) {
+            eprintln!("cannot write {}: {e}", path.display());
+            return ExitCode::FAILURE;
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+pub fn parse_metres(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(m) if m.is_finite() && m >= 0.0 => Ok(m),
+        _ => Err(format!("'{text}' is not a distance in m (0 or more)")),
+    }
+}

@@ -1,0 +1,158 @@
+//! `mechweed record ...`: a record's summary, and the off-board recorder.
+
+use std::process::ExitCode;
+
+use std::path::PathBuf;
+
+use clap::Subcommand;
+
+use crate::console::ctrl_c;
+use crate::programs::{load_settings, parse_metres, print_errors};
+
+#[derive(clap::Args)]
+#[command(args_conflicts_with_subcommands = true)]
+pub struct RecordArgs {
+    #[command(subcommand)]
+    pub command: Option<RecordCommand>,
+    /// Record the robot's flows on the bus, on this computer: the same CSV and MCAP
+    /// files as a run record, into [record] folder, until Ctrl-C.
+    #[arg(long)]
+    pub bus: bool,
+    /// Where the robot program listens ([bus] listen on the robot).
+    #[arg(long, value_name = "ENDPOINT", default_value = crate::programs::bus::tools::DEFAULT_ENDPOINT, requires = "bus")]
+    pub connect: String,
+    /// The robot's name on the bus ([bus] robot on the robot).
+    #[arg(
+        long,
+        value_name = "NAME",
+        default_value = "mechweed",
+        requires = "bus"
+    )]
+    pub robot: String,
+    /// Stop after this many seconds.
+    #[arg(long, value_name = "SECONDS", value_parser = crate::config::parse_seconds, requires = "bus")]
+    pub seconds: Option<f64>,
+    /// Settings file (its [record] folder and formats) [default: config/robot.ini, or the built-in copy]
+    #[arg(long, value_name = "FILE", requires = "bus")]
+    pub config: Option<PathBuf>,
+    /// Override one setting, e.g. --set record.folder=field-records (repeatable).
+    #[arg(long = "set", value_name = "SECTION.KEY=VALUE", requires = "bus")]
+    pub set: Vec<String>,
+    /// With --bus: this program's identity on a secured bus (--keys DIR --as recorder).
+    #[command(flatten)]
+    pub identity: crate::programs::keys::IdentityArgs,
+}
+
+#[derive(Subcommand)]
+pub enum RecordCommand {
+    /// Print a record's duration, distance, modes, faults and cross-track figures.
+    Summary {
+        /// The record: NAME.csv (with NAME.events.csv beside it) or NAME.mcap, or
+        /// `latest` for the newest record in the settings' [record] folder.
+        file: PathBuf,
+        /// Settings file, for `latest` [default: config/robot.ini, or the built-in copy]
+        #[arg(long, value_name = "FILE")]
+        config: Option<PathBuf>,
+        /// Override one setting, e.g. --set record.folder=old-records (repeatable).
+        #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
+        set: Vec<String>,
+        /// Cross-track figures from this distance on, m (the run report's 5 m; 0 for
+        /// short runs).
+        #[arg(long, value_name = "METRES", default_value_t = 5.0, value_parser = parse_metres)]
+        from_m: f64,
+    },
+}
+
+pub fn record(args: RecordArgs) -> ExitCode {
+    match (args.bus, args.command) {
+        (false, Some(command)) => summary(command),
+        (true, _) => from_bus(
+            args.connect,
+            args.robot,
+            args.seconds,
+            args.config,
+            &args.set,
+            args.identity.files(),
+        ),
+        (false, None) => {
+            eprintln!(
+                "say what to do with records: `mechweed record summary FILE`, or `mechweed record --bus` to record the robot's flows here"
+            );
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn from_bus(
+    connect: String,
+    robot: String,
+    seconds: Option<f64>,
+    config: Option<std::path::PathBuf>,
+    set: &[String],
+    tls: Option<crate::config::TlsFiles>,
+) -> ExitCode {
+    let settings = match load_settings(config.as_deref(), set) {
+        Ok(settings) => settings,
+        Err(errors) => {
+            print_errors(&errors);
+            return ExitCode::FAILURE;
+        }
+    };
+    let opts = crate::programs::bus::record::Options {
+        connect,
+        robot,
+        seconds,
+        record: settings.record,
+        tls,
+    };
+    match crate::programs::bus::record::record(&opts, &ctrl_c()) {
+        Ok(summary) => {
+            println!("{summary}");
+            ExitCode::SUCCESS
+        }
+        Err(why) => {
+            eprintln!("{why}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn summary(command: RecordCommand) -> ExitCode {
+    let RecordCommand::Summary {
+        file,
+        from_m,
+        config,
+        set,
+    } = command;
+    let file = if file.as_os_str() == "latest" {
+        let settings = match load_settings(config.as_deref(), &set) {
+            Ok(settings) => settings,
+            Err(errors) => {
+                print_errors(&errors);
+                return ExitCode::FAILURE;
+            }
+        };
+        match crate::record::keep::latest(&settings.record.folder) {
+            Ok(newest) => {
+                println!("the newest record: {}", newest.display());
+                newest
+            }
+            Err(why) => {
+                eprintln!("{why}");
+                return ExitCode::FAILURE;
+            }
+        }
+    } else {
+        file
+    };
+    match crate::record::summary::summarise(&file, from_m) {
+        Ok(summary) => {
+            print!("{}", summary.text());
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("{e}");
+            ExitCode::FAILURE
+        }
+    }
+}
