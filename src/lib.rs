@@ -18,7 +18,7 @@
 //! `mechweed_core::config` are one module.
 
 pub mod bus;
-pub mod cluster;
+mod cluster;
 pub mod console;
 pub mod gamepad;
 pub mod gui;

@@ -11,9 +11,9 @@ pub const SYNC: u8 = 0xA5;
 /// Every frame is this long, CRC included.
 pub const FRAME_LEN: usize = 10;
 /// Frame kind: a row estimate.
-pub const KIND_ROW: u8 = 0x01;
+pub(crate) const KIND_ROW: u8 = 0x01;
 /// Frame kind: the answer to PING.
-pub const KIND_PONG: u8 = 0x02;
+pub(crate) const KIND_PONG: u8 = 0x02;
 /// Command: begin sending ROW frames.
 pub const CMD_START: u8 = 0x10;
 /// Command: stop sending ROW frames.
@@ -30,7 +30,7 @@ pub const MAX_ANGLE_RAD: f64 = 0.8;
 pub const MAX_OFFSET_M: f64 = 0.5;
 
 /// CRC-16/CCITT-FALSE: poly 0x1021, init 0xFFFF, no reflection, no final xor.
-pub fn crc16(bytes: &[u8]) -> u16 {
+pub(crate) fn crc16(bytes: &[u8]) -> u16 {
     let mut crc: u16 = 0xFFFF;
     for &byte in bytes {
         crc ^= (byte as u16) << 8;

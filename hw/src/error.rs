@@ -54,7 +54,7 @@ impl HwError {
     }
 
     /// The reason the system gave, if a read or write itself failed.
-    pub fn io_kind(&self) -> Option<ErrorKind> {
+    pub(crate) fn io_kind(&self) -> Option<ErrorKind> {
         match self {
             HwError::CardNotAnswering {
                 fault: CardFault::ReadFailed(kind) | CardFault::WriteFailed(kind),

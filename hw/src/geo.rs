@@ -9,9 +9,9 @@
 //! Non-finite inputs give non-finite outputs; nothing here panics.
 
 /// WGS-84 semi-major axis, m (NIMA TR8350.2).
-pub const WGS84_A_M: f64 = 6_378_137.0;
+pub(crate) const WGS84_A_M: f64 = 6_378_137.0;
 /// WGS-84 flattening (NIMA TR8350.2).
-pub const WGS84_F: f64 = 1.0 / 298.257_223_563;
+pub(crate) const WGS84_F: f64 = 1.0 / 298.257_223_563;
 /// First eccentricity squared, 2f - f^2.
 const E2: f64 = WGS84_F * (2.0 - WGS84_F);
 /// Latitude iteration stops below this change, rad (about 6 nm on the ground).
@@ -30,7 +30,7 @@ pub struct Geodetic {
 
 /// Earth-centred, earth-fixed Cartesian coordinates.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Ecef {
+pub(crate) struct Ecef {
     pub x_m: f64,
     pub y_m: f64,
     pub z_m: f64,
@@ -49,7 +49,7 @@ fn prime_vertical_radius_m(sin_lat: f64) -> f64 {
     WGS84_A_M / (1.0 - E2 * sin_lat * sin_lat).sqrt()
 }
 
-pub fn geodetic_to_ecef(point: Geodetic) -> Ecef {
+pub(crate) fn geodetic_to_ecef(point: Geodetic) -> Ecef {
     let (sin_lat, cos_lat) = point.lat_deg.to_radians().sin_cos();
     let (sin_lon, cos_lon) = point.lon_deg.to_radians().sin_cos();
     let n_m = prime_vertical_radius_m(sin_lat);
@@ -63,7 +63,7 @@ pub fn geodetic_to_ecef(point: Geodetic) -> Ecef {
 /// The inverse, by fixed-point iteration on latitude. The height is taken along the
 /// normal in a form that stays exact at the poles, where the usual p / cos(lat) - N
 /// divides by nearly zero.
-pub fn ecef_to_geodetic(point: Ecef) -> Geodetic {
+pub(crate) fn ecef_to_geodetic(point: Ecef) -> Geodetic {
     let p_m = point.x_m.hypot(point.y_m);
     let lon_rad = point.y_m.atan2(point.x_m);
     let mut lat_rad = point.z_m.atan2(p_m * (1.0 - E2));

@@ -121,7 +121,7 @@ fn rules_of(role: Role, name: &str, robot: &str) -> Vec<Rule> {
 }
 
 /// Zenoh's `access_control` section for `roster`.
-pub fn access_control(roster: &Roster) -> Value {
+pub(crate) fn access_control(roster: &Roster) -> Value {
     let robot = &roster.robot;
     let mut rules = Vec::new();
     let mut subjects = Vec::new();

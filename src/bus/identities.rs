@@ -25,7 +25,7 @@ const MAX_SESSIONS: usize = 256;
 /// Link events waiting for the bus thread; more are lost (counted as not kept).
 const QUEUE_EVENTS: usize = 256;
 
-pub struct Identities {
+pub(crate) struct Identities {
     roster: Roster,
     /// Each name's Zenoh sessions seen so far (a reconnect is a new one).
     seen: BTreeMap<String, BTreeSet<String>>,
@@ -35,11 +35,11 @@ pub struct Identities {
 }
 
 /// A link came (true) or went, with its certificate's name and its session.
-pub type LinkChange = (bool, String, String);
+pub(crate) type LinkChange = (bool, String, String);
 
 /// Listen to the session's links coming and going (those there already too); the
 /// callback only hands each change on.
-pub fn watch_links(
+pub(crate) fn watch_links(
     session: &Session,
 ) -> zenoh::Result<(Receiver<LinkChange>, zenoh::session::LinkEventsListener<()>)> {
     let (tx, rx) = bounded(QUEUE_EVENTS);
@@ -120,7 +120,7 @@ impl Identities {
     }
 
     /// The identity linked with Zenoh session `session`, if one is.
-    pub fn name_of(&self, session: &str) -> Option<&str> {
+    pub(crate) fn name_of(&self, session: &str) -> Option<&str> {
         self.linked
             .keys()
             .find(|(_, s)| s == session)

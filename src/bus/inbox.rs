@@ -25,7 +25,7 @@ use crate::state::modes::{Mode, Request};
 /// other than HALT on ROBOT/request of a secured bus.
 const PLACES: [usize; 5] = [64, 4, 4, 8, 4];
 
-pub struct Inbox {
+pub(crate) struct Inbox {
     /// In the order they are served.
     queues: [Receiver<(Port, Query)>; 5],
     dropped: Arc<AtomicU64>,
@@ -34,7 +34,7 @@ pub struct Inbox {
 
 impl Inbox {
     /// Declare the robot's queryables on `session`.
-    pub fn declare(session: &Session, bus: &BusSettings) -> zenoh::Result<Inbox> {
+    pub(crate) fn declare(session: &Session, bus: &BusSettings) -> zenoh::Result<Inbox> {
         let (senders, queues): (Vec<Sender<(Port, Query)>>, Vec<_>) =
             PLACES.iter().map(|&n| bounded(n)).unzip();
         let dropped = Arc::new(AtomicU64::new(0));
@@ -111,7 +111,7 @@ fn is_halt(query: &Query) -> bool {
 
 /// Who asked `query`: the Zenoh session its attachment names (mechweed's tools name
 /// theirs), or "" for one that names none.
-pub fn requester(query: &Query) -> String {
+pub(crate) fn requester(query: &Query) -> String {
     query
         .attachment()
         .and_then(|a| String::from_utf8(a.to_bytes().into_owned()).ok())

@@ -69,7 +69,9 @@ pub struct BusFigures {
 /// The run's session: None when the bus is off, or when it could not start and the
 /// run does not need it (a warning says why). An error when `[bus] required = yes` or
 /// the camera's rows come from the bus.
-pub fn open_for_run(s: &crate::config::Settings) -> Result<Option<zenoh::Session>, BusError> {
+pub(crate) fn open_for_run(
+    s: &crate::config::Settings,
+) -> Result<Option<zenoh::Session>, BusError> {
     if !s.bus.enabled {
         return Ok(None);
     }
@@ -108,7 +110,7 @@ pub fn open_for_run(s: &crate::config::Settings) -> Result<Option<zenoh::Session
 }
 
 /// Whether the bus is secured, and by which authority, in words.
-pub fn security_line(bus: &crate::config::BusSettings) -> String {
+pub(crate) fn security_line(bus: &crate::config::BusSettings) -> String {
     match &bus.tls {
         Some(files) => format!(
             "secured: TLS, identities of the authority {}, rights from {}",

@@ -13,7 +13,7 @@ use crate::state::status::{PowerState, Status};
 use crate::steer::SteerCommand;
 
 /// `ROBOT/status`, about ten times a second.
-pub fn status_json(
+pub(crate) fn status_json(
     status: &Status,
     link: &LinkStatus,
     steer: &SteerCommand,
@@ -111,7 +111,7 @@ fn clip(text: &str) -> String {
 }
 
 /// `ROBOT/request`: `{"request": "halt" | "power_up" | "mode", "mode": "..."}`.
-pub fn parse_request(bytes: &[u8]) -> Result<Request, String> {
+pub(crate) fn parse_request(bytes: &[u8]) -> Result<Request, String> {
     let map = object(bytes, &["request", "mode"])?;
     let word = match map.get("request") {
         Some(Value::String(word)) => word.as_str(),
@@ -156,7 +156,7 @@ pub fn parse_request(bytes: &[u8]) -> Result<Request, String> {
 }
 
 /// `ROBOT/config/SECTION/KEY` set: `{"set": "VALUE"}` (a number may come as a number).
-pub fn parse_set(bytes: &[u8]) -> Result<String, String> {
+pub(crate) fn parse_set(bytes: &[u8]) -> Result<String, String> {
     let map = object(bytes, &["set"])?;
     match map.get("set") {
         Some(Value::String(text)) => Ok(text.clone()),
@@ -168,7 +168,7 @@ pub fn parse_set(bytes: &[u8]) -> Result<String, String> {
 
 /// `ROBOT/camera/row`: `{"seq", "angle_rad", "offset_m", "quality", "t_s"}` from a vision
 /// program; the ranges are the row camera's (beyond them no camera sees a row).
-pub fn parse_row(bytes: &[u8]) -> Result<(RowEstimate, Option<f64>), String> {
+pub(crate) fn parse_row(bytes: &[u8]) -> Result<(RowEstimate, Option<f64>), String> {
     let map = object(bytes, &["seq", "angle_rad", "offset_m", "quality", "t_s"])?;
     let number = |key: &str| match map.get(key) {
         Some(Value::Number(n)) => n
@@ -213,7 +213,7 @@ pub fn parse_row(bytes: &[u8]) -> Result<(RowEstimate, Option<f64>), String> {
 }
 
 /// A row estimate as a vision program publishes it (camsim --bus, tests).
-pub fn row_json(estimate: &RowEstimate, t_s: f64) -> Value {
+pub(crate) fn row_json(estimate: &RowEstimate, t_s: f64) -> Value {
     json!({
         "seq": estimate.seq,
         "angle_rad": estimate.angle_rad,

@@ -16,7 +16,7 @@ const QUEUE_CHANGES: usize = 256;
 /// (more are not counted).
 const MAX_PRESENT: usize = 64;
 
-pub struct Peers {
+pub(crate) struct Peers {
     present: BTreeSet<String>,
     /// (appeared, key) as zenoh's callback handed them on.
     changes: Receiver<(bool, String)>,

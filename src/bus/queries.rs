@@ -27,7 +27,7 @@ const START_ONLY: [(&str, &str); 2] = [("steer", "rate_hz"), ("steer", "endswitc
 
 /// Where a query came in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Port {
+pub(crate) enum Port {
     /// ROBOT/request: HALT for every identity that may stop the robot (and, on a bus
     /// that is not secured, every request, as before the keys were split).
     Halt,
@@ -42,7 +42,7 @@ pub enum Port {
 /// An answer: a JSON reply, or an error reply (bad input, or not allowed).
 pub type Answer = Result<Value, String>;
 
-pub struct Queries {
+pub(crate) struct Queries {
     settings: Settings,
     supervisor: SupervisorHandle,
     tuning: Reader<(Gains, SteerSettings)>,
@@ -87,7 +87,7 @@ impl Queries {
     }
 
     /// Refuse `query` at once without asking anyone (a flood's excess); counted.
-    pub fn refuse(query: &Query, why: &str, figures: &mut BusFigures) {
+    pub(crate) fn refuse(query: &Query, why: &str, figures: &mut BusFigures) {
         let _ = Self::reply(query, Self::refused(why.to_string()), figures);
     }
 
@@ -201,28 +201,8 @@ impl Queries {
             }));
         };
         let new_value = parse_set(payload)?;
-        if port == Port::Get && self.secured {
-            return Self::refused(format!(
-                "{name}: on a secured bus settings are changed on {}, which only an operator's identity may ask (rule: reading for every role, changing for operators)",
-                self.settings.bus.key(&format!("set/{section}/{key}"))
-            ));
-        }
-        if self.settings.bus.accept_requests == AcceptRequests::Halt {
-            return Self::refused(format!(
-                "the bus may not change settings here ([bus] accept_requests = halt): {name} stays {value}"
-            ));
-        }
-        if START_ONLY.contains(&(section, key)) {
-            return Self::refused(format!(
-                "{name} is read when the threads start: set it in {} or with --set and start again; it stays {value}",
-                source.label
-            ));
-        }
-        if !LIVE_SECTIONS.contains(&section) {
-            return Self::refused(format!(
-                "{name} is read when the program starts: set it in {} or with --set and start again (a running robot takes only [pid.left], [pid.right], [pid.steer] and [steer])",
-                source.label
-            ));
+        if let Some(refused) = self.refusal(&name, (section, key), &value, port) {
+            return refused;
         }
         let mut overrides = source.overrides.clone();
         overrides.push(format!("{section}.{key}={new_value}"));
@@ -251,6 +231,42 @@ impl Queries {
             }
             Err(reason) => Self::refused(reason),
         }
+    }
+
+    /// Why `[section] key` may not be set over the bus here, if it may not: a secured
+    /// bus's get port, a robot that takes no settings, a setting read only at start.
+    fn refusal(
+        &self,
+        name: &str,
+        (section, key): (&str, &str),
+        value: &str,
+        port: Port,
+    ) -> Option<Answer> {
+        let source = &self.settings.source;
+        if port == Port::Get && self.secured {
+            return Some(Self::refused(format!(
+                "{name}: on a secured bus settings are changed on {}, which only an operator's identity may ask (rule: reading for every role, changing for operators)",
+                self.settings.bus.key(&format!("set/{section}/{key}"))
+            )));
+        }
+        if self.settings.bus.accept_requests == AcceptRequests::Halt {
+            return Some(Self::refused(format!(
+                "the bus may not change settings here ([bus] accept_requests = halt): {name} stays {value}"
+            )));
+        }
+        if START_ONLY.contains(&(section, key)) {
+            return Some(Self::refused(format!(
+                "{name} is read when the threads start: set it in {} or with --set and start again; it stays {value}",
+                source.label
+            )));
+        }
+        if !LIVE_SECTIONS.contains(&section) {
+            return Some(Self::refused(format!(
+                "{name} is read when the program starts: set it in {} or with --set and start again (a running robot takes only [pid.left], [pid.right], [pid.steer] and [steer])",
+                source.label
+            )));
+        }
+        None
     }
 }
 
@@ -290,7 +306,7 @@ fn live_field<'a>(
 }
 
 /// The unit a setting's name ends with (the project names values with their units).
-pub fn unit_of(key: &str) -> &'static str {
+pub(crate) fn unit_of(key: &str) -> &'static str {
     const SUFFIXES: [(&str, &str); 12] = [
         ("_per_m2", "1/m^2"),
         ("_mps2", "m/s^2"),

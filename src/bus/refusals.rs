@@ -10,7 +10,7 @@ const SAY_EVERY: Duration = Duration::from_secs(1);
 
 /// A rate limit: at most `per_s` a second, with a burst of as many.
 #[derive(Debug)]
-pub struct RateLimit {
+pub(crate) struct RateLimit {
     per_s: f64,
     tokens: f64,
     last: Instant,
@@ -47,7 +47,7 @@ const MAX_REQUESTERS: usize = 16;
 /// another's. A requester is the Zenoh session a tool names in its query's attachment;
 /// queries that name none share one allowance.
 #[derive(Debug)]
-pub struct PerRequester {
+pub(crate) struct PerRequester {
     per_s: f64,
     limits: Vec<(String, RateLimit)>,
 }
@@ -79,7 +79,7 @@ impl PerRequester {
 }
 
 #[derive(Debug, Default)]
-pub struct Refusals {
+pub(crate) struct Refusals {
     last_said: Option<Instant>,
     /// Refused since the last line, and the newest of them.
     unsaid: u64,
@@ -102,7 +102,7 @@ impl Refusals {
     }
 
     /// The line for the refusals not yet said, once a second has passed.
-    pub fn due(&mut self, now: Instant) -> Option<String> {
+    pub(crate) fn due(&mut self, now: Instant) -> Option<String> {
         let due = self
             .last_said
             .is_none_or(|at| now.saturating_duration_since(at) >= SAY_EVERY);

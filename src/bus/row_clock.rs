@@ -14,7 +14,7 @@
 //! is stale, and refused.
 
 /// Rows taken this long or less after their capture time agree, s.
-pub const AGREE_S: f64 = 0.5;
+pub(crate) const AGREE_S: f64 = 0.5;
 /// A capture time in the future by more than this is of another clock, s.
 const FUTURE_S: f64 = 0.05;
 /// A capture time this long before the arrival is of another clock, s: no network
@@ -26,7 +26,7 @@ const DECIDE_AFTER_ROWS: u32 = 10;
 const GIVE_UP_AFTER_ROWS: u32 = 10;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Basis {
+pub(crate) enum Basis {
     /// Still looking at the first rows.
     Deciding,
     /// The capture time, on an agreeing clock.
@@ -37,14 +37,14 @@ pub enum Basis {
 
 /// What to do with one row.
 #[derive(Debug, Clone, PartialEq)]
-pub enum Verdict {
+pub(crate) enum Verdict {
     Take,
     /// Older than the link's time-out by its capture time: refused, with why.
     Stale(String),
 }
 
 #[derive(Debug)]
-pub struct RowClock {
+pub(crate) struct RowClock {
     pub basis: Basis,
     agreed: u32,
     disagreed_in_a_row: u32,

@@ -28,7 +28,7 @@ pub struct RowCounts {
 }
 
 /// The camera link's byte stream when the rows come from the bus.
-pub struct BusRows {
+pub(crate) struct BusRows {
     /// Each payload with its arrival, s since 1970.
     payloads: Receiver<(Vec<u8>, f64)>,
     clock: RowClock,
@@ -45,7 +45,7 @@ const QUEUE_ROWS: usize = 8;
 impl BusRows {
     /// Subscribe to `key`; zenoh's callback only hands each payload on.
     /// `max_age_s`: a row older than this by its capture time is stale (row_clock.rs).
-    pub fn subscribe(
+    pub(crate) fn subscribe(
         session: &Session,
         key: &str,
         read_timeout: Duration,

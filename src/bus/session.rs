@@ -10,7 +10,7 @@ use crate::config::{BusSettings, TlsFiles, endpoint_address};
 
 /// The largest message a program takes, bytes: a status or a plan is a few kilobytes.
 /// Zenoh's own limit is a gigabyte, which a flood of large payloads would fill.
-pub const MAX_MESSAGE_BYTES: usize = 128 * 1024;
+pub(crate) const MAX_MESSAGE_BYTES: usize = 128 * 1024;
 
 /// Why the bus could not start.
 #[derive(Debug, thiserror::Error)]
@@ -48,7 +48,7 @@ pub enum Role<'a> {
 
 /// Zenoh's error in words a user can act on: without the source file and line inside
 /// zenoh that raised it ("at …/src/net/runtime/orchestrator.rs:388").
-pub fn plain_words(error: &impl std::fmt::Display) -> String {
+pub(crate) fn plain_words(error: &impl std::fmt::Display) -> String {
     let text = error.to_string();
     let mut out = String::new();
     let mut rest = text.as_str();
@@ -133,39 +133,51 @@ pub fn open(role: Role, tls: Option<&TlsFiles>) -> Result<Session, BusError> {
                 why: format!("{key} = {value}: {e}"),
             })?;
     }
-    zenoh::open(config).wait().map_err(|e| {
-        let why = plain_words(&e);
-        if let Some((endpoint, port)) = listen.iter().find_map(|ep| in_use(ep)) {
-            let advice = match role {
-                Role::Master { .. } => "",
-                _ => " with --set bus.listen=tcp/127.0.0.1:PORT",
-            };
-            let setting = match role {
-                Role::Master { .. } => "[cluster] master",
-                _ => "[bus] listen",
-            };
-            return BusError::PortInUse {
-                endpoint,
-                port,
-                setting,
-                advice,
-            };
-        }
-        if !connect.is_empty() && listen.is_empty() {
-            // Zenoh's own words repeat the endpoints in its debug form.
-            let why = if why.starts_with("Unable to connect") {
-                "nothing answered within 3 s".to_string()
-            } else {
-                why
-            };
-            return BusError::Unreachable {
-                endpoints: connect.join(", "),
-                setting,
-                why,
-            };
-        }
-        BusError::Other { setting, why }
-    })
+    zenoh::open(config)
+        .wait()
+        .map_err(|e| why_not_open(&e, &role, &listen, &connect, setting))
+}
+
+/// Why the session did not open, in words that name the setting to change: a port in
+/// use, nothing answering where this program connects, or Zenoh's own words.
+fn why_not_open(
+    e: &zenoh::Error,
+    role: &Role,
+    listen: &[String],
+    connect: &[String],
+    setting: &'static str,
+) -> BusError {
+    let why = plain_words(e);
+    if let Some((endpoint, port)) = listen.iter().find_map(|ep| in_use(ep)) {
+        let advice = match role {
+            Role::Master { .. } => "",
+            _ => " with --set bus.listen=tcp/127.0.0.1:PORT",
+        };
+        let setting = match role {
+            Role::Master { .. } => "[cluster] master",
+            _ => "[bus] listen",
+        };
+        return BusError::PortInUse {
+            endpoint,
+            port,
+            setting,
+            advice,
+        };
+    }
+    if !connect.is_empty() && listen.is_empty() {
+        // Zenoh's own words repeat the endpoints in its debug form.
+        let why = if why.starts_with("Unable to connect") {
+            "nothing answered within 3 s".to_string()
+        } else {
+            why
+        };
+        return BusError::Unreachable {
+            endpoints: connect.join(", "),
+            setting,
+            why,
+        };
+    }
+    BusError::Other { setting, why }
 }
 
 /// The TLS and access-control settings for `files`; an error names the file.
@@ -208,7 +220,7 @@ fn secured(files: &TlsFiles) -> Result<Vec<(&'static str, String)>, String> {
 
 /// Whether the roster of `tls` is for robot `robot`: its access rules cover that robot's
 /// keys alone, and with another name every flow would be refused without a word.
-pub fn check_robot(tls: Option<&TlsFiles>, robot: &str) -> Result<(), String> {
+pub(crate) fn check_robot(tls: Option<&TlsFiles>, robot: &str) -> Result<(), String> {
     let Some(tls) = tls else { return Ok(()) };
     let roster = Roster::read(&tls.roster())?;
     if roster.robot == robot {

@@ -11,10 +11,12 @@ use std::time::{Duration, Instant};
 
 use serde_json::json;
 use zenoh::bytes::Encoding;
+use zenoh::pubsub::Publisher;
 use zenoh::qos::CongestionControl;
+use zenoh::query::Query;
 use zenoh::{Session, Wait};
 
-use super::identities::Identities;
+use super::identities::{Identities, LinkChange};
 use super::inbox::{Inbox, requester};
 use super::payload::status_json;
 use super::peers::Peers;
@@ -75,27 +77,21 @@ pub fn run(session: Session, settings: &Settings, w: BusWires) -> zenoh::Result<
         publisher("event")?,
     );
     let inbox = Inbox::declare(&session, bus)?;
-    let mut request_limit = PerRequester::new(REQUESTS_PER_S);
-    let mut setting_limit = PerRequester::new(SETTINGS_PER_S);
-    let mut all_limit = RateLimit::new(ALL_PER_S, Instant::now());
-    let mut refusals = Refusals::default();
+    let mut gate = Gate::new();
     let own_token = bus.key("alive/controller");
     let _alive = session.liveliness().declare_token(&own_token).wait()?;
     let mut peers = Peers::watch(&session, &bus.key("alive/**"))?;
-    let mut answers = Queries::new(settings, w.supervisor, w.tuning);
+    let mut answers = Queries::new(settings, w.supervisor.clone(), w.tuning.clone());
     let mut figures = BusFigures {
         state: BusState::Running,
         security: crate::gamepad::Label::new(&super::security_line(bus)),
         ..BusFigures::default()
     };
     // The roster was read when the session opened: it is there.
-    let mut identities = bus
-        .tls
-        .as_ref()
+    let mut identities = (bus.tls.as_ref())
         .and_then(|tls| crate::bus::keys::Roster::read(&tls.roster()).ok())
-        .map(Identities::new);
+        .map(|roster| Watched::new(Identities::new(roster)));
     let (link_changes, _links) = super::identities::watch_links(&session)?;
-    let mut rivals_said = false;
     let mut json = String::with_capacity(4096);
     let mut next_status = Instant::now();
     while !w.stop.load(Ordering::Relaxed) {
@@ -105,121 +101,206 @@ pub fn run(session: Session, settings: &Settings, w: BusWires) -> zenoh::Result<
         // Queries wake the thread; ticks and events are fetched on its own beat, so the
         // supervisor's try_send never has a sleeping reader to wake (a system call in
         // its tick).
-        let next = inbox.next(wait);
-        if let Some((port, query, halt)) = next {
-            let now = Instant::now();
-            let limit = match port {
-                Port::Get | Port::Set => &mut setting_limit,
-                _ => &mut request_limit,
-            };
-            let asker = requester(&query);
-            let refused = if halt || (limit.take(&asker, now) && all_limit.take(now)) {
-                answers.serve(&query, port, &mut figures)
-            } else {
-                let why = format!(
-                    "too many requests: the bus takes {REQUESTS_PER_S} requests and {SETTINGS_PER_S} settings a second from each program, {ALL_PER_S} from all, at most (HALT always)"
-                );
-                Queries::refuse(&query, &why, &mut figures);
-                Some(format!("{}: {why}", query.key_expr()))
-            };
-            // Said with who asked, where the bus tells it.
-            let who = identities
-                .as_ref()
-                .and_then(|ids| ids.name_of(&asker))
-                .map_or(String::new(), |name| format!(" (asked by {name})"));
-            let refused = refused.map(|why| format!("{why}{who}"));
-            if let Some(line) = refused.and_then(|why| refusals.refused(why, now)) {
-                tracing::warn!("{line}");
-            }
+        if let Some((port, query, halt)) = inbox.next(wait) {
+            let ids = identities.as_ref().map(|watched| &watched.ids);
+            gate.serve(&query, (port, halt), &mut answers, &mut figures, ids);
         }
-        if let Some(line) = refusals.due(Instant::now()) {
-            tracing::warn!("{line}");
-        }
-        while let Ok(tick) = w.flow.ticks.try_recv() {
-            tick_json(&tick, &mut json);
-            if tick_pub.put(json.as_bytes()).wait().is_ok() {
-                figures.ticks_published += 1;
-            }
-        }
-        while let Ok(event) = w.flow.events.try_recv() {
-            if event_pub.put(event.to_json().to_string()).wait().is_ok() {
-                figures.events_published += 1;
-            }
-        }
+        gate.say_refusals();
+        publish_flows(&w, (&tick_pub, &event_pub), &mut json, &mut figures);
         let now = Instant::now();
-        if now >= next_status {
-            // After a long answer (a request waits for the supervisor), one status now,
-            // not a burst of the ones missed.
-            next_status += STATUS_PERIOD;
-            if next_status < now {
-                next_status = now + STATUS_PERIOD;
-            }
-            let loops = [w.loops[0].snapshot(), w.loops[1].snapshot()];
-            let mut status = status_json(
-                &w.status.snapshot(),
-                &w.link.snapshot(),
-                &w.steer.snapshot(),
-                &loops,
-            );
-            // One rule for what cross-track means, on the bus as everywhere.
-            status["cross_track"] = json!(CrossTrackMeaning::of(settings).word());
-            // Whoever watches sees whether this bus is secured, and who came.
-            status["bus"] = json!({
-                "secured": bus.tls.is_some(),
-                "security": figures.security.as_str(),
-                "identities": figures.identities.as_str(),
-            });
-            if status_pub.put(status.to_string()).wait().is_ok() {
-                figures.status_published += 1;
-            }
-            let (ticks_dropped, events_dropped) = w.flow.dropped();
-            if ticks_dropped > figures.ticks_dropped {
-                // Said on the event flow too, as the record says its own gaps.
-                let now = w.status.snapshot();
-                let event = json!({
-                    "t_s": now.t_s,
-                    "tick": now.tick,
-                    "kind": "dropped",
-                    "text": format!(
-                        "{} ticks not published: the bus thread fell behind",
-                        ticks_dropped - figures.ticks_dropped
-                    ),
-                });
-                if event_pub.put(event.to_string()).wait().is_ok() {
-                    figures.events_published += 1;
-                }
-            }
-            (figures.ticks_dropped, figures.events_dropped) = (ticks_dropped, events_dropped);
-            figures.peers = peers.others(&own_token);
-            figures.status_receivers = status_pub
-                .matching_status()
-                .wait()
-                .is_ok_and(|m| m.matching());
-            figures.rows_received = w.rows.received.load(Ordering::Relaxed);
-            figures.rows_rejected = w.rows.rejected.load(Ordering::Relaxed);
-            figures.queries_dropped = inbox.dropped();
-            if let Some(ids) = &mut identities {
-                let look = ids.take(link_changes.try_iter());
-                for name in &look.newly_refused {
-                    tracing::warn!(
-                        "bus: {name} linked with a certificate of this authority, but the roster gives it no rights (revoked, or never in it): it may do nothing"
-                    );
-                }
-                let rivals = !look.rival_cameras.is_empty();
-                if rivals && !rivals_said {
-                    tracing::warn!(
-                        "bus: two programs send camera rows: {}; the rows of neither are taken",
-                        look.rival_cameras.join(" and ")
-                    );
-                }
-                rivals_said = rivals;
-                w.rows.rivals.store(rivals, Ordering::Relaxed);
-                figures.identities = crate::gamepad::Label::new(&ids.summary());
-            }
-            w.figures.publish(&figures);
+        if now < next_status {
+            continue;
         }
+        // After a long answer (a request waits for the supervisor), one status now, not
+        // a burst of the ones missed.
+        next_status += STATUS_PERIOD;
+        if next_status < now {
+            next_status = now + STATUS_PERIOD;
+        }
+        if status_pub
+            .put(status_message(&w, settings, &figures).to_string())
+            .wait()
+            .is_ok()
+        {
+            figures.status_published += 1;
+        }
+        say_dropped(&w, &event_pub, &mut figures);
+        figures.peers = peers.others(&own_token);
+        figures.status_receivers = status_pub
+            .matching_status()
+            .wait()
+            .is_ok_and(|m| m.matching());
+        figures.rows_received = w.rows.received.load(Ordering::Relaxed);
+        figures.rows_rejected = w.rows.rejected.load(Ordering::Relaxed);
+        figures.queries_dropped = inbox.dropped();
+        if let Some(watched) = &mut identities {
+            watched.follow(link_changes.try_iter(), &w.rows, &mut figures);
+        }
+        w.figures.publish(&figures);
     }
     figures.state = BusState::Closed;
     w.figures.publish(&figures);
     Ok(figures)
+}
+
+/// The limits on requests and settings, and the refusals said about once a second.
+struct Gate {
+    request_limit: PerRequester,
+    setting_limit: PerRequester,
+    all_limit: RateLimit,
+    refusals: Refusals,
+}
+
+impl Gate {
+    fn new() -> Gate {
+        Gate {
+            request_limit: PerRequester::new(REQUESTS_PER_S),
+            setting_limit: PerRequester::new(SETTINGS_PER_S),
+            all_limit: RateLimit::new(ALL_PER_S, Instant::now()),
+            refusals: Refusals::default(),
+        }
+    }
+
+    /// Answer one query, or refuse it when its program (or all of them) asked too often;
+    /// HALT always goes through. A refusal is said with who asked, where the bus tells it.
+    fn serve(
+        &mut self,
+        query: &Query,
+        (port, halt): (Port, bool),
+        answers: &mut Queries,
+        figures: &mut BusFigures,
+        identities: Option<&Identities>,
+    ) {
+        let now = Instant::now();
+        let limit = match port {
+            Port::Get | Port::Set => &mut self.setting_limit,
+            _ => &mut self.request_limit,
+        };
+        let asker = requester(query);
+        let refused = if halt || (limit.take(&asker, now) && self.all_limit.take(now)) {
+            answers.serve(query, port, figures)
+        } else {
+            let why = format!(
+                "too many requests: the bus takes {REQUESTS_PER_S} requests and {SETTINGS_PER_S} settings a second from each program, {ALL_PER_S} from all, at most (HALT always)"
+            );
+            Queries::refuse(query, &why, figures);
+            Some(format!("{}: {why}", query.key_expr()))
+        };
+        let who = identities
+            .and_then(|ids| ids.name_of(&asker))
+            .map_or(String::new(), |name| format!(" (asked by {name})"));
+        let refused = refused.map(|why| format!("{why}{who}"));
+        if let Some(line) = refused.and_then(|why| self.refusals.refused(why, now)) {
+            tracing::warn!("{line}");
+        }
+    }
+
+    /// The refusals counted since they were last said, when it is time to say them.
+    fn say_refusals(&mut self) {
+        if let Some(line) = self.refusals.due(Instant::now()) {
+            tracing::warn!("{line}");
+        }
+    }
+}
+
+/// Every tick and event waiting in the supervisor's queue, published.
+fn publish_flows(
+    w: &BusWires,
+    (tick_pub, event_pub): (&Publisher<'_>, &Publisher<'_>),
+    json: &mut String,
+    figures: &mut BusFigures,
+) {
+    while let Ok(tick) = w.flow.ticks.try_recv() {
+        tick_json(&tick, json);
+        if tick_pub.put(json.as_bytes()).wait().is_ok() {
+            figures.ticks_published += 1;
+        }
+    }
+    while let Ok(event) = w.flow.events.try_recv() {
+        if event_pub.put(event.to_json().to_string()).wait().is_ok() {
+            figures.events_published += 1;
+        }
+    }
+}
+
+/// ROBOT/status: the supervisor's status with the link's, the steering's and the
+/// loops', what cross-track means, and whether this bus is secured and who came.
+fn status_message(w: &BusWires, settings: &Settings, figures: &BusFigures) -> serde_json::Value {
+    let loops = [w.loops[0].snapshot(), w.loops[1].snapshot()];
+    let mut status = status_json(
+        &w.status.snapshot(),
+        &w.link.snapshot(),
+        &w.steer.snapshot(),
+        &loops,
+    );
+    // One rule for what cross-track means, on the bus as everywhere.
+    status["cross_track"] = json!(CrossTrackMeaning::of(settings).word());
+    status["bus"] = json!({
+        "secured": settings.bus.tls.is_some(),
+        "security": figures.security.as_str(),
+        "identities": figures.identities.as_str(),
+    });
+    status
+}
+
+/// Ticks the bus thread fell behind on, said on the event flow too, as the record says
+/// its own gaps.
+fn say_dropped(w: &BusWires, event_pub: &Publisher<'_>, figures: &mut BusFigures) {
+    let (ticks_dropped, events_dropped) = w.flow.dropped();
+    if ticks_dropped > figures.ticks_dropped {
+        let now = w.status.snapshot();
+        let event = json!({
+            "t_s": now.t_s,
+            "tick": now.tick,
+            "kind": "dropped",
+            "text": format!(
+                "{} ticks not published: the bus thread fell behind",
+                ticks_dropped - figures.ticks_dropped
+            ),
+        });
+        if event_pub.put(event.to_string()).wait().is_ok() {
+            figures.events_published += 1;
+        }
+    }
+    (figures.ticks_dropped, figures.events_dropped) = (ticks_dropped, events_dropped);
+}
+
+/// Who is linked, by the cluster's roster: said when one has no rights, and when two
+/// programs send camera rows (the rows of neither are taken then).
+struct Watched {
+    ids: Identities,
+    rivals_said: bool,
+}
+
+impl Watched {
+    fn new(ids: Identities) -> Watched {
+        Watched {
+            ids,
+            rivals_said: false,
+        }
+    }
+
+    fn follow(
+        &mut self,
+        changes: impl IntoIterator<Item = LinkChange>,
+        rows: &RowCounts,
+        figures: &mut BusFigures,
+    ) {
+        let look = self.ids.take(changes);
+        for name in &look.newly_refused {
+            tracing::warn!(
+                "bus: {name} linked with a certificate of this authority, but the roster gives it no rights (revoked, or never in it): it may do nothing"
+            );
+        }
+        let rivals = !look.rival_cameras.is_empty();
+        if rivals && !self.rivals_said {
+            tracing::warn!(
+                "bus: two programs send camera rows: {}; the rows of neither are taken",
+                look.rival_cameras.join(" and ")
+            );
+        }
+        self.rivals_said = rivals;
+        rows.rivals.store(rivals, Ordering::Relaxed);
+        figures.identities = crate::gamepad::Label::new(&self.ids.summary());
+    }
 }

@@ -18,7 +18,7 @@ const PROGRAMS: [&str; 4] = ["run", "camsim", "watch", "record"];
 
 /// The launcher's own rules for what may run.
 #[derive(Debug, Clone, Default)]
-pub struct Admission {
+pub(crate) struct Admission {
     /// Executables besides mechweed that plans may name, as given on the command line.
     pub allowed: Vec<String>,
     /// On a secured cluster, the keys folder and the roster: each program gets the
@@ -63,7 +63,7 @@ fn identity_in(dir: &Path, roster: &Roster, role: Role) -> Option<String> {
 
 impl Admission {
     /// `launch` as this launcher runs it, or why it does not.
-    pub fn admit(&self, mut launch: Launch) -> Result<Launch, String> {
+    pub(crate) fn admit(&self, mut launch: Launch) -> Result<Launch, String> {
         let command = launch.args.first().cloned().unwrap_or_default();
         if launch.program == "mechweed" && !PROGRAMS.contains(&command.as_str()) {
             return Err(format!(

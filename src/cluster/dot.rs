@@ -15,7 +15,7 @@ fn quoted(text: &str) -> String {
     format!("\"{escaped}\"")
 }
 
-pub fn dot(graph: &Graph) -> String {
+pub(crate) fn dot(graph: &Graph) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "digraph {} {{", quoted(&graph.robot));
     out.push_str("  rankdir=LR;\n  node [shape=box, style=rounded, fontname=\"Helvetica\"];\n");

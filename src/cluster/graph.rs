@@ -29,7 +29,7 @@ use super::program::Program;
 
 /// What each launcher does when the master goes away (a dropped Wi-Fi link).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MasterLost {
+pub(crate) enum MasterLost {
     /// Its processes run on: the robot's safety never depends on the master.
     RunOn,
     /// It stops its processes, the controller first.
@@ -37,7 +37,7 @@ pub enum MasterLost {
 }
 
 #[derive(Debug, Clone, PartialEq)]
-pub struct Machine {
+pub(crate) struct Machine {
     pub name: String,
     /// Where the programs of other machines reach this one's (the controller's bus).
     pub endpoint: String,
@@ -54,7 +54,7 @@ pub enum Start {
 }
 
 #[derive(Debug, Clone, PartialEq)]
-pub struct Process {
+pub(crate) struct Process {
     pub name: String,
     pub machine: String,
     pub program: Program,
@@ -73,7 +73,7 @@ pub struct Process {
 
 /// One end of a flow: a process and one of its ports.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct End {
+pub(crate) struct End {
     pub process: String,
     pub port: String,
 }
@@ -94,7 +94,7 @@ pub struct Flow {
 }
 
 #[derive(Debug, Clone, PartialEq)]
-pub struct Graph {
+pub(crate) struct Graph {
     /// The file, as messages name it.
     pub file: String,
     /// The robot's name on the bus: the first part of every key.
@@ -187,7 +187,7 @@ impl Graph {
     }
 
     /// Where the controller's flows are reached: its machine's endpoint.
-    pub fn controller_endpoint(&self) -> Option<&str> {
+    pub(crate) fn controller_endpoint(&self) -> Option<&str> {
         let controller = self.controller()?;
         Some(&self.machine(&controller.machine)?.endpoint)
     }

@@ -6,6 +6,7 @@
 //! ends.
 
 use std::collections::BTreeMap;
+use std::path::Path;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -73,18 +74,41 @@ pub fn run(
     let (masters, _watching) = watch_master(&session, &keys)?;
     let mechweed =
         std::env::current_exe().map_err(|e| format!("cannot find this program's own path: {e}"))?;
+    let children = start_children(&plan, machine, admission, &mechweed);
+    let mut launcher = Launcher {
+        machine: machine.to_string(),
+        keys,
+        session,
+        children,
+        tokens: BTreeMap::new(),
+    };
+    launcher.report_all();
+    let why = launcher.watch(&queries, &masters, &plan, stop);
+    println!("launcher {machine}: {why}: stopping its processes, the controller first");
+    launcher.stop_all();
+    Ok(())
+}
+
+/// The plan's processes as this launcher's children, the controller first (the other
+/// programs connect to it): each admitted one started unless it waits for others or is
+/// started by hand (said with its command line), each refused one said with why.
+fn start_children(
+    plan: &Plan,
+    machine: &str,
+    admission: &Admission,
+    mechweed: &Path,
+) -> Vec<Child> {
     let mut children: Vec<Child> = plan
         .processes
         .iter()
         .map(|launch| match admission.admit(launch.clone()) {
-            Ok(admitted) => Child::new(admitted, &mechweed),
+            Ok(admitted) => Child::new(admitted, mechweed),
             Err(why) => {
                 eprintln!("launcher {machine}: {why}");
-                Child::refused(launch.clone(), &mechweed, why)
+                Child::refused(launch.clone(), mechweed, why)
             }
         })
         .collect();
-    // The controller first: the other programs connect to it.
     children.sort_by_key(|c| !c.launch.controller);
     println!(
         "launcher {machine}: {} process(es) from {}",
@@ -107,18 +131,7 @@ pub fn run(
             _ => start(child, machine),
         }
     }
-    let mut launcher = Launcher {
-        machine: machine.to_string(),
-        keys,
-        session,
-        children,
-        tokens: BTreeMap::new(),
-    };
-    launcher.report_all();
-    let why = launcher.watch(&queries, &masters, &plan, stop);
-    println!("launcher {machine}: {why}: stopping its processes, the controller first");
-    launcher.stop_all();
-    Ok(())
+    children
 }
 
 fn start(child: &mut Child, machine: &str) {

@@ -9,7 +9,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-use crossbeam_channel::bounded;
+use crossbeam_channel::{Receiver, bounded};
 use serde_json::{Value, json};
 use zenoh::sample::SampleKind;
 use zenoh::{Session, Wait};
@@ -89,29 +89,8 @@ pub fn serve(graph: &Graph, stop: &Arc<AtomicBool>) -> Result<(), String> {
         launchers: BTreeSet::new(),
     };
     while !stop.load(Ordering::Relaxed) {
-        while let Ok((present, machine)) = launchers.try_recv() {
-            // The table holds the graph's machines only, whoever declares a token.
-            if graph.machine(&machine).is_none() {
-                continue;
-            }
-            let word = if present { "is there" } else { "went away" };
-            println!("master: the launcher of {machine} {word}");
-            if present {
-                table.launchers.insert(machine);
-            } else {
-                table.launchers.remove(&machine);
-            }
-        }
-        while let Ok((key, bytes)) = states.try_recv() {
-            match serde_json::from_slice::<ProcessReport>(&bytes) {
-                Ok(report) if reports_itself(graph, &keys, &key, &report) => table.note(report),
-                Ok(report) => eprintln!(
-                    "master: a state report on {key} for {} on {} refused: a launcher reports its own machine's processes of the graph, on their own key",
-                    report.process, report.machine
-                ),
-                Err(e) => eprintln!("master: a state report that cannot be read ({e})"),
-            }
-        }
+        table.follow_launchers(graph, &launchers);
+        table.take_reports(graph, &keys, &states);
         while let Ok(query) = queries.try_recv() {
             let key = query.key_expr().as_str().to_string();
             let result = match key.rsplit_once("/plan/") {
@@ -125,6 +104,40 @@ pub fn serve(graph: &Graph, stop: &Arc<AtomicBool>) -> Result<(), String> {
     drop(queryables);
     stop_cluster(&session, graph, &keys, &table.launchers);
     Ok(())
+}
+
+impl Table {
+    /// Launchers that came or went, of the graph's machines only (whoever declares a
+    /// launcher's token).
+    fn follow_launchers(&mut self, graph: &Graph, launchers: &Receiver<(bool, String)>) {
+        while let Ok((present, machine)) = launchers.try_recv() {
+            // The table holds the graph's machines only, whoever declares a token.
+            if graph.machine(&machine).is_none() {
+                continue;
+            }
+            let word = if present { "is there" } else { "went away" };
+            println!("master: the launcher of {machine} {word}");
+            if present {
+                self.launchers.insert(machine);
+            } else {
+                self.launchers.remove(&machine);
+            }
+        }
+    }
+
+    /// The processes' state reports, each taken only from its own machine's key.
+    fn take_reports(&mut self, graph: &Graph, keys: &Keys, states: &Receiver<(String, Vec<u8>)>) {
+        while let Ok((key, bytes)) = states.try_recv() {
+            match serde_json::from_slice::<ProcessReport>(&bytes) {
+                Ok(report) if reports_itself(graph, keys, &key, &report) => self.note(report),
+                Ok(report) => eprintln!(
+                    "master: a state report on {key} for {} on {} refused: a launcher reports its own machine's processes of the graph, on their own key",
+                    report.process, report.machine
+                ),
+                Err(e) => eprintln!("master: a state report that cannot be read ({e})"),
+            }
+        }
+    }
 }
 
 /// Whether `report` came on its own process's key and names a process of the graph on

@@ -9,7 +9,7 @@ use super::graph::{Graph, MasterLost, Process, Start};
 use super::program::Program;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Launch {
+pub(crate) struct Launch {
     pub name: String,
     /// `mechweed` (this program, as the launcher finds itself) or an executable.
     pub program: String,
@@ -29,7 +29,7 @@ pub struct Launch {
 
 impl Launch {
     /// The command line as a person would type it.
-    pub fn command_line(&self) -> String {
+    pub(crate) fn command_line(&self) -> String {
         std::iter::once(self.program.as_str())
             .chain(self.args.iter().map(String::as_str))
             .collect::<Vec<_>>()
@@ -38,7 +38,7 @@ impl Launch {
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Plan {
+pub(crate) struct Plan {
     pub machine: String,
     /// The graph file it comes from, for messages.
     pub graph: String,
@@ -48,7 +48,7 @@ pub struct Plan {
 }
 
 /// The plan of `machine`, or None if the graph has no such machine.
-pub fn for_machine(graph: &Graph, machine: &str) -> Option<Plan> {
+pub(crate) fn for_machine(graph: &Graph, machine: &str) -> Option<Plan> {
     graph.machine(machine)?;
     Some(Plan {
         machine: machine.to_string(),
@@ -64,7 +64,7 @@ pub fn for_machine(graph: &Graph, machine: &str) -> Option<Plan> {
 }
 
 /// One process's command line.
-pub fn launch(graph: &Graph, process: &Process) -> Launch {
+pub(crate) fn launch(graph: &Graph, process: &Process) -> Launch {
     let robot = graph.robot.clone();
     let controller_at = graph.controller_endpoint().map(str::to_string);
     let set = |args: &mut Vec<String>, item: String| args.extend(["--set".to_string(), item]);

@@ -4,13 +4,13 @@
 
 /// A port takes flows in or sends them out.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Direction {
+pub(crate) enum Direction {
     In,
     Out,
 }
 
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Program {
+pub(crate) enum Program {
     /// `mechweed run`: the controller, the one program that listens for flows.
     Run,
     /// `mechweed camsim --bus`: the simulated camera computer's rows.
@@ -61,12 +61,12 @@ impl Program {
         }
     }
 
-    pub fn is_mechweed(&self) -> bool {
+    pub(crate) fn is_mechweed(&self) -> bool {
         !matches!(self, Program::Executable(_))
     }
 
     /// Programs that read robot.ini take `set.SECTION.KEY` overrides.
-    pub fn takes_settings(&self) -> bool {
+    pub(crate) fn takes_settings(&self) -> bool {
         matches!(self, Program::Run | Program::Record)
     }
 
@@ -86,7 +86,7 @@ impl Program {
     }
 
     /// Whether `port` is one of this program's ports in `direction`.
-    pub fn check_port(&self, port: &str, direction: Direction) -> Result<(), String> {
+    pub(crate) fn check_port(&self, port: &str, direction: Direction) -> Result<(), String> {
         let plain = !port.is_empty()
             && port
                 .chars()
@@ -123,7 +123,12 @@ impl Program {
     /// Whether a flow can go from `from`'s port to `to`'s: the same kind of message,
     /// and the controller at one end of a flow between mechweed programs (it is the
     /// one that listens; the others connect to it).
-    pub fn check_link(from: &Program, out: &str, to: &Program, into: &str) -> Result<(), String> {
+    pub(crate) fn check_link(
+        from: &Program,
+        out: &str,
+        to: &Program,
+        into: &str,
+    ) -> Result<(), String> {
         let robot_flow = |port: &str| FLOW_KEYS.iter().any(|(p, _)| *p == port);
         if (from.is_mechweed() || to.is_mechweed() || robot_flow(out)) && out != into {
             return Err(format!("{out} cannot feed {into}: a flow carries one kind"));

@@ -14,7 +14,7 @@ use crate::bus::session::{Role, open};
 
 /// The master's view of the cluster, with `rates` (messages per second of each flow
 /// over `seconds`) added.
-pub fn fetch(
+pub(crate) fn fetch(
     master: &str,
     robot: &str,
     seconds: f64,
@@ -68,34 +68,7 @@ fn rates(
     let controller = status["controller"].as_str().unwrap_or_default();
     let robot = status["robot"].as_str().unwrap_or_default();
     let (tx, rx) = crossbeam_channel::bounded::<(String, Vec<u8>)>(4096);
-    let mut subscribers = Vec::new();
-    let mut rates = BTreeMap::new();
-    let flows: Vec<&Value> = status["flows"].as_array().into_iter().flatten().collect();
-    let mut rows_flow = None;
-    for flow in &flows {
-        let name = flow["name"].as_str().unwrap_or_default().to_string();
-        let from = flow["from"].as_str().unwrap_or_default();
-        let into_rows = flow["to"]
-            .as_array()
-            .into_iter()
-            .flatten()
-            .any(|t| t.as_str() == Some(&format!("{controller}.rows")));
-        if from.split('.').next() == Some(controller) {
-            let key = flow["key"].as_str().unwrap_or_default().to_string();
-            subscribers.push((name.clone(), key));
-            rates.insert(name, json!(0.0));
-        } else if into_rows {
-            rows_flow = Some(name);
-        } else if from.ends_with(".requests") {
-            let why = "not counted: requests are questions, each answered on its own";
-            rates.insert(name, json!(why));
-        } else {
-            rates.insert(
-                name,
-                json!("not counted: it does not pass through the controller's endpoint"),
-            );
-        }
-    }
+    let (mut subscribers, mut rates, rows_flow) = counted_flows(status, controller);
     // The controller's status, for the frames its camera link took.
     subscribers.push((String::new(), format!("{robot}/status")));
     let mut held = Vec::new();
@@ -138,6 +111,50 @@ fn rates(
         rates.insert(name, rate);
     }
     Ok(rates)
+}
+
+/// Which of the graph's flows can be counted at the controller's endpoint: the
+/// subscriptions (flow name, key) for the flows out of the controller, each flow's rate
+/// so far (0, or why it is not counted), and the flow of rows into it (counted from
+/// the controller's status instead).
+#[allow(clippy::type_complexity)]
+fn counted_flows(
+    status: &Value,
+    controller: &str,
+) -> (
+    Vec<(String, String)>,
+    BTreeMap<String, Value>,
+    Option<String>,
+) {
+    let mut subscribers = Vec::new();
+    let mut rates = BTreeMap::new();
+    let flows: Vec<&Value> = status["flows"].as_array().into_iter().flatten().collect();
+    let mut rows_flow = None;
+    for flow in &flows {
+        let name = flow["name"].as_str().unwrap_or_default().to_string();
+        let from = flow["from"].as_str().unwrap_or_default();
+        let into_rows = flow["to"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .any(|t| t.as_str() == Some(&format!("{controller}.rows")));
+        if from.split('.').next() == Some(controller) {
+            let key = flow["key"].as_str().unwrap_or_default().to_string();
+            subscribers.push((name.clone(), key));
+            rates.insert(name, json!(0.0));
+        } else if into_rows {
+            rows_flow = Some(name);
+        } else if from.ends_with(".requests") {
+            let why = "not counted: requests are questions, each answered on its own";
+            rates.insert(name, json!(why));
+        } else {
+            rates.insert(
+                name,
+                json!("not counted: it does not pass through the controller's endpoint"),
+            );
+        }
+    }
+    (subscribers, rates, rows_flow)
 }
 
 /// The status as text for a person.

@@ -11,7 +11,7 @@ use tracing_subscriber::registry::LookupSpan;
 
 /// `warning: ...` and `error: ...` for the lines a user must act on, the bare message
 /// for the rest (a camera link opened, a card found).
-pub struct Plain;
+pub(crate) struct Plain;
 
 impl<S, N> FormatEvent<S, N> for Plain
 where

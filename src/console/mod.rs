@@ -35,7 +35,7 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, RunEr
 
 const POLL: Duration = Duration::from_millis(10);
 
-pub fn operate(
+pub(crate) fn operate(
     opts: &RunOptions,
     handles: &Handles,
     stop: &Arc<AtomicBool>,
@@ -186,7 +186,7 @@ static STOPPED_BY: AtomicI32 = AtomicI32::new(0);
 /// A flag that Ctrl-C, SIGTERM (a service manager, `kill`, a shutdown) or SIGHUP (the
 /// terminal closed) sets; `stop_request` says which it was. Each call gives a flag of
 /// its own, all set by the same signals.
-pub fn ctrl_c() -> Arc<AtomicBool> {
+pub(crate) fn ctrl_c() -> Arc<AtomicBool> {
     let stop = Arc::new(AtomicBool::new(false));
     let flag = stop.clone();
     let signals = [SIGINT, SIGTERM, SIGHUP];
@@ -208,7 +208,7 @@ pub fn ctrl_c() -> Arc<AtomicBool> {
 }
 
 /// Who asked this program to stop, in words; None: no signal came.
-pub fn stop_request() -> Option<&'static str> {
+pub(crate) fn stop_request() -> Option<&'static str> {
     match STOPPED_BY.load(Ordering::SeqCst) {
         SIGINT => Some("the operator (Ctrl-C)"),
         SIGTERM => {

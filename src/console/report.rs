@@ -11,7 +11,7 @@ use crate::rt::{LiuLayland, LoopSummary, liu_layland};
 use crate::run::RunOutcome;
 
 #[derive(Debug, Serialize)]
-pub struct FaultEntry {
+pub(crate) struct FaultEntry {
     pub t_s: f64,
     pub cause: String,
     /// Supervisor ticks from the first tick that saw the cause to the one that wrote
@@ -20,13 +20,13 @@ pub struct FaultEntry {
 }
 
 #[derive(Debug, Serialize)]
-pub struct NoticeEntry {
+pub(crate) struct NoticeEntry {
     pub t_s: f64,
     pub what: String,
 }
 
 #[derive(Debug, Serialize)]
-pub struct Loops {
+pub(crate) struct Loops {
     pub supervisor: LoopSummary,
     pub steer: LoopSummary,
     /// Liu and Layland's check of the two periodic loops' measured worst cases.
@@ -35,7 +35,7 @@ pub struct Loops {
 
 /// The camera link's figures: every decoder counter and the link's own.
 #[derive(Debug, Serialize)]
-pub struct LinkReport {
+pub(crate) struct LinkReport {
     #[serde(flatten)]
     pub counters: LinkCounters,
     pub starts_sent: u64,
@@ -49,7 +49,7 @@ pub struct LinkReport {
 /// The tool's cross-track figures in cm (share as a fraction 0..1 of distance); null
 /// where nothing was measured, so that no data never reads as a perfect run.
 #[derive(Debug, Serialize)]
-pub struct CrossTrackReport {
+pub(crate) struct CrossTrackReport {
     /// Travel before this distance is left out, m.
     pub from_m: f64,
     pub mean_cm: Option<f64>,
@@ -79,7 +79,7 @@ impl CrossTrackReport {
 }
 
 #[derive(Debug, Serialize)]
-pub struct Report {
+pub(crate) struct Report {
     pub mode_final: String,
     pub faults: Vec<FaultEntry>,
     pub notices: Vec<NoticeEntry>,
@@ -109,7 +109,7 @@ pub struct Report {
 
 /// What came from the GNSS receiver.
 #[derive(Debug, Serialize)]
-pub struct GnssReport {
+pub(crate) struct GnssReport {
     /// Epochs with a position, and without.
     pub fixes: u64,
     pub no_fix_epochs: u64,
@@ -121,7 +121,7 @@ pub struct GnssReport {
 
 /// What the row filter did.
 #[derive(Debug, Serialize)]
-pub struct FilterReport {
+pub(crate) struct FilterReport {
     /// Which sensors steered at the end.
     pub steering: &'static str,
     /// Measurements its gate rejected (a weed patch, an RTK jump).
@@ -132,10 +132,10 @@ pub struct FilterReport {
 }
 
 /// Said at the start and in the summary of a simulated run with an outside camera.
-pub const OUTSIDE_CAMERA: &str = "no cross-track figures: the camera is outside (camera.port), so the simulated field's rows are not the ones steered along and its cross-track is not meaningful";
+pub(crate) const OUTSIDE_CAMERA: &str = "no cross-track figures: the camera is outside (camera.port), so the simulated field's rows are not the ones steered along and its cross-track is not meaningful";
 
 /// One loop's figures on one line.
-pub fn loop_line(name: &str, l: &LoopSummary) -> String {
+pub(crate) fn loop_line(name: &str, l: &LoopSummary) -> String {
     let (late, exec) = (&l.late_us, &l.exec_us);
     format!(
         "{name} loop: {} ticks at {} Hz, {} overruns, late p50/p99/p99.9/max {}/{}/{}/{} us, exec p50/p99/p99.9/max {}/{}/{}/{} us, worst lock {} us ({} busy)",
@@ -156,7 +156,7 @@ pub fn loop_line(name: &str, l: &LoopSummary) -> String {
 }
 
 impl Report {
-    pub fn from_run(run: &RunOutcome) -> Report {
+    pub(crate) fn from_run(run: &RunOutcome) -> Report {
         Report {
             mode_final: run.final_status.mode.name().to_string(),
             faults: run
@@ -213,7 +213,7 @@ impl Report {
     }
 
     /// A few lines for the terminal.
-    pub fn human(&self) -> String {
+    pub(crate) fn human(&self) -> String {
         let mut out = String::new();
         out += &format!(
             "final mode: {}, distance {:.1} m\n",
@@ -253,6 +253,19 @@ impl Report {
         for warning in &self.rt_warnings {
             out += &format!("real-time: {warning}\n");
         }
+        out += &self.links_lines();
+        out += &self.bus.line();
+        if self.bus.state != crate::bus::BusState::Off {
+            out += &format!(" ({})", self.bus_endpoints);
+        }
+        out += "\n";
+        out += &record_lines(&self.record);
+        out
+    }
+
+    /// The camera link's, the GNSS link's and the row filter's counters.
+    fn links_lines(&self) -> String {
+        let mut out = String::new();
         let k = &self.link.counters;
         out += &format!(
             "camera link: {} frames, {} CRC errors, {} resyncs, {} sequence gaps, {} duplicates, {} bytes skipped, {} bad estimates, {} reconnects, ping {}\n",
@@ -287,12 +300,6 @@ impl Report {
                 f.steering, f.camera_rejected, f.gnss_rejected, f.offset_sd_cm
             );
         }
-        out += &self.bus.line();
-        if self.bus.state != crate::bus::BusState::Off {
-            out += &format!(" ({})", self.bus_endpoints);
-        }
-        out += "\n";
-        out += &record_lines(&self.record);
         out
     }
 
@@ -329,7 +336,7 @@ impl Report {
 }
 
 /// Where a run's record went, and how whole it is (`run` and `bench loop`).
-pub fn record_lines(r: &RecordOutcome) -> String {
+pub(crate) fn record_lines(r: &RecordOutcome) -> String {
     let mut out = String::new();
     if r.files.is_empty() {
         out += "record: none\n";

@@ -14,7 +14,7 @@ use super::thread::PadSource;
 use crate::config::GamepadDevice;
 
 /// Where Linux puts the input event devices.
-pub const INPUT_DIR: &str = "/dev/input";
+pub(crate) const INPUT_DIR: &str = "/dev/input";
 
 /// One input device as `mechweed probe` lists it.
 #[derive(Debug, Clone, PartialEq)]
@@ -33,7 +33,7 @@ pub struct Found {
 impl Found {
     /// Two axes and a joystick's or gamepad's button: keyboards, mice and touchpads have
     /// no such buttons.
-    pub fn looks_like_gamepad(&self) -> bool {
+    pub(crate) fn looks_like_gamepad(&self) -> bool {
         self.axes.iter().any(|a| a == "ABS_X")
             && self.axes.iter().any(|a| a == "ABS_Y")
             && !self.buttons.is_empty()
@@ -69,7 +69,7 @@ fn describe(path: &Path, device: &Device) -> Found {
 }
 
 /// The devices opened, each with what it is; and the lines of those that could not be.
-pub type Listed = (Vec<(Found, Device)>, Vec<String>);
+pub(crate) type Listed = (Vec<(Found, Device)>, Vec<String>);
 
 /// The event devices in `dir` in the kernel's order (event0, event1, ... event10), and
 /// what could not be opened (e.g. permission denied), one line each; or why the folder
@@ -212,7 +212,7 @@ fn ready(device: Device, found: Found, map: &PadMap) -> Result<OpenPad, String> 
 }
 
 /// The kernel's input devices as the gamepad thread's source.
-pub struct InputDevices {
+pub(crate) struct InputDevices {
     pub which: GamepadDevice,
     pub dir: PathBuf,
     open: Option<Device>,

@@ -167,7 +167,7 @@ impl Pad {
     /// The kernel's state of the sticks and button now, in case an event was dropped. A
     /// release, or a stick's place, is taken at once; it is no sign of life (a pad out
     /// of range keeps its last state in the kernel).
-    pub fn reconcile(&mut self, now: Opened) {
+    pub(crate) fn reconcile(&mut self, now: Opened) {
         self.speed.1 = now.speed.1;
         self.steer.1 = now.steer.1;
         self.look_for_centre();
@@ -178,7 +178,7 @@ impl Pad {
     }
 
     /// The dead-man button is down (as far as the pad has said).
-    pub fn deadman_down(&self) -> bool {
+    pub(crate) fn deadman_down(&self) -> bool {
         self.connected && self.deadman_held
     }
 
@@ -189,7 +189,7 @@ impl Pad {
     }
 
     /// The pad went away (unplugged, out of a wireless receiver's reach, or unreadable).
-    pub fn disconnect(&mut self) {
+    pub(crate) fn disconnect(&mut self) {
         self.connected = false;
         self.deadman_held = false;
     }

@@ -22,7 +22,7 @@ pub struct Label {
 }
 
 impl Label {
-    pub const EMPTY: Label = Label {
+    pub(crate) const EMPTY: Label = Label {
         bytes: [0; 120],
         len: 0,
     };

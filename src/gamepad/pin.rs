@@ -27,7 +27,7 @@ impl Pin {
 
 /// Of the pads that fit, the one to take: the pinned one if there is a pin; else the
 /// first. An error says why none is taken, naming the pads left alone.
-pub fn choose(fitting: &[Found], pin: Option<&Pin>) -> Result<usize, String> {
+pub(crate) fn choose(fitting: &[Found], pin: Option<&Pin>) -> Result<usize, String> {
     let Some(pin) = pin else {
         return if fitting.is_empty() {
             Err("no pad fits".into())

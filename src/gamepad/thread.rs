@@ -25,7 +25,7 @@ const LOOK_AGAIN: Duration = Duration::from_millis(500);
 const WAIT_FOR_EVENTS: Duration = Duration::from_millis(100);
 
 /// Where the thread's pad comes from: the kernel's input devices, or a test's.
-pub trait PadSource: Send {
+pub(crate) trait PadSource: Send {
     /// Open the pad robot.ini names: what it is and its state now; or why not.
     fn open(&mut self, map: &PadMap) -> Result<(Found, Opened), String>;
     /// Add the events that came within `wait` (none if nothing did) to `out`, or say

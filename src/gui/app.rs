@@ -277,21 +277,7 @@ impl GuiApp {
     /// The whole window's contents. What the panels asked for leaves at the end of the
     /// frame, without waiting; the answers show from the next pass on.
     pub fn show(&mut self, ui: &mut egui::Ui) {
-        if ui.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::Space)) {
-            header::halt(&self.view, &mut self.requests);
-        }
-        self.keep_the_keyboard(ui);
-        if ui.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::F2)) {
-            self.theme = self.theme.other();
-        }
-        if self.theme_set != Some(self.theme) {
-            theme::apply(ui.ctx(), self.theme);
-            self.theme_set = Some(self.theme);
-            // This frame was laid out in the old looks: the next, in the new, at once.
-            // (Applied from eframe's creator instead, before the first frame, Space did
-            // nothing on a bare X server in tests/gui/gui_field.rs; why is not known.)
-            ui.ctx().request_repaint();
-        }
+        self.follow_keys_and_theme(ui);
         self.show_confirmation(&ui.ctx().clone());
         let sim = self.shared.lock().source.sim();
         let (view, requests) = (&self.view, &mut self.requests);
@@ -314,62 +300,86 @@ impl GuiApp {
                         .show(ui, |ui| self.sim.show(ui, view, sim, requests));
                 });
         }
-        egui::CentralPanel::default().show(ui, |ui| {
-            ui.horizontal(|ui| {
-                for (tab, name) in [
-                    (Tab::Status, "Status"),
-                    (Tab::Plots, "Plots"),
-                    (Tab::Tuning, "Tuning"),
-                    (Tab::Test, "Test panel"),
-                ] {
-                    ui.selectable_value(&mut self.tab, tab, egui::RichText::new(name).heading());
-                }
-                ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                    let other = self.theme.other().name();
-                    if ui.button(format!("{other} theme (F2)")).clicked() {
-                        self.theme = self.theme.other();
-                    }
-                });
-            });
-            ui.separator();
-            if view.remote.is_some() && matches!(self.tab, Tab::Tuning | Tab::Test) {
-                ui.label(
-                    "Watching over the bus: this tab shows this computer's robot.ini, and what it \
-                     sends is refused here. Gains: `mechweed bus get|set`; the test panel: on the \
-                     robot's own window.",
-                );
-            }
-            if let Some(link) = view.remote.as_ref().filter(|link| link.no_data()) {
-                // Nothing received: no value to show, not even a default one.
-                ui.add_space(20.0);
-                ui.label(
-                    egui::RichText::new(header::remote_line(link))
-                        .size(18.0)
-                        .strong(),
-                );
-                ui.label(
-                    "Every value shows when the robot's first status arrives. Is the robot \
-                     program running there, with [bus] enabled = yes?",
-                );
-            } else {
-                egui::ScrollArea::vertical().show(ui, |ui| {
-                    // The robot fell silent: its values are old, and greyed to say so.
-                    if view.remote.as_ref().is_some_and(|link| link.stale()) {
-                        ui.disable();
-                    }
-                    match self.tab {
-                        Tab::Status => status::show(ui, view, requests),
-                        Tab::Plots => self.plots.show(ui, view, &self.shared),
-                        Tab::Tuning => self.tuning.show(ui, view, requests),
-                        Tab::Test => self.test.show(ui, view, requests),
-                    }
-                });
-            }
-        });
+        egui::CentralPanel::default().show(ui, |ui| self.show_central(ui));
         let mut shared = self.shared.lock();
         shared.frames += 1;
         shared.tab = self.tab;
         self.requests.post(&shared.source, self.view.now_s);
+    }
+
+    /// Space is HALT, F2 the other theme; the keyboard kept for this window at start.
+    fn follow_keys_and_theme(&mut self, ui: &mut egui::Ui) {
+        if ui.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::Space)) {
+            header::halt(&self.view, &mut self.requests);
+        }
+        self.keep_the_keyboard(ui);
+        if ui.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::F2)) {
+            self.theme = self.theme.other();
+        }
+        if self.theme_set != Some(self.theme) {
+            theme::apply(ui.ctx(), self.theme);
+            self.theme_set = Some(self.theme);
+            // This frame was laid out in the old looks: the next, in the new, at once.
+            // (Applied from eframe's creator instead, before the first frame, Space did
+            // nothing on a bare X server in tests/gui/gui_field.rs; why is not known.)
+            ui.ctx().request_repaint();
+        }
+    }
+
+    /// The tabs, and the tab shown (or, watching a robot that has sent nothing yet,
+    /// only that line).
+    fn show_central(&mut self, ui: &mut egui::Ui) {
+        let (view, requests) = (&self.view, &mut self.requests);
+        ui.horizontal(|ui| {
+            for (tab, name) in [
+                (Tab::Status, "Status"),
+                (Tab::Plots, "Plots"),
+                (Tab::Tuning, "Tuning"),
+                (Tab::Test, "Test panel"),
+            ] {
+                ui.selectable_value(&mut self.tab, tab, egui::RichText::new(name).heading());
+            }
+            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                let other = self.theme.other().name();
+                if ui.button(format!("{other} theme (F2)")).clicked() {
+                    self.theme = self.theme.other();
+                }
+            });
+        });
+        ui.separator();
+        if view.remote.is_some() && matches!(self.tab, Tab::Tuning | Tab::Test) {
+            ui.label(
+                "Watching over the bus: this tab shows this computer's robot.ini, and what it \
+                 sends is refused here. Gains: `mechweed bus get|set`; the test panel: on the \
+                 robot's own window.",
+            );
+        }
+        if let Some(link) = view.remote.as_ref().filter(|link| link.no_data()) {
+            // Nothing received: no value to show, not even a default one.
+            ui.add_space(20.0);
+            ui.label(
+                egui::RichText::new(header::remote_line(link))
+                    .size(18.0)
+                    .strong(),
+            );
+            ui.label(
+                "Every value shows when the robot's first status arrives. Is the robot \
+                 program running there, with [bus] enabled = yes?",
+            );
+        } else {
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                // The robot fell silent: its values are old, and greyed to say so.
+                if view.remote.as_ref().is_some_and(|link| link.stale()) {
+                    ui.disable();
+                }
+                match self.tab {
+                    Tab::Status => status::show(ui, view, requests),
+                    Tab::Plots => self.plots.show(ui, view, &self.shared),
+                    Tab::Tuning => self.tuning.show(ui, view, requests),
+                    Tab::Test => self.test.show(ui, view, requests),
+                }
+            });
+        }
     }
 }
 

@@ -10,7 +10,7 @@ use super::view::{RemoteLink, View};
 use crate::state::modes::{Mode, Request};
 
 /// If the supervisor has not published for this long, it has stopped, s.
-pub const SUPERVISOR_SILENT_S: f64 = 1.0;
+pub(crate) const SUPERVISOR_SILENT_S: f64 = 1.0;
 
 /// HALT: asked in every mode. In Fault the outputs are already safe, so the
 /// supervisor's refusal is said as that.
@@ -161,7 +161,7 @@ fn fault_line(ui: &mut egui::Ui, view: &View) {
 }
 
 /// Which robot this window watches over the bus, and how old its newest status is.
-pub fn remote_line(link: &RemoteLink) -> String {
+pub(crate) fn remote_line(link: &RemoteLink) -> String {
     let what = match link.operator {
         Some(true) => "HALT, power up and modes",
         Some(false) => "HALT only",
@@ -205,7 +205,7 @@ fn remote(ui: &mut egui::Ui, link: &RemoteLink) {
     );
 }
 
-pub fn power_text(power: crate::state::status::PowerState) -> &'static str {
+pub(crate) fn power_text(power: crate::state::status::PowerState) -> &'static str {
     match power {
         crate::state::status::PowerState::Off => "off",
         crate::state::status::PowerState::Closing { .. } => "closing",

@@ -11,7 +11,7 @@ use std::path::Path;
 
 /// One value to set: `[section] key = value`.
 #[derive(Debug, Clone, PartialEq)]
-pub struct NewValue {
+pub(crate) struct NewValue {
     pub section: String,
     pub key: String,
     pub value: String,
@@ -20,7 +20,7 @@ pub struct NewValue {
 /// `text` with each of `values` replaced where its key stands in its section. Only the
 /// value's characters change; a key that is not in the file is an error (the settings
 /// file must hold every setting, so a missing one means the wrong file).
-pub fn set_values(text: &str, values: &[NewValue]) -> Result<String, String> {
+pub(crate) fn set_values(text: &str, values: &[NewValue]) -> Result<String, String> {
     let mut found = vec![false; values.len()];
     let mut section = String::new();
     let mut out = String::with_capacity(text.len() + 64);
@@ -75,7 +75,7 @@ pub fn set_values(text: &str, values: &[NewValue]) -> Result<String, String> {
 /// Replace the file at `path` with `text`, atomically. A file that has vanished or is
 /// read-only is not replaced (a rename would otherwise succeed over a read-only file).
 /// If `path` is a symbolic link, the file it points to is replaced and the link kept.
-pub fn write_atomic(path: &Path, text: &str) -> Result<(), String> {
+pub(crate) fn write_atomic(path: &Path, text: &str) -> Result<(), String> {
     let shown = path.display();
     let meta = fs::metadata(path).map_err(|e| format!("cannot find {shown} any more: {e}"))?;
     if meta.permissions().readonly() {

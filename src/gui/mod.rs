@@ -58,7 +58,7 @@ pub type Controller = Arc<Mutex<Option<Running>>>;
 
 /// Something run on a thread of its own beside the GUI, with the supervisor's handle
 /// and the controller's clock (`bench loop --press-space` presses keys in the window).
-pub type Beside = Box<dyn FnOnce(SupervisorHandle, Instant) + Send>;
+pub(crate) type Beside = Box<dyn FnOnce(SupervisorHandle, Instant) + Send>;
 
 pub use app::{GuiApp, Tab};
 pub use display::{display_missing, window_failed};
@@ -169,7 +169,7 @@ fn show_window(app: GuiApp, stop: Arc<AtomicBool>) -> (Result<(), eframe::Error>
 /// window closes, `duration_s` passes or `stop` is set. Gives the frames drawn.
 /// `settings` are this computer's (the Tuning tab's file); `advice` ends a message that
 /// there is no window.
-pub fn run_watch(
+pub(crate) fn run_watch(
     remote: remote::RemoteView,
     settings: crate::config::Settings,
     duration_s: Option<f64>,

@@ -34,11 +34,11 @@ use crate::state::status::{FaultRecord, Notice, PowerState};
 use mechweed_hw::Side;
 
 /// The pacer looks this often, s (also the plots' sample period).
-pub const LOOK_S: f64 = 1.0 / 30.0;
+pub(crate) const LOOK_S: f64 = 1.0 / 30.0;
 /// Frame period for values while the robot may move, on the Plots tab, and standing, s.
-pub const MOVING_S: f64 = 0.1;
-pub const PLOTS_MOVING_S: f64 = 0.2;
-pub const STANDING_S: f64 = 1.0;
+pub(crate) const MOVING_S: f64 = 0.1;
+pub(crate) const PLOTS_MOVING_S: f64 = 0.2;
+pub(crate) const STANDING_S: f64 = 1.0;
 
 /// What must show at once when it changes.
 #[derive(Debug, Clone, PartialEq)]
@@ -141,7 +141,7 @@ fn may_move(view: &View) -> bool {
 }
 
 /// The frame period that fits what the view shows on `tab`, s.
-pub fn period_s(view: &View, tab: Tab) -> f64 {
+pub(crate) fn period_s(view: &View, tab: Tab) -> f64 {
     match (may_move(view), tab) {
         (true, Tab::Plots) => PLOTS_MOVING_S,
         (true, _) => MOVING_S,

@@ -101,7 +101,7 @@ pub struct Shared {
     pub samples: PlotSamples,
 }
 
-pub type SharedGui = Arc<Mutex<Shared>>;
+pub(crate) type SharedGui = Arc<Mutex<Shared>>;
 
 pub fn shared(source: Source, tab: Tab) -> SharedGui {
     Arc::new(Mutex::new(Shared {

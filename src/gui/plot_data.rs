@@ -9,10 +9,10 @@ use super::view::View;
 
 /// Seconds shown, and samples a second (a sample is due after 0.8 of its period, for a
 /// caller's jitter: one asking a thousand times a second gets 37).
-pub const WINDOW_S: f64 = 60.0;
-pub const SAMPLES_PER_S: f64 = 30.0;
+pub(crate) const WINDOW_S: f64 = 60.0;
+pub(crate) const SAMPLES_PER_S: f64 = 30.0;
 /// Ring buffer length: the window at the highest sample rate.
-pub const CAPACITY: usize = (WINDOW_S * SAMPLES_PER_S) as usize;
+pub(crate) const CAPACITY: usize = (WINDOW_S * SAMPLES_PER_S) as usize;
 
 /// One instant of everything plotted, in the units shown.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -94,7 +94,7 @@ impl Ring {
         self.len == 0
     }
 
-    pub fn capacity(&self) -> usize {
+    pub(crate) fn capacity(&self) -> usize {
         self.buf.len()
     }
 
@@ -147,7 +147,12 @@ impl PlotSamples {
 /// newest sample: for each column, its lowest and its highest value, in the order they
 /// came, so that a spike of one sample is still drawn. Times are s from the newest
 /// sample (negative). `out` is cleared and refilled: it allocates only while it grows.
-pub fn thin(ring: &Ring, value: fn(&Sample) -> f64, columns: usize, out: &mut Vec<PlotPoint>) {
+pub(crate) fn thin(
+    ring: &Ring,
+    value: fn(&Sample) -> f64,
+    columns: usize,
+    out: &mut Vec<PlotPoint>,
+) {
     out.clear();
     let Some(newest) = ring.last() else {
         return;

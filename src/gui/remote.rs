@@ -179,7 +179,7 @@ impl RemoteView {
 
     /// With no status for `seconds` the robot's mode is shown as unknown ([gui]
     /// remote_stale_s).
-    pub fn unknown_after(mut self, seconds: f64) -> RemoteView {
+    pub(crate) fn unknown_after(mut self, seconds: f64) -> RemoteView {
         if let Some(link) = &mut self.view.remote {
             link.unknown_after_s = seconds;
         }

@@ -12,9 +12,9 @@ use super::view::View;
 use crate::rt::LoopSummary;
 use crate::state::cross_track::CrossTrackMeaning;
 use crate::state::modes::Mode;
-use crate::state::status::PowerState;
+use crate::state::status::{PowerState, Status};
 use crate::state::steering::Steering;
-use crate::steer::{FilterFigures, RowFigures};
+use crate::steer::{FilterFigures, RowFigures, SteerCommand};
 
 fn num(json: &Value, key: &str) -> f64 {
     json[key].as_f64().unwrap_or(f64::NAN)
@@ -48,7 +48,7 @@ fn power(word: &str) -> PowerState {
 }
 
 /// What `ROBOT/status` carries: time, mode, power, the camera link, the loops.
-pub fn fill_from_status(view: &mut View, status: &Value) -> Result<(), String> {
+pub(crate) fn fill_from_status(view: &mut View, status: &Value) -> Result<(), String> {
     // Checked before anything is written: a bad status changes nothing.
     let word = status["mode"].as_str().unwrap_or_default();
     let new_mode = mode(word).ok_or_else(|| format!("\"mode\": '{word}' is not a mode"))?;
@@ -100,8 +100,32 @@ pub fn fill_from_status(view: &mut View, status: &Value) -> Result<(), String> {
 
 /// What `ROBOT/tick` carries beyond the status: every input and output, the
 /// regulators' references, the steer thread's command, the simulated truth.
-pub fn fill_from_tick(view: &mut View, tick: &Value) {
-    let st = &mut view.status;
+pub(crate) fn fill_from_tick(view: &mut View, tick: &Value) {
+    fill_status(&mut view.status, tick);
+    let tick_t_s = num(tick, "t_s");
+    fill_steer(&mut view.steer, tick, tick_t_s);
+    view.link.last_usable = RowEstimate {
+        seq: int(tick, "cam_seq").clamp(0, 255) as u8,
+        ..view.link.last_usable
+    };
+    view.link.last_row = view.link.last_usable;
+    // Simulated: the truth's columns are numbers (empty on the real robot).
+    view.simulated = tick["sim_distance_m"].is_number();
+    view.truth = if view.simulated {
+        Truth {
+            t_s: tick_t_s,
+            tool_cross_track_m: num(tick, "sim_tool_cross_track_m"),
+            distance_m: num(tick, "sim_distance_m"),
+            row_done: flag(tick, "sim_row_done"),
+            ..Truth::default()
+        }
+    } else {
+        Truth::default()
+    };
+}
+
+/// The supervisor's inputs, outputs, measurements and references of a tick.
+fn fill_status(st: &mut Status, tick: &Value) {
     let i = &mut st.inputs;
     i.pot_v = num(tick, "pot_v");
     i.joystick_steer_v = num(tick, "joystick_steer_v");
@@ -139,8 +163,10 @@ pub fn fill_from_tick(view: &mut View, tick: &Value) {
         Some("right") => Some(Side::Right),
         _ => None,
     };
-    let tick_t_s = num(tick, "t_s");
-    let steer = &mut view.steer;
+}
+
+/// The steer thread's command of a tick: speed, angle, the law's and the row's figures.
+fn fill_steer(steer: &mut SteerCommand, tick: &Value, tick_t_s: f64) {
     steer.speed_mps = num(tick, "steer_speed_mps");
     steer.wheel_angle_rad = num(tick, "steer_wheel_angle_rad");
     steer.t_s = tick_t_s - num(tick, "steer_age_s");
@@ -168,23 +194,5 @@ pub fn fill_from_tick(view: &mut View, tick: &Value) {
             camera_rejected: int(tick, "filter_camera_rejected").max(0) as u64,
             gnss_rejected: int(tick, "filter_gnss_rejected").max(0) as u64,
         }),
-    };
-    view.link.last_usable = RowEstimate {
-        seq: int(tick, "cam_seq").clamp(0, 255) as u8,
-        ..view.link.last_usable
-    };
-    view.link.last_row = view.link.last_usable;
-    // Simulated: the truth's columns are numbers (empty on the real robot).
-    view.simulated = tick["sim_distance_m"].is_number();
-    view.truth = if view.simulated {
-        Truth {
-            t_s: tick_t_s,
-            tool_cross_track_m: num(tick, "sim_tool_cross_track_m"),
-            distance_m: num(tick, "sim_distance_m"),
-            row_done: flag(tick, "sim_row_done"),
-            ..Truth::default()
-        }
-    } else {
-        Truth::default()
     };
 }

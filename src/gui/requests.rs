@@ -20,7 +20,7 @@ use crate::state::request_channel::Answer;
 const ANSWER_PLACES: usize = 64;
 /// The supervisor answers within a tick; this long without an answer, it has stopped
 /// (the console's blocking request waits as long), s.
-pub const ANSWER_WAIT_S: f64 = 1.0;
+pub(crate) const ANSWER_WAIT_S: f64 = 1.0;
 
 /// The supervisor's last answer to something the operator did, shown in the header.
 #[derive(Debug, Clone, PartialEq)]
@@ -90,7 +90,7 @@ impl Requests {
 
     /// Ask, and say nothing when it is taken (only a refusal): the test panel's stream
     /// of outputs.
-    pub fn ask_quietly(&mut self, request: Request) -> AskId {
+    pub(crate) fn ask_quietly(&mut self, request: Request) -> AskId {
         self.queue(request, None)
     }
 
@@ -127,7 +127,7 @@ impl Requests {
     }
 
     /// Some answer has not come yet (the GUI passes until it has).
-    pub fn awaiting(&self) -> bool {
+    pub(crate) fn awaiting(&self) -> bool {
         !self.queued.is_empty() || !self.pending.is_empty()
     }
 
@@ -171,7 +171,7 @@ impl Requests {
     }
 
     /// Answers in words (the robot's, over the bus): said as the supervisor's are.
-    pub fn take_answers_in_words(&mut self, answers: Vec<(Request, Result<(), String>)>) {
+    pub(crate) fn take_answers_in_words(&mut self, answers: Vec<(Request, Result<(), String>)>) {
         for (request, answer) in answers {
             self.answered(request, answer);
         }
@@ -197,7 +197,7 @@ impl Requests {
     }
 
     /// The controller was restarted: what the old one was asked will not be answered.
-    pub fn forget_open(&mut self) {
+    pub(crate) fn forget_open(&mut self) {
         self.queued.clear();
         self.pending.clear();
         while self.answers.try_recv().is_ok() {}

@@ -39,7 +39,7 @@ impl GuiScript {
     /// When the script needs a pass of its own, s from `now_s`: soon while it waits for
     /// a status from after an answer, at the time of its next action, or never (the
     /// start mode is pursued on the passes that a change of status brings anyway).
-    pub fn next_pass_in_s(&self, now_s: f64) -> Option<f64> {
+    pub(crate) fn next_pass_in_s(&self, now_s: f64) -> Option<f64> {
         match self.waiting {
             Waiting::StatusAfter(_) => Some(STATUS_LOOK_S),
             // The GUI passes while an answer is awaited (`Requests::awaiting`).

@@ -57,7 +57,7 @@ impl SimPanel {
     }
 
     /// Every pass: pass the on-screen joystick to the plant when it changes.
-    pub fn keep_joystick(&mut self, sim: &SimControl) {
+    pub(crate) fn keep_joystick(&mut self, sim: &SimControl) {
         let now = self.joystick();
         if self.last_sent != Some(now) {
             sim.set_joystick(now.0, now.1, now.2);
@@ -112,39 +112,39 @@ impl SimPanel {
         ui.separator();
 
         ui.label(RichText::new("Faults").strong());
-        ui.horizontal_wrapped(|ui| {
-            act(EventAction::PowerLoss, ui, "Power loss");
-            act(EventAction::PowerRestore, ui, "Power back");
-            act(EventAction::Battery(LOW_BATTERY_V), ui, "Battery low");
-            act(EventAction::Battery(self.battery_v), ui, "Battery normal");
-            act(
+        let faults = [
+            (EventAction::PowerLoss, "Power loss"),
+            (EventAction::PowerRestore, "Power back"),
+            (EventAction::Battery(LOW_BATTERY_V), "Battery low"),
+            (EventAction::Battery(self.battery_v), "Battery normal"),
+            (
                 EventAction::EncoderStuck(EncoderId::Left),
-                ui,
                 "Left encoder stuck",
-            );
-            act(
+            ),
+            (
                 EventAction::EncoderStuck(EncoderId::Right),
-                ui,
                 "Right encoder stuck",
-            );
-            act(
+            ),
+            (
                 EventAction::EncoderStuck(EncoderId::Steer),
-                ui,
                 "Steering encoder stuck",
-            );
-            act(EventAction::LinkSilent(SILENT_S), ui, "Camera silent 2 s");
-            act(EventAction::CameraReboot, ui, "Camera reboot");
-            act(
+            ),
+            (EventAction::LinkSilent(SILENT_S), "Camera silent 2 s"),
+            (EventAction::CameraReboot, "Camera reboot"),
+            (
                 EventAction::EndSwitch(Side::Left),
-                ui,
                 "Kick to left end switch",
-            );
-            act(
+            ),
+            (
                 EventAction::EndSwitch(Side::Right),
-                ui,
                 "Kick to right end switch",
-            );
-            act(EventAction::PotBroken, ui, "Potentiometer wire broken");
+            ),
+            (EventAction::PotBroken, "Potentiometer wire broken"),
+        ];
+        ui.horizontal_wrapped(|ui| {
+            for (action, label) in faults {
+                act(action, ui, label);
+            }
         });
         ui.label(
             RichText::new(

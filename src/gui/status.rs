@@ -37,7 +37,7 @@ fn row_alarm(ui: &mut egui::Ui, name: &str, value: String, abnormal: bool) {
 }
 
 /// The gamepad in place of the wired joystick: which, its sticks, its dead-man.
-pub fn gamepad_words(pad: &GamepadView) -> String {
+pub(crate) fn gamepad_words(pad: &GamepadView) -> String {
     let state = &pad.state;
     if !state.pad.connected {
         return format!("not connected: {}", state.problem.as_str());
@@ -126,7 +126,7 @@ pub fn inputs_grid(ui: &mut egui::Ui, view: &View) {
 }
 
 /// Every output as the supervisor commanded it in its last tick.
-pub fn outputs_grid(ui: &mut egui::Ui, view: &View) {
+pub(crate) fn outputs_grid(ui: &mut egui::Ui, view: &View) {
     let o = &view.status.outputs;
     egui::Grid::new("outputs").striped(true).show(ui, |ui| {
         row(ui, "Amplifier left", format!("{:+.2} V", o.amp_left_v));
@@ -234,7 +234,7 @@ fn loops_grid(ui: &mut egui::Ui, view: &View) {
 }
 
 /// Which sensors steer, the GNSS fix and the row filter ([steer] source gnss or fused).
-pub fn sources_grid(ui: &mut egui::Ui, view: &View) {
+pub(crate) fn sources_grid(ui: &mut egui::Ui, view: &View) {
     let (sources, r) = (&view.steer.sources, &view.steer.row);
     let autonomous = view.status.mode == crate::state::modes::Mode::Autonomous;
     egui::Grid::new("sources").striped(true).show(ui, |ui| {

@@ -93,7 +93,7 @@ impl Default for TestPanel {
 
 impl TestPanel {
     /// A ramp or a step is under way: the voltage asked for changes with time.
-    pub fn changing(&self, now_s: f64) -> bool {
+    pub(crate) fn changing(&self, now_s: f64) -> bool {
         self.last_sent.is_some()
             && self
                 .amps
@@ -102,7 +102,7 @@ impl TestPanel {
     }
 
     /// The outputs the panel asks for now.
-    pub fn wanted(&self, now_s: f64) -> Outputs {
+    pub(crate) fn wanted(&self, now_s: f64) -> Outputs {
         let [l, r, s] = self.amps.map(|a| a.volts(now_s, self.max_v));
         Outputs {
             amp_left_v: l,
@@ -189,46 +189,51 @@ impl TestPanel {
                     }
                 }
             });
-            egui::Grid::new("amps").striped(true).show(ui, |ui| {
-                for (k, name) in ["left drive", "right drive", "steering"]
-                    .into_iter()
-                    .enumerate()
-                {
-                    let a = &mut self.amps[k];
-                    ui.label(name);
-                    ui.add(
-                        egui::DragValue::new(&mut a.level_v)
-                            .range(-10.0..=10.0)
-                            .speed(0.05)
-                            .suffix(" V"),
-                    );
-                    ui.add(
-                        egui::DragValue::new(&mut a.ramp_v_per_s)
-                            .range(0.01..=5.0)
-                            .speed(0.01)
-                            .suffix(" V/s"),
-                    );
-                    for (wave, label) in [
-                        (Wave::Fixed, "Fixed"),
-                        (Wave::Ramp, "Ramp"),
-                        (Wave::Step, "Step"),
-                    ] {
-                        if ui.selectable_label(a.wave == wave, label).clicked() {
-                            a.wave = wave;
-                            a.started_s = view.now_s;
-                        }
-                    }
-                    if ui.button("Stop").clicked() {
-                        a.wave = Wave::Stop;
-                    }
-                    ui.monospace(format!("{:+.2} V", a.volts(view.now_s, self.max_v)));
-                    ui.end_row();
-                }
-            });
+            self.amplifiers_grid(ui, view.now_s);
         });
         ui.separator();
         ui.heading("Inputs");
         inputs_grid(ui, view);
+    }
+
+    /// One row per amplifier: its level, its ramp, its wave, and the volts it gives now.
+    fn amplifiers_grid(&mut self, ui: &mut egui::Ui, now_s: f64) {
+        egui::Grid::new("amps").striped(true).show(ui, |ui| {
+            for (k, name) in ["left drive", "right drive", "steering"]
+                .into_iter()
+                .enumerate()
+            {
+                let a = &mut self.amps[k];
+                ui.label(name);
+                ui.add(
+                    egui::DragValue::new(&mut a.level_v)
+                        .range(-10.0..=10.0)
+                        .speed(0.05)
+                        .suffix(" V"),
+                );
+                ui.add(
+                    egui::DragValue::new(&mut a.ramp_v_per_s)
+                        .range(0.01..=5.0)
+                        .speed(0.01)
+                        .suffix(" V/s"),
+                );
+                for (wave, label) in [
+                    (Wave::Fixed, "Fixed"),
+                    (Wave::Ramp, "Ramp"),
+                    (Wave::Step, "Step"),
+                ] {
+                    if ui.selectable_label(a.wave == wave, label).clicked() {
+                        a.wave = wave;
+                        a.started_s = now_s;
+                    }
+                }
+                if ui.button("Stop").clicked() {
+                    a.wave = Wave::Stop;
+                }
+                ui.monospace(format!("{:+.2} V", a.volts(now_s, self.max_v)));
+                ui.end_row();
+            }
+        });
     }
 }
 

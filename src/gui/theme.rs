@@ -8,7 +8,7 @@ use crate::config::Theme;
 use crate::state::modes::Mode;
 
 /// The smallest text in the window, px: hints and reasons stay readable in sunlight.
-pub const SMALLEST_TEXT_PX: f32 = 12.5;
+pub(crate) const SMALLEST_TEXT_PX: f32 = 12.5;
 
 /// Set `theme`'s colours and the text sizes on `ctx` (not the system's preference: the
 /// operator chose in robot.ini or with F2).

@@ -19,7 +19,7 @@ use crate::state::modes::{Gains, Mode, Refusal, Request};
 
 /// One tunable value: where it lives in robot.ini, how it is shown, and how to read
 /// it from the settings.
-pub struct Tunable {
+pub(crate) struct Tunable {
     pub section: &'static str,
     pub key: &'static str,
     pub what: &'static str,
@@ -39,7 +39,7 @@ macro_rules! tunable {
 
 /// Every regulator gain and steering-law parameter (the steer thread's rate and the
 /// end-switch angle are not: they are fixed for a run).
-pub const TUNABLES: &[Tunable] = &[
+pub(crate) const TUNABLES: &[Tunable] = &[
     tunable!("pid.left", "kp", "V per m/s", |s| s.pid_left.kp),
     tunable!("pid.left", "ki", "V per m", |s| s.pid_left.ki),
     tunable!("pid.left", "kff", "V per m/s of reference", |s| s
@@ -73,7 +73,7 @@ pub const TUNABLES: &[Tunable] = &[
 ];
 
 /// A value as robot.ini gets it: the shortest text that reads back the same number.
-pub fn value_text(v: f64) -> String {
+pub(crate) fn value_text(v: f64) -> String {
     format!("{v}")
 }
 
@@ -182,7 +182,7 @@ impl Tuning {
     }
 
     /// Read the values back from the file.
-    pub fn revert(&mut self) -> Result<String, String> {
+    pub(crate) fn revert(&mut self) -> Result<String, String> {
         let path = self
             .file
             .as_ref()

@@ -86,7 +86,7 @@ pub struct RemoteLink {
 }
 
 /// Older than this, the robot's status is stale: what the window shows goes grey, s.
-pub const REMOTE_FRESH_S: f64 = 1.0;
+pub(crate) const REMOTE_FRESH_S: f64 = 1.0;
 
 impl RemoteLink {
     /// The robot's status is older than a second: what the window shows is stale.
@@ -95,18 +95,18 @@ impl RemoteLink {
     }
 
     /// No status has come yet: there is nothing to show but that.
-    pub fn no_data(&self) -> bool {
+    pub(crate) fn no_data(&self) -> bool {
         self.age_s.is_none()
     }
 
     /// Silent longer than [gui] remote_stale_s: the robot's mode is not known.
-    pub fn mode_unknown(&self) -> bool {
+    pub(crate) fn mode_unknown(&self) -> bool {
         self.age_s.is_none_or(|age_s| age_s > self.unknown_after_s)
     }
 
     /// Whole seconds without a status while stale (or waited for the first), for the
     /// pacer: the counter the header shows moves once a second.
-    pub fn silent_whole_s(&self) -> Option<u64> {
+    pub(crate) fn silent_whole_s(&self) -> Option<u64> {
         match self.age_s {
             None => Some(self.waited_s as u64),
             Some(age_s) if age_s > REMOTE_FRESH_S => Some(age_s as u64),

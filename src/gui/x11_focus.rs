@@ -10,13 +10,13 @@ use x11rb::connection::Connection;
 use x11rb::protocol::xproto::{AtomEnum, ConnectionExt as _, InputFocus, Window};
 
 /// The window's title, as eframe names it (gui/mod.rs).
-pub const TITLE: &str = "mechweed";
+pub(crate) const TITLE: &str = "mechweed";
 /// How long to look for the window after the first frame, s.
 const LOOK_FOR_S: f64 = 3.0;
 
 /// Give the keyboard to the top-level window named `TITLE`, trying for a few seconds
 /// while it is mapped. Not on X11 (Wayland, no DISPLAY): nothing to do.
-pub fn take_keyboard() -> Result<(), String> {
+pub(crate) fn take_keyboard() -> Result<(), String> {
     if std::env::var_os("DISPLAY").is_none() || std::env::var_os("WAYLAND_DISPLAY").is_some() {
         return Ok(());
     }
@@ -48,7 +48,7 @@ pub fn take_keyboard() -> Result<(), String> {
 
 /// The window named `title` among the root's children, or theirs: a window manager
 /// wraps each window in a frame of its own, so on a desktop it is a grandchild.
-pub fn window_named(
+pub(crate) fn window_named(
     conn: &impl Connection,
     root: Window,
     title: &str,

@@ -123,7 +123,7 @@ pub fn serve(
 }
 
 /// Serve on a serial device, or on a new pseudo-terminal for DEVICE = "pty".
-pub fn on_serial(device: &str, baud: u32, opts: GnssSimOptions) -> Result<(), String> {
+pub(crate) fn on_serial(device: &str, baud: u32, opts: GnssSimOptions) -> Result<(), String> {
     let mut port = crate::programs::camsim::serial_or_pty(
         device,
         baud,
@@ -136,7 +136,7 @@ pub fn on_serial(device: &str, baud: u32, opts: GnssSimOptions) -> Result<(), St
 }
 
 /// Serve robot computers on a TCP port, one at a time. "PORT" alone means 127.0.0.1:PORT.
-pub fn on_tcp(address: &str, opts: GnssSimOptions) -> Result<(), String> {
+pub(crate) fn on_tcp(address: &str, opts: GnssSimOptions) -> Result<(), String> {
     let address = crate::programs::camsim::tcp_address(address);
     let listener =
         TcpListener::bind(&address).map_err(|e| format!("cannot listen on {address}: {e}"))?;

@@ -81,12 +81,12 @@ pub enum Command {
     Keys(keys::KeysCommand),
 }
 
-pub fn print_errors(errors: &[ConfigError]) {
+pub(crate) fn print_errors(errors: &[ConfigError]) {
     errors.iter().for_each(|e| eprintln!("{e}"));
 }
 
 /// The settings file: the one named, else config/robot.ini here, else the built-in copy.
-pub fn load_settings(
+pub(crate) fn load_settings(
     file: Option<&Path>,
     overrides: &[String],
 ) -> Result<Settings, Vec<ConfigError>> {
@@ -136,7 +136,7 @@ pub fn done(result: Result<(), String>) -> ExitCode {
     }
 }
 
-pub fn write_json(path: Option<PathBuf>, value: &impl serde::Serialize) -> ExitCode {
+pub(crate) fn write_json(path: Option<PathBuf>, value: &impl serde::Serialize) -> ExitCode {
     if let Some(path) = path {
         let text = serde_json::to_string_pretty(value).expect("plain data");
         if let Err(e) = std::fs::write(&path, text) {
@@ -147,7 +147,7 @@ pub fn write_json(path: Option<PathBuf>, value: &impl serde::Serialize) -> ExitC
     ExitCode::SUCCESS
 }
 
-pub fn parse_metres(text: &str) -> Result<f64, String> {
+pub(crate) fn parse_metres(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {
         Ok(m) if m.is_finite() && m >= 0.0 => Ok(m),
         _ => Err(format!("'{text}' is not a distance in m (0 or more)")),

@@ -77,7 +77,7 @@ pub fn probe(settings: &Settings, raw: bool) -> Result<String, ProbeError> {
 }
 
 /// Probe the cards found under `pci_root` or through `dev_port`.
-pub fn probe_at(
+pub(crate) fn probe_at(
     settings: &Settings,
     raw: bool,
     pci_root: &Path,

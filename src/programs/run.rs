@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use clap::ValueEnum;
 
 use crate::bench::rows::row_name;
-use crate::config::Backend;
+use crate::config::{Backend, Settings};
 use crate::console::report::Report;
 use crate::console::run as run_on_console;
 use crate::gui::Tab;
@@ -70,73 +70,13 @@ pub fn run(args: RunArgs) -> ExitCode {
         print!("{}", crate::state::operator::events_help());
         return ExitCode::SUCCESS;
     }
-    let mut overrides = args.set.clone();
-    if let Some(seed) = args.seed {
-        overrides.push(format!("sim.seed={seed}"));
-    }
-    let mut settings = match load_settings(args.config.as_deref(), &overrides) {
-        Ok(s) => s,
-        Err(errors) => {
-            print_errors(&errors);
-            return ExitCode::FAILURE;
-        }
+    let Some(settings) = settings_for_the_run(&args) else {
+        return ExitCode::FAILURE;
     };
-    if let Some(from_m) = args.from_m {
-        settings.sim.cross_track_from_m = from_m;
-    }
-    // Found out now, not after a run whose figures would then be lost.
-    if let Some(path) = &args.report
-        && let Err(e) = check_writable(path)
-    {
-        eprintln!(
-            "cannot write the report to {}: {e} (nothing started)",
-            path.display()
-        );
-        return ExitCode::FAILURE;
-    }
-    if !args.headless
-        && let Some(why) = crate::gui::display_missing()
-    {
-        eprintln!("{why}: {RUN_ADVICE} (nothing started)");
-        return ExitCode::FAILURE;
-    }
     // Set by Ctrl-C or SIGTERM, told apart from the end of --duration, so that the run
     // says who ended it.
     let stop = crate::console::ctrl_c();
-    let start_mode = match args.mode {
-        StartMode::Halt => Mode::Halt,
-        StartMode::Joystick => Mode::Joystick,
-        StartMode::Autonomous => Mode::Autonomous,
-    };
-    match settings.backend {
-        Backend::Sim => crate::say!(
-            "mechweed on the simulated robot: {} row, {} m/s, seed {}; start mode {start_mode}",
-            row_name(settings.sim.row),
-            settings.steer.speed_mps,
-            settings.sim.seed
-        ),
-        Backend::Cards => crate::say!("mechweed on the I/O cards; start mode {start_mode}"),
-    }
-    if !crate::state::cross_track::CrossTrackMeaning::of(&settings).meaningful() {
-        crate::say!(
-            "camera: {}; {}",
-            settings.camera_port.describe(),
-            crate::console::report::OUTSIDE_CAMERA
-        );
-    }
-    // Nothing powers the real robot up without a person: the console asks here, the GUI
-    // in a window of its own.
-    let start_mode = if args.headless
-        && crate::state::operator::needs_confirmation(settings.backend, start_mode)
-        && !crate::state::operator::confirm_on_console(
-            start_mode,
-            &mut std::io::stdin().lock(),
-            &mut std::io::stdout(),
-        ) {
-        Mode::Halt
-    } else {
-        start_mode
-    };
+    let start_mode = start_mode(&args, &settings);
     let options = RunOptions {
         settings,
         start_mode,
@@ -164,10 +104,84 @@ pub fn run(args: RunArgs) -> ExitCode {
             "run stopped by {who}; the outputs are safe: amplifiers 0 V, motor power off, brakes on, tool off"
         );
     }
-    let report = Report::from_run(&outcome);
+    report(&Report::from_run(&outcome), args.report)
+}
+
+/// The run's settings, with the command line's; None (said why) if they are wrong, or
+/// if the run could not end as asked (a report it cannot write, a GUI with no display).
+fn settings_for_the_run(args: &RunArgs) -> Option<Settings> {
+    let mut overrides = args.set.clone();
+    if let Some(seed) = args.seed {
+        overrides.push(format!("sim.seed={seed}"));
+    }
+    let mut settings = load_settings(args.config.as_deref(), &overrides)
+        .map_err(|errors| print_errors(&errors))
+        .ok()?;
+    if let Some(from_m) = args.from_m {
+        settings.sim.cross_track_from_m = from_m;
+    }
+    // Found out now, not after a run whose figures would then be lost.
+    if let Some(path) = &args.report
+        && let Err(e) = check_writable(path)
+    {
+        eprintln!(
+            "cannot write the report to {}: {e} (nothing started)",
+            path.display()
+        );
+        return None;
+    }
+    if !args.headless
+        && let Some(why) = crate::gui::display_missing()
+    {
+        eprintln!("{why}: {RUN_ADVICE} (nothing started)");
+        return None;
+    }
+    Some(settings)
+}
+
+/// The mode the run starts in, said with what it runs on. Nothing powers the real robot
+/// up without a person: the console asks here, the GUI in a window of its own.
+fn start_mode(args: &RunArgs, settings: &Settings) -> Mode {
+    let start_mode = match args.mode {
+        StartMode::Halt => Mode::Halt,
+        StartMode::Joystick => Mode::Joystick,
+        StartMode::Autonomous => Mode::Autonomous,
+    };
+    match settings.backend {
+        Backend::Sim => crate::say!(
+            "mechweed on the simulated robot: {} row, {} m/s, seed {}; start mode {start_mode}",
+            row_name(settings.sim.row),
+            settings.steer.speed_mps,
+            settings.sim.seed
+        ),
+        Backend::Cards => crate::say!("mechweed on the I/O cards; start mode {start_mode}"),
+    }
+    if !crate::state::cross_track::CrossTrackMeaning::of(settings).meaningful() {
+        crate::say!(
+            "camera: {}; {}",
+            settings.camera_port.describe(),
+            crate::console::report::OUTSIDE_CAMERA
+        );
+    }
+    let operator = crate::state::operator::needs_confirmation(settings.backend, start_mode);
+    if args.headless
+        && operator
+        && !crate::state::operator::confirm_on_console(
+            start_mode,
+            &mut std::io::stdin().lock(),
+            &mut std::io::stdout(),
+        )
+    {
+        return Mode::Halt;
+    }
+    start_mode
+}
+
+/// The run's report on the console, and as JSON where --report says.
+fn report(report: &Report, path: Option<PathBuf>) -> ExitCode {
     crate::say!("{}", report.human().trim_end());
-    if let Some(path) = args.report {
-        let json = serde_json::to_string_pretty(&report).expect("the report is plain data");
+    if let Some(path) = path {
+        let json = serde_json::to_string_pretty(report).expect("the report is plain data");
         if let Err(e) = std::fs::write(&path, json) {
             eprintln!("cannot write the report to {}: {e}", path.display());
             return ExitCode::FAILURE;

@@ -50,7 +50,7 @@ pub struct Taught {
 }
 
 /// The tool's path along the row `name`, from the joystick driving in `record`.
-pub fn taught_row(record: &Path, name: &str, s: &Settings) -> Result<Taught, String> {
+pub(crate) fn taught_row(record: &Path, name: &str, s: &Settings) -> Result<Taught, String> {
     let rec = read(record, &COLUMNS).map_err(|e| e.to_string())?;
     let t = &rec.ticks;
     let col = |c: &str| {
@@ -163,7 +163,7 @@ fn no_drive(record: &Path, t: &Table) -> String {
 
 /// Teach row `name` from `record` and put it into the map file `map`: the line to say,
 /// or why nothing was written.
-pub fn teach_into_map(
+pub(crate) fn teach_into_map(
     record: &Path,
     name: &str,
     map: &Path,
@@ -201,7 +201,7 @@ pub fn teach_into_map(
 
 /// The simulated field's own map (its planting record, with the planting error of
 /// [sim] gnss_map_error_*) as row `name` of the map file `map`: the line to say.
-pub fn field_into_map(s: &Settings, name: &str, map: &Path) -> Result<String, String> {
+pub(crate) fn field_into_map(s: &Settings, name: &str, map: &Path) -> Result<String, String> {
     let (camera, _) = mechweed_hw::sim::byte_pipe(16);
     let robot = mechweed_hw::sim::SimRobot::new(&s.sim, camera);
     let points = robot.planted_map();
@@ -223,7 +223,7 @@ pub fn field_into_map(s: &Settings, name: &str, map: &Path) -> Result<String, St
 /// Put `row` into the map file at `path` (made if missing), replacing a row of the same
 /// name; says what it did. A file that was there is kept beside it as FILE.bak first:
 /// the map is written anew, without the old file's notes and comments.
-pub fn write_into_map(path: &Path, row: MapRow, comment: &str) -> Result<String, String> {
+pub(crate) fn write_into_map(path: &Path, row: MapRow, comment: &str) -> Result<String, String> {
     let (mut map, backup) = if path.exists() {
         let map = read_map(path).map_err(|e| e.to_string())?;
         let mut backup = path.as_os_str().to_owned();

@@ -71,21 +71,7 @@ pub struct Outcome {
 /// Replay a record; the error says why it cannot be replayed.
 pub fn replay(opts: &ReplayOptions) -> Result<Outcome, String> {
     let rec = read_for_replay(&opts.record)?;
-    let settings = rec.header.settings(&opts.set).map_err(|errors| {
-        let lines: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
-        format!(
-            "the run's settings with --set are not usable:\n{}",
-            lines.join("\n")
-        )
-    })?;
-    let mut notes = rec.notes.clone();
-    if rec.header.program != program() {
-        notes.push(format!(
-            "recorded by {}, replayed by {}: a difference may be a change of the code",
-            rec.header.program,
-            program()
-        ));
-    }
+    let (settings, mut notes) = settings_and_notes(&rec, &opts.set)?;
     let mut whatif = match opts.set.is_empty() {
         true => None,
         false => Some(start_whatif(&rec.file, &settings)?),
@@ -150,6 +136,42 @@ pub fn replay(opts: &ReplayOptions) -> Result<Outcome, String> {
         }
         None => Vec::new(),
     };
+    let (faults_recorded, faults_replayed) = faults(&rec, &sup);
+    Ok(Outcome {
+        ticks: rec.ticks.len(),
+        compared,
+        requests,
+        first_difference: first,
+        faults_recorded,
+        faults_replayed,
+        steer: steer.figures,
+        written,
+        notes,
+    })
+}
+
+/// The run's settings with `set`, and the notes a reader of the replay needs.
+fn settings_and_notes(rec: &Recorded, set: &[String]) -> Result<(Settings, Vec<String>), String> {
+    let settings = rec.header.settings(set).map_err(|errors| {
+        let lines: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
+        format!(
+            "the run's settings with --set are not usable:\n{}",
+            lines.join("\n")
+        )
+    })?;
+    let mut notes = rec.notes.clone();
+    if rec.header.program != program() {
+        notes.push(format!(
+            "recorded by {}, replayed by {}: a difference may be a change of the code",
+            rec.header.program,
+            program()
+        ));
+    }
+    Ok((settings, notes))
+}
+
+/// The faults the record holds, and those the replay found, each with its tick and time.
+fn faults(rec: &Recorded, sup: &Supervisor) -> (Vec<Fault>, Vec<Fault>) {
     let t_of = |tick: u64| {
         rec.ticks
             .get(tick.saturating_sub(1) as usize)
@@ -169,17 +191,7 @@ pub fn replay(opts: &ReplayOptions) -> Result<Outcome, String> {
             words: f.cause.to_string(),
         })
         .collect();
-    Ok(Outcome {
-        ticks: rec.ticks.len(),
-        compared,
-        requests,
-        first_difference: first,
-        faults_recorded,
-        faults_replayed,
-        steer: steer.figures,
-        written,
-        notes,
-    })
+    (faults_recorded, faults_replayed)
 }
 
 /// The first output (or the mode) in which the replayed tick parts from the recorded.

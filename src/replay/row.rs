@@ -17,7 +17,7 @@ use crate::steer::law::LawOutput;
 use crate::steer::{EndSwitchState, SourceHealth, SteerCommand};
 
 /// Every column a replay reads.
-pub const WANTED: &[&str] = &[
+pub(crate) const WANTED: &[&str] = &[
     "t_s",
     "tick",
     "mode",
@@ -155,13 +155,23 @@ impl Row<'_> {
         read(&text).ok_or_else(|| format!("{}: {name} = '{text}' is not {what}", self.place()))
     }
 
+    /// The tick this row records: what the supervisor was given, and what it wrote.
     pub fn tick(&self) -> Result<RecordedTick, String> {
-        let side = |t: &str| match t {
-            "" => Some(None),
-            "left" => Some(Some(Side::Left)),
-            "right" => Some(Some(Side::Right)),
-            _ => None,
-        };
+        Ok(RecordedTick {
+            tick: self.count("tick")?,
+            t_s: self.num("t_s")?,
+            inputs: self.inputs()?,
+            steer: self.steer()?,
+            link: self.link()?,
+            given: self.given()?,
+            outputs: self.outputs()?,
+            mode: self.word("mode", Mode::from_name, "a mode")?,
+            place: self.place().clone(),
+        })
+    }
+
+    /// Every input the tick read.
+    fn inputs(&self) -> Result<Inputs, String> {
         let inputs = Inputs {
             pot_v: self.num("pot_v")?,
             joystick_steer_v: self.num("joystick_steer_v")?,
@@ -177,6 +187,11 @@ impl Row<'_> {
             enc_right_counts: self.whole("enc_right_counts")?,
             enc_steer_counts: self.whole("enc_steer_counts")?,
         };
+        Ok(inputs)
+    }
+
+    /// The steer command the tick copied in.
+    fn steer(&self) -> Result<SteerCommand, String> {
         let endswitch = match self.word("steer_endswitch", side, "left, right or empty")? {
             None => EndSwitchState::Idle,
             Some(side) => EndSwitchState::Active {
@@ -217,6 +232,11 @@ impl Row<'_> {
             },
             ..SteerCommand::default()
         };
+        Ok(steer)
+    }
+
+    /// The camera link's status the tick copied in.
+    fn link(&self) -> Result<LinkStatus, String> {
         let mut link = LinkStatus {
             last_row_s: self.time_or_never("link_last_row_s")?,
             last_usable_s: self.time_or_never("link_last_usable_s")?,
@@ -235,6 +255,11 @@ impl Row<'_> {
         c.crc_errors = self.count("cam_crc_errors")?;
         c.seq_gaps = self.count("cam_seq_gaps")?;
         c.duplicates = self.count("cam_duplicates")?;
+        Ok(link)
+    }
+
+    /// The threads' health and any card that failed.
+    fn given(&self) -> Result<Given, String> {
         let panicked = |t: &str| {
             if t.is_empty() {
                 Some(None)
@@ -269,6 +294,11 @@ impl Row<'_> {
                 ));
             }
         };
+        Ok(Given { health, hw_failed })
+    }
+
+    /// Every output the tick wrote.
+    fn outputs(&self) -> Result<Outputs, String> {
         let outputs = Outputs {
             amp_left_v: self.num("amp_left_v")?,
             amp_right_v: self.num("amp_right_v")?,
@@ -278,16 +308,16 @@ impl Row<'_> {
             brake_release_right: self.flag("brake_release_right")?,
             tool_on: self.flag("tool_on")?,
         };
-        Ok(RecordedTick {
-            tick: self.count("tick")?,
-            t_s: self.num("t_s")?,
-            inputs,
-            steer,
-            link,
-            given: Given { health, hw_failed },
-            outputs,
-            mode: self.word("mode", Mode::from_name, "a mode")?,
-            place: self.place().clone(),
-        })
+        Ok(outputs)
+    }
+}
+
+/// An end switch's side as recorded: empty is none.
+fn side(t: &str) -> Option<Option<Side>> {
+    match t {
+        "" => Some(None),
+        "left" => Some(Some(Side::Left)),
+        "right" => Some(Some(Side::Right)),
+        _ => None,
     }
 }

@@ -33,7 +33,7 @@ pub struct SteerFigures {
     pub first_beyond: Option<(f64, f64, f64)>,
 }
 
-pub struct SteerReplay {
+pub(crate) struct SteerReplay {
     core: SteerCore,
     last_t_s: f64,
     /// The status published after the previous supervisor tick, and its link.
@@ -60,7 +60,12 @@ impl SteerReplay {
 
     /// Before supervisor tick `recorded`: if it saw a new steer command, make it again
     /// and compare. `in_window`: compare (else only run the law).
-    pub fn before_tick(&mut self, recorded: &SteerCommand, link: &LinkStatus, in_window: bool) {
+    pub(crate) fn before_tick(
+        &mut self,
+        recorded: &SteerCommand,
+        link: &LinkStatus,
+        in_window: bool,
+    ) {
         let t_s = recorded.t_s;
         if t_s <= self.last_t_s || t_s <= 0.0 {
             return;
@@ -98,7 +103,7 @@ impl SteerReplay {
     }
 
     /// After supervisor tick: what it published, and the link it was given.
-    pub fn after_tick(&mut self, status: &Status, link: &LinkStatus) {
+    pub(crate) fn after_tick(&mut self, status: &Status, link: &LinkStatus) {
         self.published = *status;
         self.link_before = *link;
     }

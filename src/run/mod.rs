@@ -5,20 +5,20 @@
 mod realtime;
 mod robot;
 mod types;
+mod wires;
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::thread::JoinHandle;
 use std::time::Instant;
 
-use crossbeam_channel::bounded;
 use mechweed_hw::Hw;
-use mechweed_hw::sim::TruthHandle;
+use mechweed_hw::sim::{SimControl, TruthHandle};
 
 use crate::bus::BusFigures;
 use crate::bus::rows::{BusRows, RowCounts};
 use crate::bus::thread::BusWires;
-use crate::camlink::thread::{LinkThread, LinkWires, READ_TIMEOUT};
+use crate::camlink::thread::{LinkThread, READ_TIMEOUT};
 use crate::camlink::{LinkCore, LinkStatus};
 use crate::config::{Backend, JoystickSource, Settings};
 use crate::config::{CameraPort, GnssPort};
@@ -26,17 +26,15 @@ use crate::gamepad::{self, PadHw, PadState};
 use crate::record::{self, RecordTap, Recorder};
 use crate::rt::LoopSummary;
 use crate::rt::health::{self, PanicFlag, ThreadName};
+use crate::state::Reader;
 use crate::state::cross_track::CrossTrackMeaning;
-use crate::state::modes::Gains;
-use crate::state::request_channel;
-use crate::state::status::Status;
-use crate::state::{self, Reader, shared};
 use crate::steer::{SteerCommand, SteerCore};
 use crate::supervisor::Supervisor;
 use realtime::rt_setup;
 use robot::{camera_port, open_robot};
+use wires::wire;
 
-use crate::threads::{SteerThread, SteerWires, SupervisorThread, SupervisorWires};
+use crate::threads::{SteerThread, SupervisorThread};
 pub use realtime::not_realtime;
 pub use types::{Handles, RunError, RunOptions, RunOutcome};
 
@@ -47,21 +45,10 @@ fn spawn<T: Send + 'static>(name: &str, f: impl FnOnce() -> T + Send + 'static) 
         .unwrap_or_else(|e| panic!("cannot start the {name} thread: {e}"))
 }
 
-/// Ticks waiting for the bus thread: it publishes each as it comes, so a second's worth
-/// is plenty; when full, ticks are dropped and counted.
-const BUS_QUEUE_TICKS: usize = 64;
-
 /// The controller's threads while they run; `finish` stops them and collects the outcome.
 pub struct Running {
-    supervisor: JoinHandle<(Supervisor, LoopSummary)>,
-    steer: JoinHandle<LoopSummary>,
-    link: JoinHandle<()>,
-    bus: Option<JoinHandle<BusFigures>>,
+    threads: Threads,
     bus_figures: Reader<BusFigures>,
-    cable: Option<JoinHandle<()>>,
-    gamepad: Option<JoinHandle<()>>,
-    gnss: Option<JoinHandle<()>>,
-    gnss_cable: Option<JoinHandle<()>>,
     gnss_status: Reader<crate::gnss::GnssStatus>,
     steer_command: Reader<SteerCommand>,
     link_status: Reader<LinkStatus>,
@@ -73,159 +60,153 @@ pub struct Running {
     stop: Arc<AtomicBool>,
 }
 
+/// A run's threads, joined by `finish`.
+struct Threads {
+    supervisor: JoinHandle<(Supervisor, LoopSummary)>,
+    steer: JoinHandle<LoopSummary>,
+    link: JoinHandle<()>,
+    bus: Option<JoinHandle<BusFigures>>,
+    /// The simulated camera computer's end of its cable.
+    cable: Option<JoinHandle<()>>,
+    gamepad: Option<JoinHandle<()>>,
+    gnss: Option<JoinHandle<()>>,
+    gnss_cable: Option<JoinHandle<()>>,
+}
+
+/// What a run opens before any thread starts (steps 1 and 2 of `start`).
+struct Opened {
+    hw: Box<dyn Hw>,
+    truth: TruthHandle,
+    sim: Option<SimControl>,
+    gnss: crate::gnss::run::GnssRun,
+    camera_port: CameraPort,
+    cable: Option<JoinHandle<()>>,
+    clock: Instant,
+    rt_warnings: Vec<String>,
+    priorities_refused: Option<String>,
+    panics: Arc<PanicFlag>,
+    record_tap: RecordTap,
+    recorder: Recorder,
+    bus_session: Option<zenoh::Session>,
+}
+
+/// Steps 1 and 2 of a run: each fails before any thread starts.
+fn open(s: &Settings, stop: &Arc<AtomicBool>) -> Result<Opened, RunError> {
+    // 1. The robot, the row map with the GNSS receiver's line, the camera's port.
+    let robot = open_robot(s)?;
+    let gnss = crate::gnss::run::prepare(s, robot.receiver, robot.planted, stop)?;
+    let (camera_port, cable) = camera_port(s, robot.camera_line, stop)?;
+    // 2. Real time, the panic watch, the record and the bus.
+    let clock = Instant::now();
+    let (rt_warnings, priorities_refused) = rt_setup(&s.rt);
+    let panics = Arc::new(PanicFlag::default());
+    health::watch_this_thread(&panics, ThreadName::Console);
+    let (record_tap, recorder) = record::start_for_run(s, robot.truth.clone());
+    let bus_session = crate::bus::open_for_run(s).map_err(RunError::Bus)?;
+    Ok(Opened {
+        hw: robot.hw,
+        truth: robot.truth,
+        sim: robot.sim,
+        gnss,
+        camera_port,
+        cable,
+        clock,
+        rt_warnings,
+        priorities_refused,
+        panics,
+        record_tap,
+        recorder,
+        bus_session,
+    })
+}
+
 /// Start the controller's threads; the caller is the operator interface (console or
 /// GUI) and calls `Running::finish` at the end. The steps that can fail come first and
 /// start nothing a failure would leave behind; the threads start last.
 pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Running), RunError> {
     let s = &opts.settings;
-    // 1. The robot, the row map with the GNSS receiver's line, the camera's port.
-    let robot = open_robot(s)?;
-    let mut gnss = crate::gnss::run::prepare(s, robot.receiver, robot.planted, &stop)?;
-    let (camera_port, cable) = camera_port(s, robot.camera_line, &stop)?;
-    let truth = robot.truth;
-
-    // 2. Real time, the panic watch, the record and the bus.
-    let clock = Instant::now();
-    let (rt_warnings, priorities_refused) = rt_setup(&s.rt);
+    let Opened {
+        hw,
+        truth,
+        sim,
+        mut gnss,
+        camera_port,
+        cable,
+        clock,
+        rt_warnings,
+        priorities_refused,
+        panics,
+        record_tap,
+        recorder,
+        bus_session,
+    } = open(s, &stop)?;
     let priority = |p: u8| if priorities_refused.is_some() { 0 } else { p };
-    let panics = Arc::new(PanicFlag::default());
-    health::watch_this_thread(&panics, ThreadName::Console);
-    let (record_tap, recorder) = record::start_for_run(s, truth.clone());
-    let bus_session = crate::bus::open_for_run(s).map_err(RunError::Bus)?;
 
     // 3. What the threads meet through: protected objects and bounded channels.
-    let (status_w, status_r) = shared(Status::default());
-    let (steer_w, steer_r) = shared(SteerCommand::default());
-    let (link_w, link_r) = shared(LinkStatus::default());
-    let (gui_beat_w, gui_beat_r) = shared(f64::NAN);
-    let (steer_settings_w, steer_settings_r) = shared(s.steer);
-    let (tuning_w, tuning_r) = shared((Gains::from_settings(s), s.steer));
-    let (estimate_tx, estimate_rx) = bounded(1);
-    let (ping_tx, ping_rx) = bounded(1);
-    let (new_steer_settings_tx, new_steer_settings_rx) = state::mailbox();
-    let (supervisor_figures_w, supervisor_figures) = shared(LoopSummary::default());
-    let (steer_figures_w, steer_figures) = shared(LoopSummary::default());
-    let (handle, request_rx) = request_channel::channel(status_r.clone());
-    let (bus_figures_w, bus_figures) = shared(BusFigures::default());
-    let row_counts = Arc::new(RowCounts::default());
-    let (bus_tap, bus_flow) = match &bus_session {
-        Some(_) => {
-            let (tap, flow) = record::flow(s.bus.tick_every_n, BUS_QUEUE_TICKS, truth.clone());
-            (tap, Some(flow))
-        }
-        None => (RecordTap::off(), None),
-    };
+    let gnss_status = gnss.status.clone();
+    let w = wire(
+        s,
+        &truth,
+        bus_session.is_some(),
+        gnss_status,
+        record_tap,
+        &panics,
+        &stop,
+    );
 
     // 4. Each thread with its wires. The camera link is the last step that can fail
     //    (rows from the bus); the gamepad thread starts after it.
-    let steer = SteerThread::new(
-        SteerCore::with_map(s, gnss.place.take()),
-        s.steer.rate_hz,
-        clock,
-        SteerWires {
-            new_estimate: estimate_rx,
-            command: steer_w,
-            status: status_r.clone(),
-            link: link_r.clone(),
-            gnss: gnss.status.clone(),
-            figures: steer_figures_w,
-            new_settings: new_steer_settings_rx,
-            settings: steer_settings_w,
-            panics: panics.clone(),
-            stop: stop.clone(),
-        },
-    )
-    .with_priority(priority(s.rt.steer_priority))
-    .with_injection(opts.inject);
-    let link_wires = LinkWires {
-        new_estimate: estimate_tx,
-        ping_requests: ping_rx,
-        status: link_w,
-        robot: status_r.clone(),
-        panics: panics.clone(),
-        stop: stop.clone(),
-    };
-    let link = LinkThread::new(LinkCore::new(&s.camera), camera_port, clock, link_wires)
+    let steer_core = SteerCore::with_map(s, gnss.place.take());
+    let steer = SteerThread::new(steer_core, s.steer.rate_hz, clock, w.steer)
+        .with_priority(priority(s.rt.steer_priority))
+        .with_injection(opts.inject);
+    let link = LinkThread::new(LinkCore::new(&s.camera), camera_port, clock, w.link)
         .with_priority(priority(s.rt.camlink_priority))
         .with_injection(opts.inject);
-    let link = with_rows_from_the_bus(link, s, bus_session.as_ref(), &row_counts)?;
-    let (hw, gamepad, gamepad_thread) = with_gamepad(robot.hw, s, &panics, &stop);
-    let supervisor_wires = SupervisorWires {
-        requests: request_rx,
-        status: status_w,
-        steer: steer_r.clone(),
-        link: link_r.clone(),
-        gui_beat: gui_beat_r,
-        steer_settings: new_steer_settings_tx,
-        tuning: tuning_w,
-        figures: supervisor_figures_w,
-        record: record_tap,
-        bus: bus_tap,
-        panics: panics.clone(),
-        stop: stop.clone(),
-    };
-    let supervisor = SupervisorThread::new(
-        hw,
-        Supervisor::new(s),
-        s.supervisor.rate_hz,
-        clock,
-        supervisor_wires,
-    )
-    .with_priority(priority(s.rt.supervisor_priority), s.rt.supervisor_cpu)
-    .with_injection(opts.inject);
+    let link = with_rows_from_the_bus(link, s, bus_session.as_ref(), &w.row_counts)?;
+    let (hw, gamepad, gamepad_thread) = with_gamepad(hw, s, &panics, &stop);
+    let rate_hz = s.supervisor.rate_hz;
+    let supervisor = SupervisorThread::new(hw, Supervisor::new(s), rate_hz, clock, w.supervisor)
+        .with_priority(priority(s.rt.supervisor_priority), s.rt.supervisor_cpu)
+        .with_injection(opts.inject);
 
     // 5. Start them.
-    let bus = bus_session.zip(bus_flow).map(|(session, flow)| {
-        let wires = BusWires {
-            status: status_r.clone(),
-            link: link_r.clone(),
-            steer: steer_r.clone(),
-            loops: [supervisor_figures.clone(), steer_figures.clone()],
-            flow,
-            supervisor: handle.clone(),
-            tuning: tuning_r,
-            figures: bus_figures_w,
-            rows: row_counts,
-            stop: stop.clone(),
-        };
-        start_bus(session, s.clone(), wires, panics.clone())
-    });
-    let supervisor = spawn("supervisor", move || supervisor.run());
-    let steer = spawn("steer", move || steer.run());
-    let link = spawn("camlink", move || link.run());
-    let gnss_thread = gnss.start(clock, panics.clone(), stop.clone());
+    let threads = Threads {
+        bus: (bus_session.zip(w.bus))
+            .map(|(session, wires)| start_bus(session, s.clone(), wires, panics.clone())),
+        supervisor: spawn("supervisor", move || supervisor.run()),
+        steer: spawn("steer", move || steer.run()),
+        link: spawn("camlink", move || link.run()),
+        gnss: gnss.start(clock, panics.clone(), stop.clone()),
+        cable,
+        gamepad: gamepad_thread,
+        gnss_cable: gnss.cable.take(),
+    };
 
     // 6. What the operator interface reads, and what `finish` stops.
     let handles = Handles {
-        supervisor: handle,
-        link: link_r.clone(),
-        loops: [supervisor_figures, steer_figures],
+        supervisor: w.requests,
+        link: w.link_status.clone(),
+        loops: w.loops,
         truth: truth.clone(),
-        sim: robot.sim,
-        ping: ping_tx,
-        gui_beat: gui_beat_w,
-        steer_settings: steer_settings_r,
-        steer: steer_r.clone(),
+        sim,
+        ping: w.ping,
+        gui_beat: w.gui_beat,
+        steer_settings: w.steer_settings,
+        steer: w.steer_command.clone(),
         clock,
         not_realtime: not_realtime(s.backend, &s.rt, priorities_refused.as_deref()),
-        bus: bus_figures.clone(),
+        bus: w.bus_figures.clone(),
         bus_endpoints: s.bus.endpoints(),
         gamepad,
         cross_track: CrossTrackMeaning::of(s),
     };
     let running = Running {
-        supervisor,
-        steer,
-        link,
-        bus,
-        bus_figures,
-        cable,
-        gamepad: gamepad_thread,
+        threads,
+        bus_figures: w.bus_figures,
         gnss_status: gnss.status.clone(),
-        steer_command: steer_r,
-        gnss: gnss_thread,
-        gnss_cable: gnss.cable.take(),
-        link_status: link_r,
+        steer_command: w.steer_command,
+        link_status: w.link_status,
         truth,
         settings: s.clone(),
         rt_warnings,
@@ -301,21 +282,22 @@ fn start_bus(
 impl Running {
     /// Name the calling thread in this run's panic reports (the main thread is the
     /// console unless it says otherwise, e.g. the GUI).
-    pub fn watch_this_thread_as(&self, name: ThreadName) {
+    pub(crate) fn watch_this_thread_as(&self, name: ThreadName) {
         health::watch_this_thread(&self.panics, name);
     }
 
     /// A controller thread has ended although the run was not stopped.
-    pub fn any_thread_ended(&self) -> bool {
-        self.supervisor.is_finished() || self.steer.is_finished() || self.link.is_finished()
+    pub(crate) fn any_thread_ended(&self) -> bool {
+        let t = &self.threads;
+        t.supervisor.is_finished() || t.steer.is_finished() || t.link.is_finished()
     }
 
     /// Stop the threads (the supervisor writes the safe outputs) and collect the outcome.
     pub fn finish(self) -> RunOutcome {
         self.stop.store(true, Ordering::Relaxed);
-        let link_ok = self.link.join().is_ok();
-        let steer_loop = self.steer.join().unwrap_or_default();
-        let (supervisor, supervisor_loop) = match self.supervisor.join() {
+        let link_ok = self.threads.link.join().is_ok();
+        let steer_loop = self.threads.steer.join().unwrap_or_default();
+        let (supervisor, supervisor_loop) = match self.threads.supervisor.join() {
             Ok(result) => result,
             Err(_) => {
                 tracing::error!(
@@ -327,19 +309,19 @@ impl Running {
         if !link_ok {
             tracing::error!("the camera link thread panicked");
         }
-        if let Some(cable) = self.cable {
+        if let Some(cable) = self.threads.cable {
             let _ = cable.join();
         }
-        if let Some(Err(_)) = self.gamepad.map(JoinHandle::join) {
+        if let Some(Err(_)) = self.threads.gamepad.map(JoinHandle::join) {
             tracing::error!("the gamepad thread panicked");
         }
-        if let Some(Err(_)) = self.gnss.map(JoinHandle::join) {
+        if let Some(Err(_)) = self.threads.gnss.map(JoinHandle::join) {
             tracing::error!("the GNSS link thread panicked");
         }
-        if let Some(cable) = self.gnss_cable {
+        if let Some(cable) = self.threads.gnss_cable {
             let _ = cable.join();
         }
-        let bus = match self.bus.map(JoinHandle::join) {
+        let bus = match self.threads.bus.map(JoinHandle::join) {
             Some(Ok(figures)) => figures,
             Some(Err(_)) => {
                 tracing::error!("the bus thread panicked");

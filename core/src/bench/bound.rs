@@ -63,7 +63,7 @@ const CRAB_RETURN_LENGTHS: f64 = 20.0;
 /// model when `source` steers at `speed_mps` on `plant`'s realistic field with the
 /// steering regulator `steering`, cm (None for a speed, a distance or a camera rate that
 /// is not positive, or where the model has no steady state).
-pub fn bound_cm(
+pub(crate) fn bound_cm(
     plant: &SimParams,
     at: Geometry,
     steering: &PdSettings,

@@ -40,7 +40,7 @@ pub(crate) const DOUBLINGS: usize = 40;
 
 /// Where the robot's sensors and tool are, ahead of the rear axle, m.
 #[derive(Debug, Clone, Copy)]
-pub struct Geometry {
+pub(crate) struct Geometry {
     pub tool_x_m: f64,
     pub camera_x_m: f64,
     pub antenna_x_m: f64,
@@ -49,7 +49,7 @@ pub struct Geometry {
 /// The s.d. of the tool's error over `measured_m` of row that an exact Kalman filter of
 /// `plant`'s realistic field leaves when `source` steers at `speed_mps`, cm (None for a
 /// speed or a distance that is not positive).
-pub fn floor_cm(
+pub(crate) fn floor_cm(
     plant: &SimParams,
     at: Geometry,
     source: SteerSource,

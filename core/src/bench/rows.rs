@@ -15,10 +15,10 @@ use crate::config::{CameraPort, GnssPort, Settings, SteerSource, override_parts}
 use crate::state::modes::Mode;
 use crate::threads::lockstep::Lockstep;
 
-pub const ROWS: [RowShape; 3] = [RowShape::Straight, RowShape::SCurve, RowShape::Arc];
+pub(crate) const ROWS: [RowShape; 3] = [RowShape::Straight, RowShape::SCurve, RowShape::Arc];
 
 /// The speeds of each tier, m/s.
-pub fn speeds_mps(field: FieldKind) -> [f64; 3] {
+pub(crate) fn speeds_mps(field: FieldKind) -> [f64; 3] {
     match field {
         FieldKind::Clean => [0.3, 0.5, 1.0],
         FieldKind::Realistic => [0.5, 1.0, 2.0],
@@ -27,16 +27,16 @@ pub fn speeds_mps(field: FieldKind) -> [f64; 3] {
 
 /// The realistic tier's drive: 2.4 m/s at 10 V (the clean plant's 0.12 m/s per V gives
 /// 1.2 m/s, short of the tier's 2 m/s).
-pub const REALISTIC_MOTOR_GAIN_MPS_PER_V: f64 = 0.24;
+pub(crate) const REALISTIC_MOTOR_GAIN_MPS_PER_V: f64 = 0.24;
 
-pub fn field_name(field: FieldKind) -> &'static str {
+pub(crate) fn field_name(field: FieldKind) -> &'static str {
     match field {
         FieldKind::Clean => "clean",
         FieldKind::Realistic => "realistic",
     }
 }
 
-pub fn source_name(source: SteerSource) -> &'static str {
+pub(crate) fn source_name(source: SteerSource) -> &'static str {
     match source {
         SteerSource::Camera => "camera",
         SteerSource::Gnss => "gnss",

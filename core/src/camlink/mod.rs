@@ -170,7 +170,7 @@ impl LinkCore {
     }
 
     /// Whether two programs send rows on the bus now.
-    pub fn rival_sources(&mut self, rivals: bool) {
+    pub(crate) fn rival_sources(&mut self, rivals: bool) {
         self.status.rival_sources = rivals;
     }
 
@@ -191,7 +191,7 @@ impl LinkCore {
     }
 
     /// The transport failed; the link thread will try to open it again.
-    pub fn disconnected(&mut self, problem: LinkProblem) {
+    pub(crate) fn disconnected(&mut self, problem: LinkProblem) {
         self.status.connected = false;
         self.status.problem = Some(problem);
         self.status.opening = None;

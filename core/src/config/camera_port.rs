@@ -72,7 +72,7 @@ impl CameraPort {
     /// A camera outside this program (camsim, a camera computer) while the robot is the
     /// simulated one: the camera's rows are not the simulated field's, so the field's
     /// cross-track says nothing about the steering.
-    pub fn is_outside_of(&self, backend: super::Backend) -> bool {
+    pub(crate) fn is_outside_of(&self, backend: super::Backend) -> bool {
         backend == super::Backend::Sim && *self != CameraPort::Sim
     }
 

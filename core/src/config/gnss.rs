@@ -48,7 +48,7 @@ pub struct GnssSettings {
 }
 
 impl GnssSettings {
-    pub fn trusts(&self, quality: FixQuality) -> bool {
+    pub(crate) fn trusts(&self, quality: FixQuality) -> bool {
         let code = quality.code();
         code < 16 && self.trusted & (1 << code) != 0
     }

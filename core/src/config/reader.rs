@@ -328,14 +328,14 @@ impl Reader {
 
     /// True if every one of `keys` (section, key) was read without an error: a check
     /// across settings means something only then.
-    pub fn all_read(&self, keys: &[(&str, &str)]) -> bool {
+    pub(crate) fn all_read(&self, keys: &[(&str, &str)]) -> bool {
         keys.iter()
             .all(|&(s, k)| !self.failed.contains(&(s.to_string(), k.to_string())))
     }
 
     /// Record an error that a check across `keys` found; `what` names them and their
     /// values. It is placed where a `--set` changed one of them, else at the first.
-    pub fn cross_error(&mut self, keys: &[(&str, &str)], what: String) {
+    pub(crate) fn cross_error(&mut self, keys: &[(&str, &str)], what: String) {
         let overridden = keys
             .iter()
             .find_map(|&(s, k)| self.overrides.get(&(s.to_string(), k.to_string())).cloned());

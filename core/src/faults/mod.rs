@@ -5,46 +5,21 @@
 //! Checks that must see a condition for some time (a battery sagging, an encoder not
 //! counting) keep a timer here; their times are settings in robot.ini [faults].
 
-use mechweed_hw::{EncoderId, Inputs, Side};
+mod context;
 
-use crate::camlink::LinkStatus;
+use mechweed_hw::{EncoderId, Inputs};
+
+pub use context::CheckContext;
+
 use crate::config::{CameraSettings, FaultSettings, RtSettings, Settings, SteerSource};
-use crate::rt::health::{ThreadHealth, ThreadName};
+use crate::rt::health::ThreadName;
 use crate::state::fault_cause::{FaultCause, JoystickAxis};
-use crate::state::measure::Measured;
 use crate::state::modes::Mode;
 use crate::state::status::PowerState;
-use crate::steer::{EndSwitchState, SteerCommand, Steering};
-
-/// What the checks look at, gathered by the supervisor each tick.
-pub struct CheckContext<'a> {
-    pub now_s: f64,
-    /// Time since the previous supervisor tick, s (one period on the first tick).
-    pub tick_gap_s: f64,
-    pub mode: Mode,
-    /// When the current mode was entered, s.
-    pub mode_since_s: f64,
-    pub power: PowerState,
-    pub inputs: &'a Inputs,
-    pub measured: &'a Measured,
-    /// Amplifier voltages written last tick: left, right, steering.
-    pub driven_v: [f64; 3],
-    /// The motor contactor's relay as written last tick (true = commanded closed).
-    pub relay_closed: bool,
-    /// The speed each drive wheel was asked to move at last tick, m/s: its reference
-    /// while driving; in Test, what the panel's voltage gives with the brake released.
-    pub expected_mps: [f64; 2],
-    /// Encoder counts moved since last tick: left, right, steering.
-    pub counts_moved: [bool; 3],
-    /// An end switch closed while driving, and when (latched by the supervisor).
-    pub endswitch_hit: Option<(Side, f64)>,
-    pub steer: &'a SteerCommand,
-    pub link: &'a LinkStatus,
-    pub health: &'a ThreadHealth,
-}
+use crate::steer::{EndSwitchState, Steering};
 
 /// Settings and the timers of the checks that need time to decide.
-pub struct FaultChecks {
+pub(crate) struct FaultChecks {
     s: FaultSettings,
     camera: CameraSettings,
     source: SteerSource,
@@ -140,15 +115,29 @@ impl FaultChecks {
         None
     }
 
-    /// Run every check; the first cause found is returned. Timers advance every tick.
+    /// Run every check; the first cause found is returned. Every group runs each tick, in
+    /// this order, so that the timers advance.
     pub fn check(&mut self, c: &CheckContext) -> Option<FaultCause> {
         let mut found = None;
         let mut report = |cause: FaultCause| {
             found.get_or_insert(cause);
         };
+        self.estops_and_power(c, &mut report);
+        self.battery_and_potentiometer(c, &mut report);
+        self.end_switches(c, &mut report);
+        self.encoders(c, &mut report);
+        self.joystick(c, &mut report);
+        self.row_sources(c, &mut report);
+        self.camera(c, &mut report);
+        self.threads(c, &mut report);
+        self.timing(c, &mut report);
+        found
+    }
+
+    /// Emergency stops, and the contactor: closed in time, closed while on, open when commanded.
+    fn estops_and_power(&mut self, c: &CheckContext, report: &mut impl FnMut(FaultCause)) {
         let now = c.now_s;
         let i = c.inputs;
-
         // Emergency stops: the hard-wired chain has already opened the contactor.
         if !i.estop_front_released {
             report(FaultCause::EstopFront);
@@ -174,7 +163,12 @@ impl FaultChecks {
         if self.contactor_welded {
             report(FaultCause::ContactorWelded);
         }
+    }
 
+    /// The battery, and the steering potentiometer: in its band, and agreeing with the encoder.
+    fn battery_and_potentiometer(&mut self, c: &CheckContext, report: &mut impl FnMut(FaultCause)) {
+        let now = c.now_s;
+        let i = c.inputs;
         // Battery: sagging briefly under load is normal; staying low is not.
         let low = i.battery_v < self.s.battery_min_v;
         if held_for(&mut self.battery_low_since_s, low, now) >= self.s.battery_low_s && low {
@@ -198,7 +192,12 @@ impl FaultChecks {
                 encoder_deg,
             });
         }
+    }
 
+    /// The end switches: never both; one while driving handled at once and cleared in time.
+    fn end_switches(&self, c: &CheckContext, report: &mut impl FnMut(FaultCause)) {
+        let now = c.now_s;
+        let i = c.inputs;
         // End switches: both at once is a wiring fault; one while driving must be taken
         // by the steer thread's end-switch procedure at once and cleared in time.
         if i.end_switch_left && i.end_switch_right {
@@ -213,7 +212,11 @@ impl FaultChecks {
                 report(FaultCause::EndSwitchStuck(side));
             }
         }
+    }
 
+    /// The encoders: each counts while its motor should be moving.
+    fn encoders(&mut self, c: &CheckContext, report: &mut impl FnMut(FaultCause)) {
+        let now = c.now_s;
         // Encoders: an encoder that does not count while its motor should be moving.
         // Not the voltage alone: standing on a slope, a wheel's integrator rightly holds
         // a voltage while the wheel stands, and ground friction can hold the steering.
@@ -246,7 +249,11 @@ impl FaultChecks {
                 report(FaultCause::EncoderStuck(*id));
             }
         }
+    }
 
+    /// The joystick: no axis beyond what the joystick can give.
+    fn joystick(&self, c: &CheckContext, report: &mut impl FnMut(FaultCause)) {
+        let i = c.inputs;
         // Joystick: an axis beyond what the joystick can give is a broken wiper, which
         // would otherwise read as full deflection.
         if c.mode == Mode::Joystick {
@@ -260,7 +267,11 @@ impl FaultChecks {
                 }
             }
         }
+    }
 
+    /// Autonomous by GNSS or the fused row: something to steer by, and the robot on the row.
+    fn row_sources(&mut self, c: &CheckContext, report: &mut impl FnMut(FaultCause)) {
+        let now = c.now_s;
         // Autonomous driving by GNSS or the fused row needs one of them: the steer
         // thread says which steers, and since when each has been lost.
         let nothing = c.mode == Mode::Autonomous
@@ -282,7 +293,11 @@ impl FaultChecks {
         if self.source != SteerSource::Camera && by_filter && offset_m.abs() > self.s.off_row_m {
             report(FaultCause::OffTheRow { offset_m });
         }
+    }
 
+    /// Autonomous by the camera: frames, and frames that see the row; one source of rows.
+    fn camera(&self, c: &CheckContext, report: &mut impl FnMut(FaultCause)) {
+        let now = c.now_s;
         // Autonomous driving by the camera needs it: frames, and frames that see the row
         // (an old image's estimate repeated sees it only for [camera] gap_hold_m: the steer
         // thread says, as of its last tick, since when the camera has had a row it steers
@@ -303,7 +318,11 @@ impl FaultChecks {
                 report(FaultCause::CameraSeesNoRow { for_s: blind_s });
             }
         }
+    }
 
+    /// The other threads: none panicked, each still beating.
+    fn threads(&self, c: &CheckContext, report: &mut impl FnMut(FaultCause)) {
+        let now = c.now_s;
         // Threads: a panic anywhere, or a thread that stops beating, is a fault; the
         // steer thread beats with each command, the camera link with each status.
         if let Some(thread) = c.health.panicked {
@@ -329,7 +348,11 @@ impl FaultChecks {
                 }
             }
         }
+    }
 
+    /// The supervisor's own timing: no stalled tick, no burst of overruns.
+    fn timing(&mut self, c: &CheckContext, report: &mut impl FnMut(FaultCause)) {
+        let now = c.now_s;
         // One stall is enough: for that long the amplifiers drove unwatched.
         let late_s = c.tick_gap_s - self.period_s;
         let limit_s = self.rt.max_late_periods * self.period_s;
@@ -361,7 +384,6 @@ impl FaultChecks {
                 window_s: self.rt.overrun_window_s,
             });
         }
-        found
     }
 }
 

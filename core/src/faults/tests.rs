@@ -1,7 +1,11 @@
 //! Unit tests of the fault checks that need a constructed context.
 
 use super::*;
+use crate::camlink::LinkStatus;
 use crate::config::Settings;
+use crate::rt::health::ThreadHealth;
+use crate::state::measure::Measured;
+use crate::steer::SteerCommand;
 
 /// What one tick's checks see; `Scene::at(now_s)` is a healthy, powered robot standing
 /// in Halt whose threads all beat at `now_s`.

@@ -91,7 +91,7 @@ impl GnssCore {
     }
 
     /// The receiver's port was opened again: what it sent before is not finished now.
-    pub fn reconnected(&mut self) {
+    pub(crate) fn reconnected(&mut self) {
         self.assembler.drop_pending();
     }
 

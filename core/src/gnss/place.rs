@@ -18,7 +18,7 @@ use crate::gnss::rowmap::{LocalMap, MapRow, RowMap};
 
 /// The row map's line seen from the robot.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MapView {
+pub(crate) struct MapView {
     /// The map line's offset from the rear axle, robot frame, m (positive: left).
     pub offset_m: f64,
     /// Where along the row the rear axle is, m from the row's first point.
@@ -82,13 +82,13 @@ impl RowPlace {
     }
 
     /// Choose the row afresh at the next fix (a new autonomous run).
-    pub fn choose_again(&mut self) {
+    pub(crate) fn choose_again(&mut self) {
         self.row = None;
     }
 
     /// The map line from the robot at `fix`, the row heading `row_heading_rad` to the
     /// left of the robot's (the row filter's estimate). None when no row is near.
-    pub fn locate(&mut self, fix: &Fix, row_heading_rad: f64) -> Option<MapView> {
+    pub(crate) fn locate(&mut self, fix: &Fix, row_heading_rad: f64) -> Option<MapView> {
         let antenna = self.frame.to_enu(Geodetic {
             lat_deg: fix.lat_deg,
             lon_deg: fix.lon_deg,

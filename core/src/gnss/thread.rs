@@ -22,7 +22,7 @@ const READ_TIMEOUT: Duration = Duration::from_millis(20);
 const BACKOFF_MIN: Duration = Duration::from_millis(100);
 const BACKOFF_MAX: Duration = Duration::from_secs(2);
 
-pub struct GnssThread {
+pub(crate) struct GnssThread {
     core: GnssCore,
     port: CameraPort,
     clock: Instant,

@@ -13,7 +13,7 @@ use super::received::{Cell, ReceivedEvent, ReceivedTick};
 use super::row::{COLUMNS, TickSample, Value, number_text};
 use super::thread::Sink;
 
-pub struct CsvSink {
+pub(crate) struct CsvSink {
     ticks: BufWriter<File>,
     events: BufWriter<File>,
     paths: [PathBuf; 2],

@@ -38,7 +38,7 @@ pub const EVENT_COLUMNS: [&str; 4] = ["t_s", "tick", "kind", "text"];
 
 impl RecordEvent {
     /// One word for the kind: mode, fault, notice, dropped or request.
-    pub fn kind_name(&self) -> &'static str {
+    pub(crate) fn kind_name(&self) -> &'static str {
         match self.kind {
             EventKind::Mode { .. } => "mode",
             EventKind::Fault(_) => "fault",

@@ -41,7 +41,7 @@ fn civil_from_days(days: i64) -> (i64, u32, u32) {
 }
 
 /// The record's files, created new (never overwriting an older record).
-pub struct NewFiles {
+pub(crate) struct NewFiles {
     /// (path, file) for each extension asked for, in the same order.
     pub files: Vec<(PathBuf, File)>,
 }
@@ -86,7 +86,7 @@ pub fn create(folder: &Path, stamp: &str, extensions: &[&str]) -> Result<NewFile
 }
 
 /// `records/x` + `.events.csv` -> `records/x.events.csv` (the stem has no extension).
-pub fn with_suffix(stem: &Path, suffix: &str) -> PathBuf {
+pub(crate) fn with_suffix(stem: &Path, suffix: &str) -> PathBuf {
     let mut name = stem.as_os_str().to_os_string();
     name.push(suffix);
     PathBuf::from(name)

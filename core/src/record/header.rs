@@ -10,7 +10,7 @@ use crate::config::{ConfigError, Settings};
 use crate::state::cross_track::CrossTrackMeaning;
 
 /// The file's ending beside NAME.csv and NAME.mcap.
-pub const HEADER_SUFFIX: &str = ".run.json";
+pub(crate) const HEADER_SUFFIX: &str = ".run.json";
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunHeader {

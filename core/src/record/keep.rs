@@ -13,13 +13,13 @@ const ENDINGS: [&str; 4] = [".events.csv", ".csv", ".mcap", ".run.json"];
 
 /// One record: its name without ending, and its files.
 #[derive(Debug)]
-pub struct RecordGroup {
+pub(crate) struct RecordGroup {
     pub name: String,
     pub files: Vec<PathBuf>,
 }
 
 /// The records in `folder`, oldest first. A folder that cannot be read has none.
-pub fn records_in(folder: &Path) -> Vec<RecordGroup> {
+pub(crate) fn records_in(folder: &Path) -> Vec<RecordGroup> {
     let mut groups: Vec<RecordGroup> = Vec::new();
     let Ok(entries) = std::fs::read_dir(folder) else {
         return groups;
@@ -75,7 +75,7 @@ fn order(name: &str) -> Option<(String, u32)> {
 }
 
 /// The record name of a file's path, if the recorder names it so.
-pub fn record_of(path: &Path) -> Option<String> {
+pub(crate) fn record_of(path: &Path) -> Option<String> {
     let file_name = path.file_name()?.to_str()?;
     record_name(file_name).map(str::to_string)
 }
@@ -105,7 +105,7 @@ fn ending_is(file: &Path, ending: &str) -> bool {
 /// Delete the oldest records beyond the newest `keep`, never the one named `current`
 /// (the record this run is writing). Returns one line per record deleted, or per
 /// file that could not be.
-pub fn remove_oldest(folder: &Path, keep: usize, current: &str) -> Vec<String> {
+pub(crate) fn remove_oldest(folder: &Path, keep: usize, current: &str) -> Vec<String> {
     let groups = records_in(folder);
     let excess = groups.len().saturating_sub(keep);
     let mut lines = Vec::new();

@@ -25,7 +25,7 @@ use super::thread::Sink;
 pub const TICK_TOPIC: &str = "/mechweed/tick";
 pub const EVENT_TOPIC: &str = "/mechweed/event";
 
-pub struct McapSink {
+pub(crate) struct McapSink {
     /// None once finished.
     writer: Option<Writer<BufWriter<File>>>,
     path: PathBuf,

@@ -147,7 +147,7 @@ pub fn parse_event(bytes: &[u8]) -> Result<ReceivedEvent, String> {
 
 /// The files of an off-board record, written on the receiving thread (nothing here
 /// waits on the robot).
-pub struct BusRecord {
+pub(crate) struct BusRecord {
     /// None once a sink has failed.
     sinks: Vec<Option<Box<dyn Sink>>>,
     files: Vec<String>,

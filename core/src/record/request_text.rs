@@ -10,7 +10,7 @@ use crate::config::{PdSettings, PiSettings, SteerSettings};
 use crate::state::modes::{Gains, Mode, Refusal, Request};
 
 /// "REQUEST => accepted" or "REQUEST => refused: WHY".
-pub fn event_text(request: &Request, answer: &Result<(), Refusal>) -> String {
+pub(crate) fn event_text(request: &Request, answer: &Result<(), Refusal>) -> String {
     format!("{} => {}", request_text(request), answer_text(answer))
 }
 

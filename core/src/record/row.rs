@@ -252,7 +252,7 @@ pub fn column_names() -> impl Iterator<Item = &'static str> {
 
 /// A number as text that reads back to the same f64 (shortest round trip), or None
 /// for NaN and infinities.
-pub fn number_text(x: f64, out: &mut String) -> bool {
+pub(crate) fn number_text(x: f64, out: &mut String) -> bool {
     use std::fmt::Write;
     if x.is_finite() {
         let _ = write!(out, "{x:?}");

@@ -156,20 +156,7 @@ fn figures(record: &Record, from_m: f64) -> Result<Summary, ReadProblem> {
     let every = gaps.iter().copied().fold(f64::INFINITY, f64::min);
     let dropped = gaps.iter().map(|g| (g / every).round() - 1.0).sum::<f64>();
 
-    let mut faults = None;
-    let mut notices = Vec::new();
-    if let Some(events) = &record.events {
-        let mut found = Vec::new();
-        for row in 0..events.rows.len() {
-            let when = events.number(row, 0)?.unwrap_or(f64::NAN);
-            match events.text(row, 2).as_str() {
-                "fault" => found.push((when, events.text(row, 3))),
-                "notice" => notices.push((when, events.text(row, 3))),
-                _ => {}
-            }
-        }
-        faults = Some(found);
-    }
+    let (faults, notices) = events(record)?;
     let first_t_s = need(0, c_t)?;
     let last_t_s = need(n - 1, c_t)?;
     Ok(Summary {
@@ -192,6 +179,28 @@ fn figures(record: &Record, from_m: f64) -> Result<Summary, ReadProblem> {
         cross_track_meaning: CrossTrackMeaning::Unknown,
         notes: record.notes.clone(),
     })
+}
+
+/// The record's faults (None without an events file) and notices, each with its time.
+#[allow(clippy::type_complexity)]
+fn events(
+    record: &Record,
+) -> Result<(Option<Vec<(f64, String)>>, Vec<(f64, String)>), ReadProblem> {
+    let mut faults = None;
+    let mut notices = Vec::new();
+    if let Some(events) = &record.events {
+        let mut found = Vec::new();
+        for row in 0..events.rows.len() {
+            let when = events.number(row, 0)?.unwrap_or(f64::NAN);
+            match events.text(row, 2).as_str() {
+                "fault" => found.push((when, events.text(row, 3))),
+                "notice" => notices.push((when, events.text(row, 3))),
+                _ => {}
+            }
+        }
+        faults = Some(found);
+    }
+    Ok((faults, notices))
 }
 
 impl Summary {

@@ -86,7 +86,7 @@ impl PanicFlag {
     }
 
     /// The supervisor wrote the safe outputs after a panic: the panicking thread may go on.
-    pub fn safe_outputs_written(&self) {
+    pub(crate) fn safe_outputs_written(&self) {
         self.safe_written.store(true, Ordering::Release);
     }
 }

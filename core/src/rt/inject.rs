@@ -31,7 +31,7 @@ pub enum Fail {
 
 impl Injection {
     /// Fail now, from the thread named.
-    pub fn strike(&self, stop: &AtomicBool) {
+    pub(crate) fn strike(&self, stop: &AtomicBool) {
         match self.action {
             Fail::Panic => panic!("injected failure of the {} thread", self.thread.label()),
             Fail::Stall => {

@@ -33,7 +33,7 @@ fn clock_ns(clock: libc::clockid_t) -> u64 {
 }
 
 /// Nanoseconds on CLOCK_MONOTONIC.
-pub fn monotonic_ns() -> u64 {
+pub(crate) fn monotonic_ns() -> u64 {
     clock_ns(libc::CLOCK_MONOTONIC)
 }
 
@@ -90,7 +90,7 @@ pub struct LoopSummary {
 }
 
 /// Histograms of lateness and execution time; recording never allocates.
-pub struct LoopStats {
+pub(crate) struct LoopStats {
     rate_hz: f64,
     late_us: Histogram<u64>,
     exec_us: Histogram<u64>,
@@ -133,10 +133,6 @@ impl LoopStats {
         self.exec_us.saturating_record(exec_ns / 1000);
     }
 
-    pub fn rate_hz(&self) -> f64 {
-        self.rate_hz
-    }
-
     pub fn summary(&self) -> LoopSummary {
         LoopSummary {
             rate_hz: self.rate_hz,
@@ -151,7 +147,7 @@ impl LoopStats {
 }
 
 /// Wakes a thread at absolute deadlines and measures each tick.
-pub struct Periodic {
+pub(crate) struct Periodic {
     period_ns: u64,
     next_ns: u64,
     woke_ns: u64,
@@ -187,12 +183,12 @@ impl Periodic {
     }
 
     /// The time until the next deadline (for threads that also wait on a channel).
-    pub fn until_deadline(&self) -> std::time::Duration {
+    pub(crate) fn until_deadline(&self) -> std::time::Duration {
         std::time::Duration::from_nanos(self.next_ns.saturating_sub(monotonic_ns()))
     }
 
     /// Mark the start of an unscheduled tick (woken early by an event).
-    pub fn woke_now(&mut self) {
+    pub(crate) fn woke_now(&mut self) {
         self.woke_ns = monotonic_ns();
         self.late_ns = 0;
     }
@@ -212,7 +208,7 @@ impl Periodic {
 
     /// Whether the loop's figures are due for its readers: every FIGURES_EVERY_NS of the
     /// monotonic clock (and at the first tick), whatever woke the loop.
-    pub fn figures_due(&mut self) -> bool {
+    pub(crate) fn figures_due(&mut self) -> bool {
         let now = monotonic_ns();
         if now < self.figures_due_ns {
             return false;
@@ -222,7 +218,7 @@ impl Periodic {
     }
 
     /// Done with an unscheduled tick: record its execution but keep the deadline.
-    pub fn done_unscheduled(&mut self) {
+    pub(crate) fn done_unscheduled(&mut self) {
         let now = monotonic_ns();
         self.stats.record(0, now - self.woke_ns);
     }

@@ -31,7 +31,7 @@ pub enum CrossTrackMeaning {
 }
 
 /// What is shown instead of a number, everywhere.
-pub const NOT_MEANINGFUL_OUTSIDE: &str = "not meaningful (outside camera)";
+pub(crate) const NOT_MEANINGFUL_OUTSIDE: &str = "not meaningful (outside camera)";
 const NOT_KNOWN_REAL: &str = "not known on the real robot";
 const NOT_SAID: &str = "not known (the robot did not say whether it means anything)";
 

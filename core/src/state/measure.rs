@@ -66,7 +66,7 @@ impl Measurement {
 
     /// Forget the steering encoder's zero and take it again from the potentiometer
     /// (after a potentiometer fault, at the next power-up, with the robot standing).
-    pub fn recalibrate(&mut self) {
+    pub(crate) fn recalibrate(&mut self) {
         self.calib_sum_deg = 0.0;
         self.calib_n = 0;
         self.steer_zero_deg = None;
@@ -74,7 +74,7 @@ impl Measurement {
     }
 
     /// Update from one tick's inputs, `dt_s` after the previous one.
-    pub fn update(&mut self, i: &Inputs, dt_s: f64) -> Measured {
+    pub(crate) fn update(&mut self, i: &Inputs, dt_s: f64) -> Measured {
         let counts = [i.enc_left_counts, i.enc_right_counts, i.enc_steer_counts];
         let last = self.last_counts.unwrap_or(counts);
         self.last_counts = Some(counts);

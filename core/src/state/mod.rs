@@ -60,7 +60,7 @@ impl<T: Copy> Writer<T> {
 
     /// Replace the value unless a reader holds the lock right now; never waits.
     /// Returns false if the lock was busy (the caller publishes again next time).
-    pub fn try_publish(&self, value: &T) -> bool {
+    pub(crate) fn try_publish(&self, value: &T) -> bool {
         match self.cell.try_write() {
             Some(mut cell) => {
                 *cell = *value;
@@ -85,7 +85,7 @@ impl<T: Copy> Reader<T> {
     }
 
     /// A copy of the value, or None if the writer holds the lock right now; never waits.
-    pub fn try_snapshot(&self) -> Option<T> {
+    pub(crate) fn try_snapshot(&self) -> Option<T> {
         self.cell.try_read().map(|cell| *cell)
     }
 }

@@ -18,7 +18,7 @@ pub struct OperatorScript {
     goal: Option<Mode>,
 }
 
-pub fn mode_of(m: OperatorMode) -> Mode {
+pub(crate) fn mode_of(m: OperatorMode) -> Mode {
     match m {
         OperatorMode::Halt => Mode::Halt,
         OperatorMode::Joystick => Mode::Joystick,

@@ -16,7 +16,7 @@ use mechweed_hw::camproto::RowEstimate;
 /// The estimate last steered by: its numbers and quality, when it first came, and the
 /// distance the robot had driven then.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct CameraHold {
+pub(crate) struct CameraHold {
     numbers: Option<(f64, f64)>,
     /// The quality the camera gave when these numbers first came or just before.
     quality_before: u8,

@@ -27,7 +27,7 @@ const ANGLE_TOLERANCE_RAD: f64 = 0.035;
 const STOPPED_MPS: f64 = 0.02;
 
 #[derive(Debug, Clone, Default)]
-pub struct EndSwitchProcedure {
+pub(crate) struct EndSwitchProcedure {
     pub state: EndSwitchState,
     /// Procedures completed so far; the supervisor reacts when it changes.
     pub done_count: u32,
@@ -73,7 +73,7 @@ impl EndSwitchProcedure {
     }
 
     /// Abandon a procedure (the mode changed under it).
-    pub fn cancel(&mut self) {
+    pub(crate) fn cancel(&mut self) {
         self.state = EndSwitchState::Idle;
     }
 }

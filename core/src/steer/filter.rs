@@ -105,7 +105,7 @@ const N: usize = 6;
 type Vector = SVector<f64, N>;
 /// The state's covariance, in the order offset, heading, curvature, map_bias, slip,
 /// camera_bias.
-pub type Covariance = SMatrix<f64, N, N>;
+pub(crate) type Covariance = SMatrix<f64, N, N>;
 
 const OFFSET: usize = 0;
 const HEADING: usize = 1;
@@ -289,7 +289,7 @@ impl RowFilter {
     }
 
     /// The state as it was before the robot moved `since`: predict run backwards, exactly.
-    pub fn state_before(&self, since: Travel) -> RowState {
+    pub(crate) fn state_before(&self, since: Travel) -> RowState {
         let (since_m, length_m) = (since.travelled_m, self.settings.camera_bias_length_m);
         RowState::from_vector(&moved(&self.x, -since_m, -since.turned_rad, length_m))
     }
@@ -367,7 +367,7 @@ impl RowFilter {
     /// GNSS's own error may have moved by `sd_m` (its solution changed, or is not RTK
     /// fixed and wanders): the map's bias, which carries it, is widened by that much, so
     /// that the fixes to come move it and not the row.
-    pub fn widen_map_bias(&mut self, sd_m: f64) -> Outcome {
+    pub(crate) fn widen_map_bias(&mut self, sd_m: f64) -> Outcome {
         if !sd_m.is_finite() || sd_m < 0.0 || !(sd_m * sd_m).is_finite() {
             return self.refuse(false);
         }
@@ -377,7 +377,7 @@ impl RowFilter {
 
     /// The fused row at `x_m` ahead of the rear axle, now: (offset_m, angle_rad), as a
     /// fresh camera estimate at `x_m` would give it.
-    pub fn row_at(&self, x_m: f64) -> (f64, f64) {
+    pub(crate) fn row_at(&self, x_m: f64) -> (f64, f64) {
         let (a, b, c) = (self.x[OFFSET], self.x[HEADING], self.x[CURVATURE]);
         (a + b * x_m + c * x_m * x_m / 2.0, b + c * x_m)
     }

@@ -7,7 +7,7 @@ use crate::config::{FilterConfig, SteerSource};
 /// the map's error from the robot's offset by: the map is taken as the row (its bias
 /// known to be 0), or the filter would split each GNSS offset between the two and steer
 /// by a part of it. The camera's lasting error is told from the map's only with both.
-pub fn filter_settings(c: &FilterConfig, source: SteerSource) -> FilterSettings {
+pub(crate) fn filter_settings(c: &FilterConfig, source: SteerSource) -> FilterSettings {
     let mut f = FilterSettings {
         offset_sd_per_sqrt_m: c.offset_sd_per_sqrt_m,
         heading_sd_per_sqrt_m: c.heading_sd_per_sqrt_m,

@@ -67,7 +67,7 @@ impl GateMemory {
     }
 
     /// The robot drove `travelled_m` (either way).
-    pub fn travelled(&mut self, travelled_m: f64) {
+    pub(crate) fn travelled(&mut self, travelled_m: f64) {
         for since_m in &mut self.since_rejected_m {
             *since_m += travelled_m.abs();
         }

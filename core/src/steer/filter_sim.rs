@@ -7,15 +7,15 @@ use rand_distr::StandardNormal;
 use std::collections::VecDeque;
 
 /// 0.5 m/s at 50 Hz; camera and GNSS every 5th step (10 Hz), the image 0.1 s old.
-pub const STEP_M: f64 = 0.01;
-pub const EVERY: usize = 5;
-pub const CAMERA_X_M: f64 = 0.8;
+pub(crate) const STEP_M: f64 = 0.01;
+pub(crate) const EVERY: usize = 5;
+pub(crate) const CAMERA_X_M: f64 = 0.8;
 /// The camera's noise as `[sim]` in config/robot.ini has it.
-pub const SD_OFFSET_M: f64 = 0.01;
-pub const SD_ANGLE_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
+pub(crate) const SD_OFFSET_M: f64 = 0.01;
+pub(crate) const SD_ANGLE_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
 /// RTK's fast noise; its slow error (about 1 cm) is in map_bias.
-pub const SD_GNSS_M: f64 = 0.005;
-pub const LOOKAHEAD_M: f64 = 1.5;
+pub(crate) const SD_GNSS_M: f64 = 0.005;
+pub(crate) const LOOKAHEAD_M: f64 = 1.5;
 
 /// The filter's own model, written out again: the true row, the robot steering by
 /// pure pursuit on the filter's estimate, and the sensors with the filter's noise.
@@ -39,7 +39,7 @@ impl Sim {
         }
     }
 
-    pub fn gauss(&mut self, sd: f64) -> f64 {
+    pub(crate) fn gauss(&mut self, sd: f64) -> f64 {
         sd * self.rng.sample::<f64, _>(StandardNormal)
     }
 

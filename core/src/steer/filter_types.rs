@@ -73,7 +73,7 @@ pub struct Travel {
 impl Travel {
     /// The travel over `age_s` of a robot that moved all along at `speed_mps`, turning
     /// at `yaw_rate_rps`: for an interval the odometry kept does not cover.
-    pub fn at_rates(speed_mps: f64, yaw_rate_rps: f64, age_s: f64) -> Travel {
+    pub(crate) fn at_rates(speed_mps: f64, yaw_rate_rps: f64, age_s: f64) -> Travel {
         Travel {
             travelled_m: speed_mps * age_s,
             turned_rad: yaw_rate_rps * age_s,

@@ -28,7 +28,7 @@ use crate::config::{RobotSettings, SteerSettings};
 
 /// What the robot's own motion says, from the supervisor's measurements.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Motion {
+pub(crate) struct Motion {
     pub speed_mps: f64,
     pub yaw_rate_rps: f64,
     pub wheel_angle_rad: f64,
@@ -49,7 +49,7 @@ pub struct LawOutput {
 }
 
 #[derive(Debug, Clone)]
-pub struct RowFollower {
+pub(crate) struct RowFollower {
     s: SteerSettings,
     wheelbase_m: f64,
     max_wheel_angle_rad: f64,
@@ -93,7 +93,7 @@ impl RowFollower {
     /// The wheel angle for `estimate` of an image taken where the robot stood before it
     /// drove and turned `since`, at time `now_s`; `repeated`: the camera sent that
     /// image's estimate again (a gap in the row).
-    pub fn update_moved(
+    pub(crate) fn update_moved(
         &mut self,
         estimate: &RowEstimate,
         since: Travel,

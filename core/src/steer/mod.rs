@@ -19,6 +19,7 @@ use crate::camlink::LinkStatus;
 use crate::config::{Settings, SteerSettings};
 use crate::gnss::GnssStatus;
 use crate::gnss::place::RowPlace;
+use crate::state::measure::Measured;
 use crate::state::modes::Mode;
 use crate::state::status::Status;
 use endswitch::EndSwitchProcedure;
@@ -108,16 +109,7 @@ impl SteerCore {
         gnss: &GnssStatus,
     ) -> SteerCommand {
         let mode = sup.mode;
-        if mode != self.last_mode {
-            if mode == Mode::Autonomous {
-                self.law.reset();
-                self.rows.reset(now_s);
-            }
-            if !mode.drives() {
-                self.endswitch.cancel();
-            }
-            self.last_mode = mode;
-        }
+        self.follow_mode(mode, now_s);
         let m = &sup.measured;
         if mode == Mode::Autonomous {
             self.rows.watch(now_s, m, link);
@@ -145,29 +137,9 @@ impl SteerCore {
                 joystick::command(&sup.inputs, &self.settings.joystick, m.wheel_angle_rad)
             }
             (None, Mode::Autonomous) => {
-                match self
-                    .rows
-                    .tick(now_s, m, link, gnss, self.settings.steer.speed_mps)
-                {
-                    Some(row) => {
-                        let motion = Motion {
-                            speed_mps: m.speed_mps,
-                            yaw_rate_rps: m.yaw_rate_rps,
-                            wheel_angle_rad: m.wheel_angle_rad,
-                        };
-                        law_output = self.law.update_moved(
-                            &row.estimate,
-                            row.since,
-                            row.repeated,
-                            now_s,
-                            &motion,
-                        );
-                        (row.speed_mps, law_output.wheel_angle_rad)
-                    }
-                    // No fresh estimate yet (or any more): do not drive blind. The
-                    // supervisor faults if this lasts beyond the camera's link time-out.
-                    None => (0.0, m.wheel_angle_rad),
-                }
+                let (command, law) = self.follow_row(now_s, m, link, gnss);
+                law_output = law;
+                command
             }
             (None, _) => (0.0, m.wheel_angle_rad),
         };
@@ -183,6 +155,49 @@ impl SteerCore {
             law: law_output,
             sources: self.rows.health(),
             row: self.rows.figures(gnss),
+        }
+    }
+
+    /// A new mode: autonomous starts its law and its row sources afresh; standing ends
+    /// an end-switch procedure.
+    fn follow_mode(&mut self, mode: Mode, now_s: f64) {
+        if mode == self.last_mode {
+            return;
+        }
+        if mode == Mode::Autonomous {
+            self.law.reset();
+            self.rows.reset(now_s);
+        }
+        if !mode.drives() {
+            self.endswitch.cancel();
+        }
+        self.last_mode = mode;
+    }
+
+    /// Autonomous: the row as the sources see it, and the steering law's wheel angle for
+    /// it; (speed, wheel angle) and the law's figures.
+    fn follow_row(
+        &mut self,
+        now_s: f64,
+        m: &Measured,
+        link: &LinkStatus,
+        gnss: &GnssStatus,
+    ) -> ((f64, f64), LawOutput) {
+        let speed_mps = self.settings.steer.speed_mps;
+        match self.rows.tick(now_s, m, link, gnss, speed_mps) {
+            Some(row) => {
+                let motion = Motion {
+                    speed_mps: m.speed_mps,
+                    yaw_rate_rps: m.yaw_rate_rps,
+                    wheel_angle_rad: m.wheel_angle_rad,
+                };
+                let law =
+                    (self.law).update_moved(&row.estimate, row.since, row.repeated, now_s, &motion);
+                ((row.speed_mps, law.wheel_angle_rad), law)
+            }
+            // No fresh estimate yet (or any more): do not drive blind. The supervisor
+            // faults if this lasts beyond the camera's link time-out.
+            None => ((0.0, m.wheel_angle_rad), LawOutput::default()),
         }
     }
 }

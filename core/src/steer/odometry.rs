@@ -20,7 +20,7 @@ struct Pose {
 }
 
 #[derive(Debug, Clone)]
-pub struct OdometryHistory {
+pub(crate) struct OdometryHistory {
     poses: [Pose; HISTORY],
     newest: usize,
     filled: usize,

@@ -11,12 +11,12 @@ use mechweed_hw::nmea::FixQuality;
 
 /// An RTK float (or worse) solution wanders by about its typical error within this
 /// time, s: decimetres within tens of seconds.
-pub const WANDER_S: f64 = 30.0;
+pub(crate) const WANDER_S: f64 = 30.0;
 
 /// The s.d. by which the receiver's error may have moved since the last fix used (of
 /// quality `used`, `since_s` ago) for a fix of `quality`, m; None when only the map's
 /// own drift applies.
-pub fn receiver_moved_sd_m(
+pub(crate) fn receiver_moved_sd_m(
     used: Option<FixQuality>,
     quality: FixQuality,
     since_s: f64,

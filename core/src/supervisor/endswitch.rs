@@ -9,7 +9,7 @@ use mechweed_hw::{Inputs, Outputs};
 use crate::steer::SteerCommand;
 
 #[derive(Debug, Default)]
-pub struct EndSwitchLatch {
+pub(crate) struct EndSwitchLatch {
     /// When the latched switch closed, s.
     since_s: f64,
     /// The steer thread's count of finished procedures, as last seen.
@@ -56,7 +56,7 @@ impl EndSwitchLatch {
 }
 
 /// Never drive the steering further into a closed end switch.
-pub fn guard_steering(mut outputs: Outputs, inputs: &Inputs) -> Outputs {
+pub(crate) fn guard_steering(mut outputs: Outputs, inputs: &Inputs) -> Outputs {
     if inputs.end_switch_left {
         outputs.amp_steer_v = outputs.amp_steer_v.min(0.0);
     }

@@ -7,6 +7,7 @@
 //! Autonomous directly, bumpless); any fault latches Fault with safe outputs in the
 //! same tick, until the cause is gone and the operator powers up again.
 
+mod drive;
 mod endswitch;
 pub mod pid;
 mod requests;
@@ -22,7 +23,7 @@ use crate::config::{SteerSettings, SteerSource};
 use crate::faults::{CheckContext, FaultChecks};
 use crate::rt::health::ThreadHealth;
 use crate::state::fault_cause::FaultCause;
-use crate::state::measure::Measurement;
+use crate::state::measure::{Measured, Measurement};
 use crate::state::modes::{Gains, Mode};
 use crate::state::status::{FaultRecord, Notice, PowerState, Status};
 use crate::state::steering::Steering;
@@ -58,11 +59,6 @@ pub struct Supervisor {
     /// When the joystick's dead-man was last held, s: a person at the robot, whom the
     /// bus never overrides (rules.rs, remote_refusal).
     deadman_held_s: f64,
-}
-
-/// Move `value` towards `target` by at most `step`.
-fn ramp(value: f64, target: f64, step: f64) -> f64 {
-    value + (target - value).clamp(-step, step)
 }
 
 impl Supervisor {
@@ -182,6 +178,25 @@ impl Supervisor {
         link: &LinkStatus,
         health: &ThreadHealth,
     ) -> Outputs {
+        let (gap_s, measured) = self.take_in(now_s, inputs);
+        self.follow_power(now_s, inputs);
+        // A finished end-switch procedure and the row's end first: a robot that stops
+        // in Halt there is not checked for a row the camera no longer sees.
+        self.follow_endswitch_procedure(steer, now_s);
+        self.follow_row_end(now_s, measured.distance_m);
+        self.say_steering(steer, now_s);
+        let driving = self.status.mode.drives();
+        self.endswitch
+            .latch(&mut self.status.endswitch_hit, driving, inputs, now_s);
+        self.check_faults(gap_s, inputs, &measured, steer, link, health);
+        let outputs = self.regulate(now_s, gap_s, inputs, &measured, steer);
+        self.status.outputs = outputs;
+        outputs
+    }
+
+    /// The tick's inputs into the status, and the measurements made from them; returns
+    /// the time since the last tick and the measurements.
+    fn take_in(&mut self, now_s: f64, inputs: &Inputs) -> (f64, Measured) {
         let gap_s = if self.status.tick == 0 {
             self.period_s
         } else {
@@ -197,7 +212,11 @@ impl Supervisor {
         // Speeds are counts over the true interval.
         let measured = self.measure.update(inputs, gap_s);
         self.status.measured = measured;
+        (gap_s, measured)
+    }
 
+    /// Motor power as the test panel asks it, and a closing contactor that has closed.
+    fn follow_power(&mut self, now_s: f64, inputs: &Inputs) {
         if self.status.mode == Mode::Test {
             self.status.power = test_mode::power_after_panel(
                 self.test_outputs.main_power_on,
@@ -210,34 +229,42 @@ impl Supervisor {
         {
             self.status.power = PowerState::On;
         }
+    }
 
-        // A finished end-switch procedure and the row's end first: a robot that stops
-        // in Halt there is not checked for a row the camera no longer sees.
-        self.follow_endswitch_procedure(steer, now_s);
-        if let Some(driven_m) = self.row_end.update(self.status.mode, measured.distance_m) {
+    /// At the row's end (row_end.rs), stop in Halt and say how far the robot drove.
+    fn follow_row_end(&mut self, now_s: f64, distance_m: f64) {
+        if let Some(driven_m) = self.row_end.update(self.status.mode, distance_m) {
             self.say(Notice::RowEnded {
                 driven_m,
                 t_s: now_s,
             });
             self.set_mode(Mode::Halt);
         }
-        self.say_steering(steer, now_s);
-        let driving = self.status.mode.drives();
-        self.endswitch
-            .latch(&mut self.status.endswitch_hit, driving, inputs, now_s);
+    }
+
+    /// Every fault check (faults/mod.rs); the first cause found enters Fault.
+    fn check_faults(
+        &mut self,
+        gap_s: f64,
+        inputs: &Inputs,
+        measured: &Measured,
+        steer: &SteerCommand,
+        link: &LinkStatus,
+        health: &ThreadHealth,
+    ) {
         let last = self.status.outputs;
         let expected_mps = match self.status.mode {
             Mode::Test => test_mode::expected_mps(&last, &self.left.gains, &self.right.gains),
             _ => [self.status.v_left_ref_mps, self.status.v_right_ref_mps],
         };
         let context = CheckContext {
-            now_s,
+            now_s: self.status.t_s,
             tick_gap_s: gap_s,
             mode: self.status.mode,
             mode_since_s: self.mode_since_s,
             power: self.status.power,
             inputs,
-            measured: &measured,
+            measured,
             driven_v: [last.amp_left_v, last.amp_right_v, last.amp_steer_v],
             relay_closed: last.main_power_on,
             expected_mps,
@@ -252,7 +279,18 @@ impl Supervisor {
         {
             self.enter_fault(cause);
         }
+    }
 
+    /// The outputs the mode asks for: safe in Fault, standing in Halt, the panel's
+    /// through the guards in Test, the regulators' while driving.
+    fn regulate(
+        &mut self,
+        now_s: f64,
+        gap_s: f64,
+        inputs: &Inputs,
+        measured: &Measured,
+        steer: &SteerCommand,
+    ) -> Outputs {
         let outputs = match self.status.mode {
             Mode::Fault => Outputs::SAFE,
             Mode::Halt => self.standing_outputs(),
@@ -266,7 +304,6 @@ impl Supervisor {
             self.status.v_right_ref_mps = 0.0;
             self.status.wheel_angle_ref_rad = measured.wheel_angle_rad;
         }
-        self.status.outputs = outputs;
         outputs
     }
 
@@ -316,86 +353,4 @@ impl Supervisor {
             ..Outputs::SAFE
         }
     }
-
-    /// Joystick and Autonomous: references from the steer thread, ramped; the
-    /// regulators turn them into amplifier voltages.
-    fn drive(&mut self, now_s: f64, steer: &SteerCommand, inputs: &Inputs, gap_s: f64) -> Outputs {
-        if self.status.mode == Mode::Joystick && !inputs.joystick_enable {
-            // The dead-man let go: stop as HALT does, brakes on at once. A person who
-            // lets go may have fallen; the spring brakes stop the robot in the shortest
-            // distance, where a ramp would roll on for up to a metre. Pressed again, the
-            // robot starts from rest.
-            self.start_driving();
-            self.status.v_left_ref_mps = 0.0;
-            self.status.v_right_ref_mps = 0.0;
-            return self.standing_outputs();
-        }
-        // Ramps and integrators take at most two periods at once: after a stall (itself
-        // a fault) none of them jumps by the whole gap.
-        let dt_s = gap_s.min(MAX_STEP_PERIODS * self.period_s);
-        let s = &self.settings;
-        let m = self.status.measured;
-        let end_switch = inputs.end_switch_left
-            || inputs.end_switch_right
-            || self.status.endswitch_hit.is_some();
-        // A command the steer thread made for another mode, or one it stopped renewing,
-        // asks for nothing: stand, and hold the wheel where its reference is.
-        let steer_age_s = now_s - steer.t_s;
-        let fresh = steer.mode == self.status.mode
-            && steer_age_s <= STEER_MAX_AGE_PERIODS / s.steer.rate_hz;
-        let max_speed_mps = s.supervisor.max_speed_mps;
-        let target_speed_mps = if end_switch || !fresh {
-            0.0
-        } else {
-            steer.speed_mps.clamp(-max_speed_mps, max_speed_mps)
-        };
-        // One limit in every mode; the end-switch procedure's angle lies within it
-        // (check-config refuses one that does not).
-        let max_angle_rad = s.robot.max_wheel_angle_deg.to_radians();
-        let target_angle_rad = if fresh {
-            steer.wheel_angle_rad.clamp(-max_angle_rad, max_angle_rad)
-        } else {
-            self.status.wheel_angle_ref_rad
-        };
-
-        let st = &mut self.status;
-        st.speed_ref_mps = ramp(
-            st.speed_ref_mps,
-            target_speed_mps,
-            s.supervisor.accel_mps2 * dt_s,
-        );
-        st.wheel_angle_ref_rad = ramp(
-            st.wheel_angle_ref_rad,
-            target_angle_rad,
-            s.supervisor.wheel_angle_rate_dps.to_radians() * dt_s,
-        );
-        // Ackermann: on a turn the inner rear wheel runs slower than the outer one.
-        let half_track_curvature =
-            0.5 * s.robot.track_m * m.wheel_angle_rad.tan() / s.robot.wheelbase_m;
-        st.v_left_ref_mps = st.speed_ref_mps * (1.0 - half_track_curvature);
-        st.v_right_ref_mps = st.speed_ref_mps * (1.0 + half_track_curvature);
-
-        let outputs = Outputs {
-            amp_left_v: self.left.update(st.v_left_ref_mps, m.v_left_mps, dt_s),
-            amp_right_v: self.right.update(st.v_right_ref_mps, m.v_right_mps, dt_s),
-            // A derivative is a rate: over the true interval, not the capped one.
-            amp_steer_v: self
-                .steering
-                .update(st.wheel_angle_ref_rad, m.wheel_angle_rad, gap_s),
-            main_power_on: true,
-            brake_release_left: true,
-            brake_release_right: true,
-            tool_on: st.mode == Mode::Autonomous && st.speed_ref_mps > TOOL_MIN_SPEED_MPS,
-        };
-        guard_steering(outputs, inputs)
-    }
 }
-
-/// The weeding tool runs only while the robot moves along the row, m/s.
-const TOOL_MIN_SPEED_MPS: f64 = 0.05;
-
-/// The longest interval ramps and integrators take in one tick, in supervisor periods.
-const MAX_STEP_PERIODS: f64 = 2.0;
-
-/// A steer command older than this many steer periods is stale: target speed 0.
-const STEER_MAX_AGE_PERIODS: f64 = 2.0;

@@ -10,7 +10,7 @@ use crate::config::{PdSettings, PiSettings};
 /// that after a long saturation (a steep slope, a wheel held by the brake) the wheel
 /// does not overshoot by the error accumulated meanwhile.
 #[derive(Debug, Clone, Copy)]
-pub struct Pi {
+pub(crate) struct Pi {
     pub gains: PiSettings,
     /// Integrator state, in volts of output.
     pub integral_v: f64,
@@ -30,7 +30,7 @@ impl Pi {
     }
 
     /// Output voltage for a speed reference and measurement (m/s) over `dt_s`.
-    pub fn update(&mut self, reference_mps: f64, measured_mps: f64, dt_s: f64) -> f64 {
+    pub(crate) fn update(&mut self, reference_mps: f64, measured_mps: f64, dt_s: f64) -> f64 {
         let g = &self.gains;
         let error = reference_mps - measured_mps;
         let proportional_v = g.kff * reference_mps + g.kp * error;
@@ -49,7 +49,7 @@ impl Pi {
 /// not kick the motor) through a first-order low-pass filter (the encoder's counts
 /// make a raw derivative noisy).
 #[derive(Debug, Clone, Copy)]
-pub struct Pd {
+pub(crate) struct Pd {
     pub gains: PdSettings,
     rate_rad_s: f64,
     last_measured_rad: Option<f64>,
@@ -70,7 +70,7 @@ impl Pd {
     }
 
     /// Output voltage for an angle reference and measurement (rad) over `dt_s`.
-    pub fn update(&mut self, reference_rad: f64, measured_rad: f64, dt_s: f64) -> f64 {
+    pub(crate) fn update(&mut self, reference_rad: f64, measured_rad: f64, dt_s: f64) -> f64 {
         let g = &self.gains;
         if let Some(last) = self.last_measured_rad
             && dt_s > 0.0

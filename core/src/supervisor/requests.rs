@@ -13,7 +13,7 @@ use super::test_mode;
 impl Supervisor {
     /// Act on a request; `from_bus`: it came from another program over the bus, and a
     /// person at the robot comes first. The answer says why not, if not.
-    pub fn handle_from(&mut self, request: Request, from_bus: bool) -> Result<(), Refusal> {
+    pub(crate) fn handle_from(&mut self, request: Request, from_bus: bool) -> Result<(), Refusal> {
         if from_bus
             && let Some(refusal) = remote_refusal(&request, &self.status, self.deadman_held_s)
         {

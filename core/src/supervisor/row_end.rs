@@ -29,7 +29,7 @@ pub fn row_length_m(s: &Settings) -> Option<f64> {
 
 /// Counts the distance driven along the present row.
 #[derive(Debug, Clone)]
-pub struct RowEnd {
+pub(crate) struct RowEnd {
     /// Axle odometry at which the tool passes the end, m; None: no end known.
     end_m: Option<f64>,
     driven_m: f64,

@@ -6,10 +6,10 @@ use crate::state::modes::{Mode, Refusal, Request};
 use crate::state::status::{PowerState, Status};
 
 /// Below this the robot counts as standing, m/s.
-pub const STANDING_MPS: f64 = 0.01;
+pub(crate) const STANDING_MPS: f64 = 0.01;
 
 /// The supervisor's rule for a mode request: why it would refuse `wanted` now, or None.
-pub fn mode_refusal(wanted: Mode, st: &Status) -> Option<Refusal> {
+pub(crate) fn mode_refusal(wanted: Mode, st: &Status) -> Option<Refusal> {
     if st.tick == 0 {
         return Some(Refusal::NotStarted);
     }
@@ -31,14 +31,18 @@ pub fn mode_refusal(wanted: Mode, st: &Status) -> Option<Refusal> {
 
 /// How long after the dead-man was last held a person still counts as at the robot, s:
 /// a hand that slips off for a moment does not hand the robot to the bus.
-pub const DEADMAN_GRACE_S: f64 = 2.0;
+pub(crate) const DEADMAN_GRACE_S: f64 = 2.0;
 
 /// The rule for a request that came over the bus: a person at the robot comes first.
 /// While someone holds the joystick's dead-man (or did, less than DEADMAN_GRACE_S ago,
 /// at `deadman_held_s`), in any mode, the bus may not send the robot into Autonomous or
 /// Test: a HALT first and then Autonomous does not take it from them either. Halt and
 /// Joystick stay allowed; the other rules still apply after this one.
-pub fn remote_refusal(request: &Request, st: &Status, deadman_held_s: f64) -> Option<Refusal> {
+pub(crate) fn remote_refusal(
+    request: &Request,
+    st: &Status,
+    deadman_held_s: f64,
+) -> Option<Refusal> {
     let person_there = st.t_s - deadman_held_s < DEADMAN_GRACE_S;
     match request {
         Request::Mode(Mode::Autonomous | Mode::Test) if person_there => {

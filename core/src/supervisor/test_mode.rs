@@ -15,10 +15,10 @@ use crate::config::PiSettings;
 use crate::state::status::PowerState;
 
 /// The amplifiers take -10..+10 V: whatever the test panel asks, never more.
-pub const AMPLIFIER_MAX_V: f64 = 10.0;
+pub(crate) const AMPLIFIER_MAX_V: f64 = 10.0;
 
 /// The outputs Test starts with: everything safe, the relay as the power state has it.
-pub fn first_outputs(power: PowerState) -> Outputs {
+pub(crate) fn first_outputs(power: PowerState) -> Outputs {
     Outputs {
         main_power_on: power != PowerState::Off,
         ..Outputs::SAFE
@@ -27,7 +27,7 @@ pub fn first_outputs(power: PowerState) -> Outputs {
 
 /// The power state after the panel's relay switch: opening it is switching power off
 /// (no fault); closing it is a power-up, which must see motor power in time.
-pub fn power_after_panel(relay_closed: bool, power: PowerState, now_s: f64) -> PowerState {
+pub(crate) fn power_after_panel(relay_closed: bool, power: PowerState, now_s: f64) -> PowerState {
     match (relay_closed, power) {
         (false, _) => PowerState::Off,
         (true, PowerState::Off) => PowerState::Closing { since_s: now_s },
@@ -36,7 +36,7 @@ pub fn power_after_panel(relay_closed: bool, power: PowerState, now_s: f64) -> P
 }
 
 /// The panel's outputs with every amplifier within its range.
-pub fn limit_amplifiers(mut outputs: Outputs) -> Outputs {
+pub(crate) fn limit_amplifiers(mut outputs: Outputs) -> Outputs {
     for v in [
         &mut outputs.amp_left_v,
         &mut outputs.amp_right_v,
@@ -55,7 +55,7 @@ pub fn limit_amplifiers(mut outputs: Outputs) -> Outputs {
 /// How fast each drive wheel should turn under the panel's voltages, m/s: the
 /// feed-forward's motor model (kff volts per m/s), or 0 with the brake on. The
 /// encoder check compares the encoders against this.
-pub fn expected_mps(outputs: &Outputs, left: &PiSettings, right: &PiSettings) -> [f64; 2] {
+pub(crate) fn expected_mps(outputs: &Outputs, left: &PiSettings, right: &PiSettings) -> [f64; 2] {
     let wheel = |volts: f64, released: bool, pi: &PiSettings| {
         if !released {
             0.0

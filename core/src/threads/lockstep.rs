@@ -166,7 +166,7 @@ impl Lockstep {
     /// From now on, compare the row filter's estimate of the offset of the tool
     /// (`tool_x_m` ahead of the rear axle) with the truth at every steer tick, once the
     /// robot has driven `from_m` (the benchmark's split of the tool's error).
-    pub fn track_filter_error(&mut self, tool_x_m: f64, from_m: f64) {
+    pub(crate) fn track_filter_error(&mut self, tool_x_m: f64, from_m: f64) {
         self.filter_error = Some(FilterErrorTrack {
             tool_x_m,
             from_m,
@@ -176,7 +176,7 @@ impl Lockstep {
     }
 
     /// The row filter's error at the tool so far, if tracked.
-    pub fn filter_error(&self) -> Option<&CrossTrackStats> {
+    pub(crate) fn filter_error(&self) -> Option<&CrossTrackStats> {
         self.filter_error.as_ref().map(|t| &t.stats)
     }
 

@@ -47,7 +47,7 @@ fn failed(register: u16, fault: CardFault) -> HwError {
 }
 
 /// Status bits 6..4 as IP1..IP3 in bits 0..2.
-pub fn inputs_of_status(status: u8) -> u8 {
+pub(crate) fn inputs_of_status(status: u8) -> u8 {
     (status >> 4) & 0x07
 }
 
@@ -93,7 +93,7 @@ impl Das08 {
     }
 
     /// Set OP1..OP4 from bits 0..3 of `bits`.
-    pub fn write_outputs(&mut self, bits: u8) -> Result<(), HwError> {
+    pub(crate) fn write_outputs(&mut self, bits: u8) -> Result<(), HwError> {
         self.shadow = (bits & 0x0F) << 4;
         self.write_control()
     }
@@ -118,7 +118,7 @@ impl Das08 {
     }
 
     /// IP1..IP3 in bits 0..2, as levels at the card (1 = high).
-    pub fn read_inputs(&mut self) -> Result<u8, HwError> {
+    pub(crate) fn read_inputs(&mut self) -> Result<u8, HwError> {
         Ok(inputs_of_status(self.read_status()?))
     }
 
@@ -159,7 +159,7 @@ impl Das08 {
     }
 
     /// Volts on input `channel` (-5 .. +4.9976 V).
-    pub fn read_volts(&mut self, channel: u8) -> Result<f64, HwError> {
+    pub(crate) fn read_volts(&mut self, channel: u8) -> Result<f64, HwError> {
         Ok(code_to_volts(self.read_code(channel)?))
     }
 }

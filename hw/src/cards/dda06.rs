@@ -69,7 +69,7 @@ impl DacRange {
     }
 
     /// The code for 0 V: 0x8000 on a bipolar range, 0 on a unipolar one.
-    pub fn zero_code(self) -> u16 {
+    pub(crate) fn zero_code(self) -> u16 {
         if self.bipolar() { 0x8000 } else { 0 }
     }
 
@@ -93,7 +93,7 @@ pub struct PortDirections {
 impl PortDirections {
     /// Mode 0; a group without outputs is an input: 0x10 A, 0x08 upper C, 0x02 B,
     /// 0x01 lower C.
-    pub fn control_word(self) -> u8 {
+    pub(crate) fn control_word(self) -> u8 {
         let [a, b, c] = self.output_bits;
         let input = |bits: u8, flag: u8| if bits == 0 { flag } else { 0 };
         0x80 | input(a, 0x10) | input(c & 0xF0, 0x08) | input(b, 0x02) | input(c & 0x0F, 0x01)
@@ -140,7 +140,7 @@ impl Dda06 {
     }
 
     /// Every DAC to its 0 V code.
-    pub fn write_all_zero(&mut self) -> Result<(), HwError> {
+    pub(crate) fn write_all_zero(&mut self) -> Result<(), HwError> {
         for n in 0..DACS {
             self.write_code(n, self.ranges[n].zero_code())?;
         }
@@ -148,7 +148,7 @@ impl Dda06 {
     }
 
     /// DAC `n` (0..5): low byte, then high byte, which updates the output.
-    pub fn write_code(&mut self, n: usize, code: u16) -> Result<(), HwError> {
+    pub(crate) fn write_code(&mut self, n: usize, code: u16) -> Result<(), HwError> {
         let offset = 2 * (n.min(DACS - 1) as u16);
         let [low, high] = code.to_le_bytes();
         self.write(offset, low)?;
@@ -156,7 +156,7 @@ impl Dda06 {
     }
 
     /// DAC `n` to `volts`, clamped to its range; returns the code written.
-    pub fn write_volts(&mut self, n: usize, volts: f64) -> Result<u16, HwError> {
+    pub(crate) fn write_volts(&mut self, n: usize, volts: f64) -> Result<u16, HwError> {
         let code = self.ranges[n.min(DACS - 1)].code(volts);
         self.write_code(n, code)?;
         Ok(code)
@@ -170,7 +170,7 @@ impl Dda06 {
             .map_err(|e| failed(offset, CardFault::ReadFailed(e.kind())))
     }
 
-    pub fn write_port(&mut self, p: usize, value: u8) -> Result<(), HwError> {
+    pub(crate) fn write_port(&mut self, p: usize, value: u8) -> Result<(), HwError> {
         self.write(PORT_A + p.min(2) as u16, value)
     }
 }

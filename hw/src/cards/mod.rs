@@ -118,7 +118,7 @@ impl CardPorts {
     /// The three cards (DAS08, DDA06, QUAD04) if all of them opened. Otherwise the
     /// DAS08 and the DDA06, whichever opened, get their safe outputs now, and the error
     /// gives every card's problem, then which cards were made safe.
-    pub fn all_or_safe(
+    pub(crate) fn all_or_safe(
         found: [Result<OpenedCard, CardOpenError>; 3],
         settings: &CardsSettings,
         wiring: &Wiring,
@@ -208,7 +208,7 @@ impl CardsHw {
     }
 
     /// Every card's raw values for the wired inputs.
-    pub fn read_cards(&mut self) -> Result<CardInputs, HwError> {
+    pub(crate) fn read_cards(&mut self) -> Result<CardInputs, HwError> {
         let mut c = CardInputs::default();
         for a in self.wiring.analog_inputs() {
             c.das08_ai_v[usize::from(a.channel % 8)] = self.das08.read_volts(a.channel)?;
@@ -245,7 +245,7 @@ impl CardsHw {
 
     /// The safe outputs on every card, each tried even if another fails: every DAC at
     /// 0 V (wired or not), switched outputs off, the watchdog stopped.
-    pub fn write_safe(&mut self) -> Result<(), HwError> {
+    pub(crate) fn write_safe(&mut self) -> Result<(), HwError> {
         self.watchdog.hold(&mut self.safe);
         let das08 = self.das08.write_outputs(self.safe.das08_op);
         let dacs = self.dda06.write_all_zero();

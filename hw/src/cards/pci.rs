@@ -14,7 +14,7 @@ use crate::cards::port::{DevPortFile, PortIo, SysfsBar, kernel_locked_down};
 use crate::{CardOpenError, Refusal};
 
 /// Measurement Computing's PCI vendor id.
-pub const VENDOR_MCC: u16 = 0x1307;
+pub(crate) const VENDOR_MCC: u16 = 0x1307;
 
 /// The three cards, with the facts needed to find and open them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -36,7 +36,7 @@ impl CardKind {
         }
     }
 
-    pub fn device_id(self) -> u16 {
+    pub(crate) fn device_id(self) -> u16 {
         match self {
             CardKind::Das08 => 0x0029,
             CardKind::Dda06 => 0x0053,
@@ -53,7 +53,7 @@ impl CardKind {
     }
 
     /// Bytes in the register window the drivers use.
-    pub fn window_len(self) -> u16 {
+    pub(crate) fn window_len(self) -> u16 {
         match self {
             CardKind::Das08 => 8,
             CardKind::Dda06 => 16,
@@ -111,7 +111,7 @@ fn read_hex(path: &Path) -> Option<u64> {
 }
 
 /// Every card of this kind under `root` (normally /sys/bus/pci/devices), sorted.
-pub fn find_all(root: &Path, kind: CardKind) -> Result<Vec<String>, CardOpenError> {
+pub(crate) fn find_all(root: &Path, kind: CardKind) -> Result<Vec<String>, CardOpenError> {
     let entries = std::fs::read_dir(root).map_err(|e| CardOpenError::ListPciDevices {
         root: root.to_path_buf(),
         error: e.kind(),
@@ -208,7 +208,7 @@ pub fn find(
 }
 
 /// An open or access error as the card's problem, with advice a person can act on.
-pub fn explain(kind: CardKind, path: &Path, e: &io::Error) -> CardOpenError {
+pub(crate) fn explain(kind: CardKind, path: &Path, e: &io::Error) -> CardOpenError {
     let path = path.to_path_buf();
     let refusal = match e.kind() {
         io::ErrorKind::ResourceBusy => return CardOpenError::InUse { card: kind, path },

@@ -36,7 +36,7 @@ fn outside(offset: u16, len: u16) -> io::Error {
 }
 
 /// True if the kernel is in lockdown (secure boot), which refuses all port access.
-pub fn kernel_locked_down() -> bool {
+pub(crate) fn kernel_locked_down() -> bool {
     std::fs::read_to_string("/sys/kernel/security/lockdown")
         .map(|text| !text.contains("[none]"))
         .unwrap_or(false)
@@ -104,7 +104,7 @@ fn open_locked(path: &Path) -> io::Result<File> {
 }
 
 /// A card's I/O-port BAR through sysfs: `/sys/bus/pci/devices/<address>/resourceN`.
-pub struct SysfsBar(ByteFile);
+pub(crate) struct SysfsBar(ByteFile);
 
 impl SysfsBar {
     /// Open the BAR file; `len` is the card's register window (bytes).

@@ -54,7 +54,7 @@ fn control_port(ch: usize) -> u16 {
 }
 
 /// A 24-bit count difference as a signed step (two's complement in 24 bits).
-pub fn step_24(from: u32, to: u32) -> i64 {
+pub(crate) fn step_24(from: u32, to: u32) -> i64 {
     let diff = to.wrapping_sub(from) & MASK_24;
     i64::from(((diff << 8) as i32) >> 8)
 }
@@ -149,7 +149,7 @@ impl Quad04 {
     }
 
     /// Channel `ch`'s position in counts since open, unwrapped across 24-bit wraps.
-    pub fn read_counts(&mut self, ch: usize) -> Result<i64, HwError> {
+    pub(crate) fn read_counts(&mut self, ch: usize) -> Result<i64, HwError> {
         let i = ch.clamp(1, CHANNELS) - 1;
         let raw = self.read_raw(ch)?;
         self.position[i] += step_24(self.last_raw[i], raw);

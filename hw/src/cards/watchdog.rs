@@ -13,7 +13,7 @@
 
 use crate::cards::wiring::{CardOutputs, Switch};
 
-pub struct Watchdog {
+pub(crate) struct Watchdog {
     /// The line, or None when robot.ini says `watchdog = none`.
     line: Option<Switch>,
     /// The level of the last half-period: true = active.
@@ -30,7 +30,7 @@ impl Watchdog {
     }
 
     /// The next half-period: the line to its other level in `c`.
-    pub fn toggle(&mut self, c: &mut CardOutputs) {
+    pub(crate) fn toggle(&mut self, c: &mut CardOutputs) {
         if let Some(line) = self.line {
             self.active = !self.active;
             c.set_line(line.bit, line.level(self.active));

@@ -75,7 +75,7 @@ impl EmulatedDda06 {
     }
 
     /// Volts on DAC output `n` (0..5).
-    pub fn dac_volts(&self, n: usize) -> f64 {
+    pub(crate) fn dac_volts(&self, n: usize) -> f64 {
         let r = lock(&self.0);
         match (r.ranges.get(n), r.codes.get(n)) {
             (Some(&range), Some(&code)) => dac_volts(range, code),
@@ -89,7 +89,7 @@ impl EmulatedDda06 {
     }
 
     /// Drive the level of `bit` (0..7) of 8255 port `p` (0 = A, 1 = B, 2 = C) from outside.
-    pub fn set_pin(&self, p: usize, bit: u8, high: bool) {
+    pub(crate) fn set_pin(&self, p: usize, bit: u8, high: bool) {
         let mut r = lock(&self.0);
         if let Some(pins) = r.pins_in.get_mut(p) {
             let mask = 1u8.checked_shl(u32::from(bit)).unwrap_or(0);

@@ -16,7 +16,7 @@ use super::sentence::Sentence;
 /// The longest line taken, `$` to checksum: NMEA's 82 characters allow 79 here, but
 /// real receivers exceed that (a Trimble BX-960 GGA has 91), so the `nmea` crate's
 /// own limit, which it would enforce anyway.
-pub const MAX_LINE_LEN: usize = SENTENCE_MAX_LEN;
+pub(crate) const MAX_LINE_LEN: usize = SENTENCE_MAX_LEN;
 /// Room for the `\r` before the `\n`.
 const BUF_LEN: usize = MAX_LINE_LEN + 1;
 
@@ -107,7 +107,7 @@ impl NmeaDecoder {
     }
 
     /// True while a line has begun and not yet ended (it is not counted yet).
-    pub fn in_line(&self) -> bool {
+    pub(crate) fn in_line(&self) -> bool {
         self.framing == Framing::InLine
     }
 

@@ -199,7 +199,7 @@ impl NmeaEncoder {
         ])
     }
 
-    pub fn gga(&self, e: &ReceiverEpoch) -> Result<NmeaLine, EncodeError> {
+    pub(crate) fn gga(&self, e: &ReceiverEpoch) -> Result<NmeaLine, EncodeError> {
         let (altitude_m, hdop) = (e.altitude_m, e.hdop);
         self.line(
             "GGA",
@@ -221,7 +221,7 @@ impl NmeaEncoder {
         )
     }
 
-    pub fn rmc(&self, e: &ReceiverEpoch) -> Result<NmeaLine, EncodeError> {
+    pub(crate) fn rmc(&self, e: &ReceiverEpoch) -> Result<NmeaLine, EncodeError> {
         let knots = e.speed_mps * KNOTS_PER_MPS;
         // Any angle is a course; the wire wants 0..360.
         let course_deg = e.course_deg.rem_euclid(360.0);
@@ -246,7 +246,7 @@ impl NmeaEncoder {
         )
     }
 
-    pub fn vtg(&self, e: &ReceiverEpoch) -> Result<NmeaLine, EncodeError> {
+    pub(crate) fn vtg(&self, e: &ReceiverEpoch) -> Result<NmeaLine, EncodeError> {
         let (knots, kmh) = (e.speed_mps * KNOTS_PER_MPS, e.speed_mps * KMH_PER_MPS);
         let course_deg = e.course_deg.rem_euclid(360.0);
         let mode = mode_letter(e.quality);
@@ -257,7 +257,7 @@ impl NmeaEncoder {
         )
     }
 
-    pub fn gst(&self, e: &ReceiverEpoch) -> Result<NmeaLine, EncodeError> {
+    pub(crate) fn gst(&self, e: &ReceiverEpoch) -> Result<NmeaLine, EncodeError> {
         let (sd_lat_m, sd_lon_m, sd_alt_m) = (e.sd_lat_m, e.sd_lon_m, e.sd_alt_m);
         // An error ellipse along the axes: this receiver model's errors are per axis.
         let (major_m, minor_m, orientation_deg) = if sd_lat_m >= sd_lon_m {

@@ -15,7 +15,7 @@ pub enum SentenceKind {
 }
 
 impl SentenceKind {
-    pub fn from_letters(letters: [u8; 3]) -> SentenceKind {
+    pub(crate) fn from_letters(letters: [u8; 3]) -> SentenceKind {
         match &letters {
             b"GGA" => SentenceKind::Gga,
             b"RMC" => SentenceKind::Rmc,

@@ -50,7 +50,7 @@ impl FixQuality {
     /// True when a sentence of this quality must carry a latitude and longitude. Dead
     /// reckoning, manual and simulated positions count: they are positions, and whether
     /// to trust them is the consumer's decision, not the decoder's.
-    pub fn carries_position(self) -> bool {
+    pub(crate) fn carries_position(self) -> bool {
         self.code() != 0
     }
 

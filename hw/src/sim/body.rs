@@ -16,7 +16,7 @@ pub(crate) struct Pose {
 
 impl Pose {
     /// A point `ahead_m` in front of the rear axle centre along the heading (negative: behind).
-    pub fn point_ahead(&self, ahead_m: f64) -> (f64, f64) {
+    pub(crate) fn point_ahead(&self, ahead_m: f64) -> (f64, f64) {
         (
             self.x_m + ahead_m * self.heading_rad.cos(),
             self.y_m + ahead_m * self.heading_rad.sin(),

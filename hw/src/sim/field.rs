@@ -19,7 +19,7 @@ const SAMPLE_M: f64 = 0.01;
 /// The line goes on this far past the row's end, m.
 const EXTRA_M: f64 = 5.0;
 /// The plants go on this far past the row's measured length, m.
-pub const PLANTED_BEYOND_M: f64 = 2.0;
+pub(crate) const PLANTED_BEYOND_M: f64 = 2.0;
 /// Beyond this distance from the line the local search is not trusted, m.
 const FAR_M: f64 = 2.0;
 
@@ -93,7 +93,7 @@ impl Field {
     }
 
     /// Length of the planted row, past which the camera sees no plants, m.
-    pub fn planted_length_m(&self) -> f64 {
+    pub(crate) fn planted_length_m(&self) -> f64 {
         self.row_length_m + PLANTED_BEYOND_M
     }
 
@@ -108,7 +108,7 @@ impl Field {
     }
 
     /// The centre line's points in the field frame, m (for drawing).
-    pub fn centre_line(&self) -> &[(f64, f64)] {
+    pub(crate) fn centre_line(&self) -> &[(f64, f64)] {
         &self.points
     }
 

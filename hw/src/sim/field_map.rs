@@ -14,7 +14,7 @@ use super::params::SimParams;
 use crate::geo::{Enu, Geodetic, LocalFrame};
 
 /// Distance between the map's points along the row, m.
-pub const MAP_SPACING_M: f64 = 0.25;
+pub(crate) const MAP_SPACING_M: f64 = 0.25;
 
 /// The row's map line, from its start to 5 m past its end (as far as the field's line
 /// goes). `params` must be sanitized.

@@ -101,7 +101,7 @@ impl FieldTier {
     }
 
     /// The body's side slip where the robot has driven `distance_m`, rad.
-    pub fn side_slip_rad(&self, distance_m: f64) -> f64 {
+    pub(crate) fn side_slip_rad(&self, distance_m: f64) -> f64 {
         if self.realistic {
             self.slope.at(distance_m)
         } else {
@@ -111,7 +111,7 @@ impl FieldTier {
 
     /// How much the drive wheels slip on the soil there (0.05: the ground moves 5 %
     /// less than the wheels' rims, which the encoders count).
-    pub fn wheel_slip(&self, distance_m: f64) -> f64 {
+    pub(crate) fn wheel_slip(&self, distance_m: f64) -> f64 {
         if self.realistic {
             self.wheel_slip.at(distance_m)
         } else {
@@ -120,7 +120,7 @@ impl FieldTier {
     }
 
     /// The next bump the robot has reached by `distance_m`, if any (each once).
-    pub fn bump_reached(&mut self, distance_m: f64) -> Option<Bump> {
+    pub(crate) fn bump_reached(&mut self, distance_m: f64) -> Option<Bump> {
         let bump = *self.bumps.get(self.next_bump)?;
         if bump.at_m > distance_m {
             return None;

@@ -10,7 +10,7 @@
 //! fixed order.
 
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct GaussMarkov {
+pub(crate) struct GaussMarkov {
     /// Stationary standard deviation, m.
     sd_m: f64,
     /// Correlation span (s or m): the autocorrelation falls to 1/e over this.
@@ -28,7 +28,7 @@ impl GaussMarkov {
         }
     }
 
-    pub fn value_m(&self) -> f64 {
+    pub(crate) fn value_m(&self) -> f64 {
         self.value_m
     }
 

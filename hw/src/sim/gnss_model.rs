@@ -26,8 +26,8 @@ use crate::nmea::FixQuality;
 
 /// Added to the simulation's seed, so this receiver's numbers differ from every other
 /// simulated device's drawn from the same seed.
-pub const SEED_GNSS_NOISE: u64 = 0x6e55_0001;
-pub const SEED_GNSS_SCHEDULE: u64 = 0x6e55_0002;
+pub(crate) const SEED_GNSS_NOISE: u64 = 0x6e55_0001;
+pub(crate) const SEED_GNSS_SCHEDULE: u64 = 0x6e55_0002;
 
 /// The solution states, as the simulation's events gnss_fixed, gnss_float, gnss_dgps
 /// and gnss_lost set them.
@@ -97,14 +97,14 @@ pub struct Measured {
 /// on average, at exponentially distributed distances, as under tree lines and near
 /// buildings along a real field.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FloatSchedule {
+pub(crate) struct FloatSchedule {
     mean_spacing_m: f64,
     episode_s: f64,
 }
 
 /// A field tier that could not work as asked; says which number to change.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
-pub enum FloatScheduleError {
+pub(crate) enum FloatScheduleError {
     #[error("the mean distance between float episodes must be positive and finite, not {0} m")]
     Spacing(f64),
     #[error("a float episode must last a positive, finite time, not {0} s")]
@@ -186,7 +186,11 @@ impl ReceiverModel {
     }
 
     /// Add the field tier's float episodes, counted from `distance_m` travelled now.
-    pub fn with_float_schedule(mut self, tier: FloatSchedule, distance_m: f64) -> ReceiverModel {
+    pub(crate) fn with_float_schedule(
+        mut self,
+        tier: FloatSchedule,
+        distance_m: f64,
+    ) -> ReceiverModel {
         self.tier = Some(tier);
         self.next_episode_at_m = distance_m + self.episode_spacing_m(tier);
         self
@@ -214,7 +218,7 @@ impl ReceiverModel {
 
     /// Lose the corrections' ambiguity fix for `duration_s` from `t_s`, then return
     /// to Fixed by itself (a non-finite or negative duration is no episode).
-    pub fn float_for(&mut self, t_s: f64, duration_s: f64) {
+    pub(crate) fn float_for(&mut self, t_s: f64, duration_s: f64) {
         if duration_s.is_finite() && duration_s > 0.0 {
             self.state = GnssState::Float;
             self.state_since_s = t_s;

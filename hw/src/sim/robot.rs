@@ -144,7 +144,7 @@ impl SimRobot {
         }
     }
 
-    pub fn time_s(&self) -> f64 {
+    pub(crate) fn time_s(&self) -> f64 {
         self.steps as f64 * self.p.step_s
     }
 

@@ -81,7 +81,7 @@ impl ToolTrack {
     /// Hand every sample taken since `seen` (a count this returned before, 0 at first)
     /// to `record`, and return the new count. Only the newest JOURNAL_LEN are kept, so
     /// call it at least that often in samples (at most one is taken per step).
-    pub fn journal(&self, seen: u64, mut record: impl FnMut(f64, u64)) -> u64 {
+    pub(crate) fn journal(&self, seen: u64, mut record: impl FnMut(f64, u64)) -> u64 {
         let oldest_kept = self.journal_total.saturating_sub(JOURNAL_LEN as u64);
         for k in seen.max(oldest_kept)..self.journal_total {
             let (error_m, count) = self.journal[(k % JOURNAL_LEN as u64) as usize];

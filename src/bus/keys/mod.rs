@@ -26,7 +26,7 @@ pub use roster::{Role, Roster};
 const VALID_YEARS: i32 = 5;
 
 /// The files of one identity in a keys folder: NAME.pem and NAME.key.
-pub fn identity_files(dir: &Path, name: &str) -> (PathBuf, PathBuf) {
+pub(crate) fn identity_files(dir: &Path, name: &str) -> (PathBuf, PathBuf) {
     (
         dir.join(format!("{name}.pem")),
         dir.join(format!("{name}.key")),
@@ -71,7 +71,7 @@ fn rcgen_error(what: &str) -> impl Fn(rcgen::Error) -> String + '_ {
 
 /// Make a new authority and the first identity of each role in `dir` (made if missing;
 /// refused if it holds an authority already).
-pub fn new_cluster(dir: &Path, robot: &str) -> Result<Vec<String>, String> {
+pub(crate) fn new_cluster(dir: &Path, robot: &str) -> Result<Vec<String>, String> {
     crate::config::parse_prefix(robot)?;
     let roster_path = roster::path_in(dir);
     if dir.join("ca.key").exists() || roster_path.exists() {
@@ -112,7 +112,7 @@ pub fn new_cluster(dir: &Path, robot: &str) -> Result<Vec<String>, String> {
 }
 
 /// One more identity `name` with `role`, signed by the authority in `dir`.
-pub fn add_identity(dir: &Path, role: Role, name: &str) -> Result<Vec<String>, String> {
+pub(crate) fn add_identity(dir: &Path, role: Role, name: &str) -> Result<Vec<String>, String> {
     roster::check_name(name)?;
     let roster_path = roster::path_in(dir);
     let mut roster = Roster::read(&roster_path)?;

@@ -21,7 +21,7 @@ pub enum Role {
 }
 
 impl Role {
-    pub const ALL: [Role; 7] = [
+    pub(crate) const ALL: [Role; 7] = [
         Role::Robot,
         Role::Camera,
         Role::Operator,
@@ -62,7 +62,7 @@ impl fmt::Display for Role {
 
 /// An identity's name: letters, digits and `-`, so that it is a file name, a host
 /// name in the certificate and a key part on the bus alike.
-pub fn check_name(name: &str) -> Result<(), String> {
+pub(crate) fn check_name(name: &str) -> Result<(), String> {
     let ok = !name.is_empty()
         && name.len() <= 63
         && !name.starts_with('-')
@@ -90,7 +90,7 @@ pub struct Roster {
 }
 
 /// The roster's file in a keys folder.
-pub fn path_in(dir: &Path) -> PathBuf {
+pub(crate) fn path_in(dir: &Path) -> PathBuf {
     dir.join(crate::config::ROSTER_FILE)
 }
 
@@ -103,7 +103,7 @@ impl Roster {
             .map(|(n, _)| n.as_str())
     }
 
-    pub fn role_of(&self, name: &str) -> Option<Role> {
+    pub(crate) fn role_of(&self, name: &str) -> Option<Role> {
         self.roles.get(name).copied()
     }
 
@@ -173,7 +173,7 @@ impl Roster {
         Ok(roster)
     }
 
-    pub fn to_text(&self) -> String {
+    pub(crate) fn to_text(&self) -> String {
         let mut text = String::from(
             "; Who is who in this cluster: each identity's name (its certificate's common name)\n\
              ; and its role. mechweed writes it (keys new, keys add, keys revoke); copy it with\n\

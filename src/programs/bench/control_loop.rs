@@ -25,7 +25,7 @@ use crate::run::RunOptions;
 use crate::state::modes::Mode;
 
 #[derive(Debug, Serialize)]
-pub struct LoopBench {
+pub(crate) struct LoopBench {
     pub rate_hz: f64,
     pub gui: bool,
     pub seconds: f64,
@@ -49,7 +49,7 @@ pub struct LoopBench {
 
 /// The Space key's way to the supervisor, ms (nearest-rank percentiles).
 #[derive(Debug, Serialize)]
-pub struct HaltKey {
+pub(crate) struct HaltKey {
     pub presses: usize,
     pub p50_ms: f64,
     pub p99_ms: f64,
@@ -75,7 +75,7 @@ impl HaltKey {
 /// With `gui`, the operator GUI is open on that tab for the whole run (on this, the
 /// main thread), to measure what it costs the supervisor; None runs headless. With
 /// `press_space_s` (and the GUI), the Space key is pressed that often (bench_halt.rs).
-pub fn bench_loop(
+pub(crate) fn bench_loop(
     settings: &Settings,
     rate_hz: f64,
     seconds: f64,

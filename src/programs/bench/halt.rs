@@ -28,7 +28,7 @@ const XK_SPACE: u32 = 0x20;
 /// Press Space every `every_s` until `done`; gives each press's time from the key to the
 /// supervisor's HALT, ms (a press the supervisor did not take within 2 s is left out
 /// and said).
-pub fn press_space(
+pub(crate) fn press_space(
     supervisor: SupervisorHandle,
     clock: Instant,
     every_s: f64,

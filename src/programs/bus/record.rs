@@ -37,24 +37,7 @@ pub struct Options {
 /// Record until `stop` (Ctrl-C) or `seconds`; returns the closing summary.
 pub fn record(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
     let tool = Tool::connect(&opts.connect, &opts.robot, true, opts.tls.as_ref())?;
-    let (tx, rx) = crossbeam_channel::bounded::<(bool, Vec<u8>)>(QUEUE);
-    let dropped_here = Arc::new(AtomicU64::new(0));
-    let mut subscribers = Vec::new();
-    for (is_tick, key) in [(true, "tick"), (false, "event")] {
-        let (tx, dropped) = (tx.clone(), dropped_here.clone());
-        let subscriber = tool
-            .session()
-            .declare_subscriber(tool.key(key))
-            .callback(move |sample| {
-                let bytes = sample.payload().to_bytes().into_owned();
-                if tx.try_send((is_tick, bytes)).is_err() {
-                    dropped.fetch_add(1, Ordering::Relaxed);
-                }
-            })
-            .wait()
-            .map_err(|e| e.to_string())?;
-        subscribers.push(subscriber);
-    }
+    let (rx, dropped_here, _subscribers) = subscribe(&tool)?;
     let _alive = tool
         .session()
         .liveliness()
@@ -120,6 +103,40 @@ pub fn record(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
         dropped_here.load(Ordering::Relaxed),
         c.bad
     ))
+}
+
+/// The robot's ticks and events, queued for the recorder as they arrive; the count of
+/// those a full queue dropped here; and the subscriptions, kept while recording.
+#[allow(clippy::type_complexity)]
+fn subscribe(
+    tool: &Tool,
+) -> Result<
+    (
+        crossbeam_channel::Receiver<(bool, Vec<u8>)>,
+        Arc<AtomicU64>,
+        Vec<zenoh::pubsub::Subscriber<()>>,
+    ),
+    String,
+> {
+    let (tx, rx) = crossbeam_channel::bounded::<(bool, Vec<u8>)>(QUEUE);
+    let dropped_here = Arc::new(AtomicU64::new(0));
+    let mut subscribers = Vec::new();
+    for (is_tick, key) in [(true, "tick"), (false, "event")] {
+        let (tx, dropped) = (tx.clone(), dropped_here.clone());
+        let subscriber = tool
+            .session()
+            .declare_subscriber(tool.key(key))
+            .callback(move |sample| {
+                let bytes = sample.payload().to_bytes().into_owned();
+                if tx.try_send((is_tick, bytes)).is_err() {
+                    dropped.fetch_add(1, Ordering::Relaxed);
+                }
+            })
+            .wait()
+            .map_err(|e| e.to_string())?;
+        subscribers.push(subscriber);
+    }
+    Ok((rx, dropped_here, subscribers))
 }
 
 /// The robot's cross-track meaning from its `[hw] backend` and `[camera] port`, by the

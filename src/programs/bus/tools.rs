@@ -13,12 +13,12 @@ use crate::config::TlsFiles;
 use crate::programs::camsim::computer::{CamSim, CamSimOptions};
 
 /// Where the robot program listens with the shipped settings.
-pub const DEFAULT_ENDPOINT: &str = "tcp/127.0.0.1:7447";
+pub(crate) const DEFAULT_ENDPOINT: &str = "tcp/127.0.0.1:7447";
 /// How long a tool waits for the robot program to answer.
 const ANSWER_WAIT: Duration = Duration::from_secs(3);
 
 /// The flows a robot program publishes or takes, as `bus echo` names them.
-pub const FLOWS: [&str; 4] = ["status", "tick", "event", "camera/row"];
+pub(crate) const FLOWS: [&str; 4] = ["status", "tick", "event", "camera/row"];
 
 /// Key prefixes under which other programs publish (the cluster's master and
 /// launchers, the programs' tokens): taken as given.
@@ -27,7 +27,7 @@ const OTHER_PROGRAMS: [&str; 2] = ["cluster/", "alive/"];
 /// Refuse a flow name the robot does not have (a typo waits for ever otherwise). Keys
 /// taken whole (`/farm/robot2/status`), patterns (`*`) and the other programs' keys are
 /// taken as given.
-pub fn check_flow(key: &str) -> Result<(), String> {
+pub(crate) fn check_flow(key: &str) -> Result<(), String> {
     let others = OTHER_PROGRAMS.iter().any(|p| key.starts_with(p));
     if key.starts_with('/') || key.contains('*') || others || FLOWS.contains(&key) {
         return Ok(());
@@ -331,7 +331,7 @@ impl Tool {
 
     /// `camsim --bus`: publish the simulated camera's rows on ROBOT/camera/row, with a
     /// line a second of what went out, until the program is stopped.
-    pub fn publish_rows(&self, options: CamSimOptions) -> Result<(), String> {
+    pub(crate) fn publish_rows(&self, options: CamSimOptions) -> Result<(), String> {
         let key = self.key("camera/row");
         let publisher = self
             .session

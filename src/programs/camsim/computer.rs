@@ -85,7 +85,7 @@ impl CamSim {
         }
     }
 
-    pub fn is_streaming(&self) -> bool {
+    pub(crate) fn is_streaming(&self) -> bool {
         self.streaming
     }
 
@@ -175,7 +175,7 @@ impl CamSim {
 
     /// The next row estimate due at `now_s` while streaming (one every 0.1 s); those
     /// --drop leaves out are counted and skipped.
-    pub fn next_row(&mut self, now_s: f64) -> Option<RowEstimate> {
+    pub(crate) fn next_row(&mut self, now_s: f64) -> Option<RowEstimate> {
         while self.streaming && now_s >= self.next_frame_s {
             self.next_frame_s += FRAME_INTERVAL_S;
             let estimate = self.estimate(now_s);

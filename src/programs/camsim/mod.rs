@@ -40,7 +40,7 @@ fn each_second_printer() -> impl FnMut(f64, &CamSim) {
 
 /// A serial device, or for DEVICE = "pty" a new pseudo-terminal whose path is said with
 /// the setting that points the robot program at it (`what` is the simulated device).
-pub fn serial_or_pty(
+pub(crate) fn serial_or_pty(
     device: &str,
     baud: u32,
     what: &str,
@@ -61,7 +61,7 @@ pub fn serial_or_pty(
 }
 
 /// Serve on a serial device, or on a new pseudo-terminal for DEVICE = "pty".
-pub fn on_serial(device: &str, baud: u32, options: CamSimOptions) -> Result<(), String> {
+pub(crate) fn on_serial(device: &str, baud: u32, options: CamSimOptions) -> Result<(), String> {
     let mut port = serial_or_pty(device, baud, "simulated camera computer", "camera.port")?;
     port.set_timeout(POLL).map_err(|e| e.to_string())?;
     println!("simulated camera computer on {device}, waiting for START");
@@ -79,7 +79,7 @@ pub fn on_serial(device: &str, baud: u32, options: CamSimOptions) -> Result<(), 
 }
 
 /// "PORT" alone means 127.0.0.1:PORT: a stand-in listens on this computer unless told.
-pub fn tcp_address(address: &str) -> String {
+pub(crate) fn tcp_address(address: &str) -> String {
     if address.contains(':') {
         address.to_string()
     } else {
@@ -88,7 +88,7 @@ pub fn tcp_address(address: &str) -> String {
 }
 
 /// Serve robot computers on a TCP port, one at a time. "PORT" alone means 127.0.0.1:PORT.
-pub fn on_tcp(address: &str, options: CamSimOptions) -> Result<(), String> {
+pub(crate) fn on_tcp(address: &str, options: CamSimOptions) -> Result<(), String> {
     let address = tcp_address(address);
     let listener =
         TcpListener::bind(&address).map_err(|e| format!("cannot listen on {address}: {e}"))?;

@@ -29,21 +29,21 @@ use std::fmt;
 use mechweed_hw::geo::{Enu, Geodetic, LocalFrame};
 
 /// The header line of a row map without the optional note column.
-pub const HEADER: &str = "row,lat_deg,lon_deg";
+pub(crate) const HEADER: &str = "row,lat_deg,lon_deg";
 /// The header line of a row map with the note column.
-pub const HEADER_WITH_NOTE: &str = "row,lat_deg,lon_deg,note";
+pub(crate) const HEADER_WITH_NOTE: &str = "row,lat_deg,lon_deg,note";
 /// Consecutive points closer than this are a repeated line, m.
-pub const MIN_STEP_M: f64 = 0.001;
+pub(crate) const MIN_STEP_M: f64 = 0.001;
 /// Consecutive points farther apart than this are a typo in a digit, m: rows are taught
 /// at a point every 0.25 m and planting records log one every few metres.
-pub const MAX_STEP_M: f64 = 100.0;
+pub(crate) const MAX_STEP_M: f64 = 100.0;
 /// A row turning more than this at one point has a point out of order, degrees.
-pub const MAX_TURN_DEG: f64 = 90.0;
+pub(crate) const MAX_TURN_DEG: f64 = 90.0;
 /// Decimals of a degree written: 1e-9 degree is about 0.1 mm on the ground.
-pub const DECIMALS: usize = 9;
+pub(crate) const DECIMALS: usize = 9;
 /// More errors than this in one file are counted, not listed: the first ones show what
 /// is wrong, and a wholly wrong file should not flood the screen.
-pub const MAX_ERRORS_SHOWN: usize = 20;
+pub(crate) const MAX_ERRORS_SHOWN: usize = 20;
 /// Text quoted from the file is cut to this many characters in messages.
 const SHOWN_CHARS: usize = 40;
 
@@ -137,7 +137,7 @@ pub(crate) fn shown(text: &str) -> String {
 }
 
 /// Why `name` cannot name a row, if it cannot.
-pub fn name_problem(name: &str) -> Option<String> {
+pub(crate) fn name_problem(name: &str) -> Option<String> {
     let quoted = shown(name);
     if name.is_empty() {
         Some("the row name is empty".to_string())

@@ -85,7 +85,7 @@ fn cross(a: (f64, f64), b: (f64, f64)) -> f64 {
 /// Before a row's first point and after its last, a position still counts as on the
 /// row within this distance along it, m: the tool reaches the row's end a little
 /// before the taught line does, and the robot lines up before the first point.
-pub const ROW_END_MARGIN_M: f64 = 1.0;
+pub(crate) const ROW_END_MARGIN_M: f64 = 1.0;
 
 impl LocalRow {
     /// The row in `frame`. Points repeated within a micrometre are dropped; a row
@@ -165,7 +165,7 @@ impl LocalRow {
     /// A point `s_m` along the row (from its first point) lies beside it: within
     /// ROW_END_MARGIN_M of its ends. Past that (the headland) the map tells nothing,
     /// however far the last segment would reach.
-    pub fn is_beside(&self, s_m: f64) -> bool {
+    pub(crate) fn is_beside(&self, s_m: f64) -> bool {
         (-ROW_END_MARGIN_M..=self.length_m() + ROW_END_MARGIN_M).contains(&s_m)
     }
 
@@ -174,7 +174,7 @@ impl LocalRow {
         &self.points_m
     }
 
-    pub fn segment_count(&self) -> usize {
+    pub(crate) fn segment_count(&self) -> usize {
         self.dirs.len()
     }
 
@@ -224,7 +224,7 @@ impl LocalRow {
     }
 
     /// As `project`, by scanning every segment: for a point with no good hint.
-    pub fn project_scan(&self, east_m: f64, north_m: f64) -> Option<Foot> {
+    pub(crate) fn project_scan(&self, east_m: f64, north_m: f64) -> Option<Foot> {
         if !(east_m.is_finite() && north_m.is_finite()) {
             return None;
         }

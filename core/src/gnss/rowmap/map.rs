@@ -27,7 +27,7 @@ impl RowMap {
     }
 
     /// Every row in metres east and north of `frame`'s origin.
-    pub fn to_local(&self, frame: &LocalFrame) -> Result<LocalMap, RowError> {
+    pub(crate) fn to_local(&self, frame: &LocalFrame) -> Result<LocalMap, RowError> {
         let rows = self
             .rows
             .iter()
@@ -49,7 +49,7 @@ impl LocalMap {
     /// sideways. The index is into `rows`; `None` if the point is beside no row.
     /// Scans every segment of every row: for choosing a row, not for every cycle
     /// (then `LocalRow::project` with a hint).
-    pub fn nearest_row(&self, east_m: f64, north_m: f64) -> Option<(usize, Foot)> {
+    pub(crate) fn nearest_row(&self, east_m: f64, north_m: f64) -> Option<(usize, Foot)> {
         let mut best: Option<(usize, Foot)> = None;
         for (index, row) in self.rows.iter().enumerate() {
             let Some(foot) = row.project_scan(east_m, north_m) else {

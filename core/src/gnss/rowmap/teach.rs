@@ -13,9 +13,9 @@ use crate::gnss::rowmap::map::MapRow;
 use mechweed_hw::geo::{Geodetic, LocalFrame};
 
 /// GGA fix quality of an RTK fixed position.
-pub const RTK_FIXED: u8 = 4;
+pub(crate) const RTK_FIXED: u8 = 4;
 /// GGA fix quality of an RTK float position.
-pub const RTK_FLOAT: u8 = 5;
+pub(crate) const RTK_FLOAT: u8 = 5;
 /// The distance driven may go back this much without the row being refused, m:
 /// odometry jitters by millimetres while the machine stands.
 const REVERSE_TOLERANCE_M: f64 = 0.02;

@@ -6,7 +6,7 @@ use mechweed_hw::geo::{Enu, Geodetic, LocalFrame};
 
 /// A field in Bavaria at 500 m: a height well off the ellipsoid catches a frame that
 /// puts the map's points at the wrong height.
-pub fn field_frame() -> LocalFrame {
+pub(crate) fn field_frame() -> LocalFrame {
     LocalFrame::new(Geodetic {
         lat_deg: 48.137_154,
         lon_deg: 11.575_49,
@@ -15,7 +15,7 @@ pub fn field_frame() -> LocalFrame {
 }
 
 /// The row through (east, north) points in `frame`, m.
-pub fn row_from_m(frame: &LocalFrame, name: &str, points_m: &[(f64, f64)]) -> MapRow {
+pub(crate) fn row_from_m(frame: &LocalFrame, name: &str, points_m: &[(f64, f64)]) -> MapRow {
     MapRow {
         name: name.to_string(),
         points_deg: points_m
@@ -34,7 +34,7 @@ pub fn row_from_m(frame: &LocalFrame, name: &str, points_m: &[(f64, f64)]) -> Ma
 
 /// A left-turning arc of `radius_m` starting at the origin heading east, a point every
 /// `step_m` of arclength up to `length_m`.
-pub fn arc_m(radius_m: f64, step_m: f64, length_m: f64) -> Vec<(f64, f64)> {
+pub(crate) fn arc_m(radius_m: f64, step_m: f64, length_m: f64) -> Vec<(f64, f64)> {
     let count = (length_m / step_m).round() as usize;
     (0..=count)
         .map(|i| {

@@ -15,7 +15,7 @@ use crate::gnss::rowmap::map::RowMap;
 
 /// The comment on top of every row map. No commas: a spreadsheet that opens the file
 /// keeps the line in one cell and writes it back as it was.
-pub const FILE_COMMENT: &str = "mechweed row map - one line per point: the row's name then \
+pub(crate) const FILE_COMMENT: &str = "mechweed row map - one line per point: the row's name then \
      its WGS-84 latitude and longitude in degrees - a row's points on consecutive lines in \
      driving order";
 

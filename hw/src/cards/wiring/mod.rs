@@ -145,7 +145,7 @@ pub struct CardInputs {
 
 /// What to write to the cards in one tick, in card units.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct CardOutputs {
+pub(crate) struct CardOutputs {
     /// DDA06 analog outputs 0..5, volts at the card.
     pub dda06_ao_v: [f64; 6],
     /// DAS08 OP1..OP4 levels in bits 0..3.
@@ -156,7 +156,7 @@ pub struct CardOutputs {
 
 impl CardOutputs {
     /// Set one output line to `level`.
-    pub fn set_line(&mut self, bit: Bit, level: bool) {
+    pub(crate) fn set_line(&mut self, bit: Bit, level: bool) {
         set_level(bit, level, &mut self.das08_op, &mut self.dda06_ports);
     }
 }
@@ -219,7 +219,7 @@ impl Wiring {
     }
 
     /// The six switch inputs, with their robot.ini keys.
-    pub fn switch_inputs(&self) -> [(&'static str, Switch); 6] {
+    pub(crate) fn switch_inputs(&self) -> [(&'static str, Switch); 6] {
         [
             ("estop_front_released", self.estop_front_released),
             ("estop_back_released", self.estop_back_released),
@@ -231,7 +231,7 @@ impl Wiring {
     }
 
     /// The four switched outputs, with their robot.ini keys.
-    pub fn switch_outputs(&self) -> [(&'static str, Switch); 4] {
+    pub(crate) fn switch_outputs(&self) -> [(&'static str, Switch); 4] {
         [
             ("main_power_on", self.main_power_on),
             ("brake_release_left", self.brake_release_left),
@@ -241,12 +241,12 @@ impl Wiring {
     }
 
     /// Every line the cards drive, with its key: the switched outputs and the watchdog.
-    pub fn driven_lines(&self) -> impl Iterator<Item = (&'static str, Switch)> {
+    pub(crate) fn driven_lines(&self) -> impl Iterator<Item = (&'static str, Switch)> {
         let watchdog = self.watchdog.map(|w| ("watchdog", w));
         self.switch_outputs().into_iter().chain(watchdog)
     }
 
-    pub fn analog_inputs(&self) -> [AnalogIn; 4] {
+    pub(crate) fn analog_inputs(&self) -> [AnalogIn; 4] {
         [
             self.pot_v,
             self.joystick_steer_v,
@@ -263,18 +263,18 @@ impl Wiring {
         ]
     }
 
-    pub fn analog_outputs(&self) -> [AnalogOut; 3] {
+    pub(crate) fn analog_outputs(&self) -> [AnalogOut; 3] {
         [self.amp_left_v, self.amp_right_v, self.amp_steer_v]
     }
 
     /// True if a switch input is on the DAS08 (then its status must be read).
-    pub fn reads_das08_inputs(&self) -> bool {
+    pub(crate) fn reads_das08_inputs(&self) -> bool {
         let on_das08 = |(_, s): &(&str, Switch)| matches!(s.bit, Bit::Das08In(_));
         self.switch_inputs().iter().any(on_das08)
     }
 
     /// The 8255 directions: every bit that carries a switched output or the watchdog.
-    pub fn dda06_directions(&self) -> PortDirections {
+    pub(crate) fn dda06_directions(&self) -> PortDirections {
         let mut output_bits = [0u8; 3];
         for (_, s) in self.driven_lines() {
             if let Bit::Dda06 { port, bit } = s.bit {
@@ -285,7 +285,7 @@ impl Wiring {
     }
 
     /// The 8255 ports that carry a switch input and must be read.
-    pub fn dda06_input_ports(&self) -> [bool; 3] {
+    pub(crate) fn dda06_input_ports(&self) -> [bool; 3] {
         let mut read = [false; 3];
         for (_, s) in self.switch_inputs() {
             if let Bit::Dda06 { port, .. } = s.bit {
@@ -318,7 +318,7 @@ impl Wiring {
     }
 
     /// Card values for the outputs. Unwired DACs stay at 0 V.
-    pub fn card_outputs(&self, o: &Outputs) -> CardOutputs {
+    pub(crate) fn card_outputs(&self, o: &Outputs) -> CardOutputs {
         let mut c = CardOutputs::default();
         let volts = [o.amp_left_v, o.amp_right_v, o.amp_steer_v];
         for (a, v) in self.analog_outputs().into_iter().zip(volts) {
@@ -337,7 +337,7 @@ impl Wiring {
     }
 
     /// For the emulated robot: what the wires carry for these physical inputs.
-    pub fn wires_for(&self, inputs: &Inputs) -> CardInputs {
+    pub(crate) fn wires_for(&self, inputs: &Inputs) -> CardInputs {
         let mut c = CardInputs::default();
         let volts = [
             inputs.pot_v,
@@ -371,7 +371,7 @@ impl Wiring {
     }
 
     /// For the emulated robot: the physical outputs that these card outputs mean.
-    pub fn outputs_from(&self, c: &CardOutputs) -> Outputs {
+    pub(crate) fn outputs_from(&self, c: &CardOutputs) -> Outputs {
         let volts = |a: AnalogOut| c.dda06_ao_v[usize::from(a.channel % 6)] / a.scale;
         let on = |s: Switch| s.signal(get_level(s.bit, c.das08_op, &c.dda06_ports));
         Outputs {
