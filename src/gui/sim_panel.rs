@@ -112,37 +112,8 @@ impl SimPanel {
         ui.separator();
 
         ui.label(RichText::new("Faults").strong());
-        let faults = [
-            (EventAction::PowerLoss, "Power loss"),
-            (EventAction::PowerRestore, "Power back"),
-            (EventAction::Battery(LOW_BATTERY_V), "Battery low"),
-            (EventAction::Battery(self.battery_v), "Battery normal"),
-            (
-                EventAction::EncoderStuck(EncoderId::Left),
-                "Left encoder stuck",
-            ),
-            (
-                EventAction::EncoderStuck(EncoderId::Right),
-                "Right encoder stuck",
-            ),
-            (
-                EventAction::EncoderStuck(EncoderId::Steer),
-                "Steering encoder stuck",
-            ),
-            (EventAction::LinkSilent(SILENT_S), "Camera silent 2 s"),
-            (EventAction::CameraReboot, "Camera reboot"),
-            (
-                EventAction::EndSwitch(Side::Left),
-                "Kick to left end switch",
-            ),
-            (
-                EventAction::EndSwitch(Side::Right),
-                "Kick to right end switch",
-            ),
-            (EventAction::PotBroken, "Potentiometer wire broken"),
-        ];
         ui.horizontal_wrapped(|ui| {
-            for (action, label) in faults {
+            for (action, label) in fault_buttons(self.battery_v) {
                 act(action, ui, label);
             }
         });
@@ -235,4 +206,38 @@ impl SimPanel {
         };
         painter.circle_filled(knob, 12.0, colour);
     }
+}
+
+/// The faults the panel can cause, each with its button's label; "Battery normal"
+/// gives the battery back its `normal_battery_v`.
+fn fault_buttons(normal_battery_v: f64) -> [(EventAction, &'static str); 12] {
+    [
+        (EventAction::PowerLoss, "Power loss"),
+        (EventAction::PowerRestore, "Power back"),
+        (EventAction::Battery(LOW_BATTERY_V), "Battery low"),
+        (EventAction::Battery(normal_battery_v), "Battery normal"),
+        (
+            EventAction::EncoderStuck(EncoderId::Left),
+            "Left encoder stuck",
+        ),
+        (
+            EventAction::EncoderStuck(EncoderId::Right),
+            "Right encoder stuck",
+        ),
+        (
+            EventAction::EncoderStuck(EncoderId::Steer),
+            "Steering encoder stuck",
+        ),
+        (EventAction::LinkSilent(SILENT_S), "Camera silent 2 s"),
+        (EventAction::CameraReboot, "Camera reboot"),
+        (
+            EventAction::EndSwitch(Side::Left),
+            "Kick to left end switch",
+        ),
+        (
+            EventAction::EndSwitch(Side::Right),
+            "Kick to right end switch",
+        ),
+        (EventAction::PotBroken, "Potentiometer wire broken"),
+    ]
 }

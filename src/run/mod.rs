@@ -125,62 +125,48 @@ fn open(s: &Settings, stop: &Arc<AtomicBool>) -> Result<Opened, RunError> {
 /// start nothing a failure would leave behind; the threads start last.
 pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Running), RunError> {
     let s = &opts.settings;
-    let Opened {
-        hw,
-        truth,
-        sim,
-        mut gnss,
-        camera_port,
-        cable,
-        clock,
-        rt_warnings,
-        priorities_refused,
-        panics,
-        record_tap,
-        recorder,
-        bus_session,
-    } = open(s, &stop)?;
-    let priority = |p: u8| if priorities_refused.is_some() { 0 } else { p };
+    let mut o = open(s, &stop)?;
+    let priority = |p: u8| if o.priorities_refused.is_some() { 0 } else { p };
 
     // 3. What the threads meet through: protected objects and bounded channels.
-    let gnss_status = gnss.status.clone();
+    let gnss_status = o.gnss.status.clone();
     let w = wire(
         s,
-        &truth,
-        bus_session.is_some(),
+        &o.truth,
+        o.bus_session.is_some(),
         gnss_status,
-        record_tap,
-        &panics,
+        o.record_tap,
+        &o.panics,
         &stop,
     );
 
     // 4. Each thread with its wires. The camera link is the last step that can fail
     //    (rows from the bus); the gamepad thread starts after it.
-    let steer_core = SteerCore::with_map(s, gnss.place.take());
-    let steer = SteerThread::new(steer_core, s.steer.rate_hz, clock, w.steer)
+    let steer_core = SteerCore::with_map(s, o.gnss.place.take());
+    let steer = SteerThread::new(steer_core, s.steer.rate_hz, o.clock, w.steer)
         .with_priority(priority(s.rt.steer_priority))
         .with_injection(opts.inject);
-    let link = LinkThread::new(LinkCore::new(&s.camera), camera_port, clock, w.link)
+    let link = LinkThread::new(LinkCore::new(&s.camera), o.camera_port, o.clock, w.link)
         .with_priority(priority(s.rt.camlink_priority))
         .with_injection(opts.inject);
-    let link = with_rows_from_the_bus(link, s, bus_session.as_ref(), &w.row_counts)?;
-    let (hw, gamepad, gamepad_thread) = with_gamepad(hw, s, &panics, &stop);
+    let link = with_rows_from_the_bus(link, s, o.bus_session.as_ref(), &w.row_counts)?;
+    let (hw, gamepad, gamepad_thread) = with_gamepad(o.hw, s, &o.panics, &stop);
     let rate_hz = s.supervisor.rate_hz;
-    let supervisor = SupervisorThread::new(hw, Supervisor::new(s), rate_hz, clock, w.supervisor)
+    let supervisor = SupervisorThread::new(hw, Supervisor::new(s), rate_hz, o.clock, w.supervisor)
         .with_priority(priority(s.rt.supervisor_priority), s.rt.supervisor_cpu)
         .with_injection(opts.inject);
 
     // 5. Start them.
     let threads = Threads {
-        bus: (bus_session.zip(w.bus))
-            .map(|(session, wires)| start_bus(session, s.clone(), wires, panics.clone())),
+        bus: (o.bus_session.zip(w.bus))
+            .map(|(session, wires)| start_bus(session, s.clone(), wires, o.panics.clone())),
         supervisor: spawn("supervisor", move || supervisor.run()),
         steer: spawn("steer", move || steer.run()),
         link: spawn("camlink", move || link.run()),
-        gnss: gnss.start(clock, panics.clone(), stop.clone()),
-        cable,
+        gnss: o.gnss.start(o.clock, o.panics.clone(), stop.clone()),
+        cable: o.cable,
         gamepad: gamepad_thread,
-        gnss_cable: gnss.cable.take(),
+        gnss_cable: o.gnss.cable.take(),
     };
 
     // 6. What the operator interface reads, and what `finish` stops.
@@ -188,14 +174,14 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         supervisor: w.requests,
         link: w.link_status.clone(),
         loops: w.loops,
-        truth: truth.clone(),
-        sim,
+        truth: o.truth.clone(),
+        sim: o.sim,
         ping: w.ping,
         gui_beat: w.gui_beat,
         steer_settings: w.steer_settings,
         steer: w.steer_command.clone(),
-        clock,
-        not_realtime: not_realtime(s.backend, &s.rt, priorities_refused.as_deref()),
+        clock: o.clock,
+        not_realtime: not_realtime(s.backend, &s.rt, o.priorities_refused.as_deref()),
         bus: w.bus_figures.clone(),
         bus_endpoints: s.bus.endpoints(),
         gamepad,
@@ -204,14 +190,14 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
     let running = Running {
         threads,
         bus_figures: w.bus_figures,
-        gnss_status: gnss.status.clone(),
+        gnss_status: o.gnss.status.clone(),
         steer_command: w.steer_command,
         link_status: w.link_status,
-        truth,
+        truth: o.truth,
         settings: s.clone(),
-        rt_warnings,
-        recorder,
-        panics,
+        rt_warnings: o.rt_warnings,
+        recorder: o.recorder,
+        panics: o.panics,
         stop,
     };
     Ok((handles, running))

@@ -35,3 +35,19 @@ pub fn mechweed() -> std::process::Command {
 pub fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
+
+/// `record summary` of a run whose rows came from outside the simulated camera: it
+/// says that the tool's cross-track means nothing there, and gives no figure of it.
+pub fn assert_no_cross_track_in_summary(summary: &mut std::process::Command, what: &str) {
+    let out = summary.output().unwrap();
+    let said = text(&out.stdout);
+    assert!(out.status.success(), "{said}{}", text(&out.stderr));
+    assert!(
+        said.contains("tool cross-track: not meaningful (outside camera)"),
+        "{what}: {said}"
+    );
+    assert!(
+        !said.contains(" cm, s.d. ") && !said.contains("mean "),
+        "{what}: a cross-track figure: {said}"
+    );
+}

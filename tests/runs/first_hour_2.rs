@@ -172,18 +172,11 @@ fn an_outside_camera_on_the_simulated_robot_leaves_cross_track_out_and_says_so()
         );
     }
     // And the record's summary, read back from the header beside the record.
-    let summary = mechweed()
+    let mut summary = mechweed();
+    summary
         .args(["record", "summary", "latest"])
-        .args(common::test_run_settings(dir.path()))
-        .output()
-        .unwrap();
-    let said = text(&summary.stdout);
-    assert!(summary.status.success(), "{said}{}", text(&summary.stderr));
-    assert!(
-        said.contains("tool cross-track: not meaningful (outside camera)"),
-        "{said}"
-    );
-    assert!(!said.contains("mean "), "a cross-track figure: {said}");
+        .args(common::test_run_settings(dir.path()));
+    common::assert_no_cross_track_in_summary(&mut summary, "latest");
 }
 
 #[test]

@@ -274,3 +274,16 @@ fn the_core_builds_without_the_bus_or_the_gui() {
         "mechweed-hw depends on {hw:?}"
     );
 }
+
+#[test]
+fn the_import_reader_sees_every_module_a_use_names() {
+    let text = "use crate::steer::law;\nuse crate::{state::modes::Mode, gnss, rt::{self, Periodic}};\n\
+                let x = mechweed_core::config::DEFAULT_INI; crate::Hw; notcrate::faults;";
+    let names = named_after(text, "crate::");
+    let expected: BTreeSet<String> = ["steer", "state", "gnss", "rt"].map(String::from).into();
+    assert_eq!(names, expected);
+    assert_eq!(
+        named_after(text, "mechweed_core::"),
+        ["config".to_string()].into()
+    );
+}

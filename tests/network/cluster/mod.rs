@@ -290,17 +290,9 @@ fn the_one_machine_graph_drives_restarts_the_camera_and_stops_with_safe_outputs(
         .expect("the controller says where it records")
         .to_string();
     for record in [csv, controller_csv.as_str()] {
-        let summary = mechweed_in(folder)
-            .args(["record", "summary", record, "--from-m", "0"])
-            .output()
-            .unwrap();
-        let said = text(&summary.stdout);
-        assert!(summary.status.success(), "{said}{}", text(&summary.stderr));
-        assert!(
-            said.contains("tool cross-track: not meaningful (outside camera)"),
-            "{record}: {said}"
-        );
-        assert!(!said.contains(" cm, s.d. "), "{record}: {said}");
+        let mut summary = mechweed_in(folder);
+        summary.args(["record", "summary", record, "--from-m", "0"]);
+        common::assert_no_cross_track_in_summary(&mut summary, record);
     }
 }
 
