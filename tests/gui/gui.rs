@@ -19,6 +19,7 @@ use gui_harness::{gui_customised, gui_with};
 
 #[test]
 fn halt_then_autonomous_and_the_robot_moves_then_space_halts() {
+    let _one = crate::one_at_a_time();
     let mut gui = gui_with(None);
     gui.wait_until("the first status", |app| app.view.status.tick > 0);
     assert_eq!(gui.harness.state().view.status.mode, Mode::Halt);
@@ -42,6 +43,7 @@ fn halt_then_autonomous_and_the_robot_moves_then_space_halts() {
 
 #[test]
 fn an_estop_shows_its_cause_and_power_up_waits_for_its_release() {
+    let _one = crate::one_at_a_time();
     let mut gui = gui_with(None);
     gui.power_up();
     gui.click("Press e-stop front");
@@ -68,6 +70,7 @@ fn an_estop_shows_its_cause_and_power_up_waits_for_its_release() {
 
 #[test]
 fn a_tuned_gain_is_applied_and_saved_changing_only_its_value() {
+    let _one = crate::one_at_a_time();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("robot.ini");
     let original = std::fs::read_to_string("config/robot.ini").unwrap();
@@ -115,6 +118,7 @@ fn a_tuned_gain_is_applied_and_saved_changing_only_its_value() {
 
 #[test]
 fn the_relay_switch_reaches_the_robot_and_leaving_test_restores_safe_outputs() {
+    let _one = crate::one_at_a_time();
     let mut gui = gui_with(None);
     gui.wait_until("the first status", |app| app.view.status.tick > 0);
     gui.click("Test panel");
@@ -136,6 +140,7 @@ fn the_relay_switch_reaches_the_robot_and_leaving_test_restores_safe_outputs() {
 
 #[test]
 fn a_reset_restarts_the_robot_at_the_row_start_on_the_row_chosen() {
+    let _one = crate::one_at_a_time();
     let mut gui = gui_with(None);
     gui.power_up();
     gui.click("Autonomous");
@@ -162,6 +167,7 @@ fn a_reset_restarts_the_robot_at_the_row_start_on_the_row_chosen() {
 
 #[test]
 fn without_a_display_the_gui_says_to_run_headless_and_fails() {
+    let _one = crate::one_at_a_time();
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_mechweed"))
         .args(["run", "--duration", "1"])
         .env_remove("DISPLAY")
@@ -176,6 +182,7 @@ fn without_a_display_the_gui_says_to_run_headless_and_fails() {
 
 #[test]
 fn the_first_tab_is_a_command_line_flag_not_a_hidden_setting() {
+    let _one = crate::one_at_a_time();
     let mechweed = |args: &[&str]| {
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_mechweed"))
             .args(args)
@@ -209,6 +216,7 @@ fn the_first_tab_is_a_command_line_flag_not_a_hidden_setting() {
 
 #[test]
 fn in_test_an_amplifier_follows_the_panel_and_an_estop_still_stops_everything() {
+    let _one = crate::one_at_a_time();
     let mut gui = gui_with(None);
     gui.wait_until("the first status", |app| app.view.status.tick > 0);
     gui.click("Test panel");
@@ -233,6 +241,7 @@ fn in_test_an_amplifier_follows_the_panel_and_an_estop_still_stops_everything() 
 
 #[test]
 fn a_start_mode_waits_for_the_operators_confirmation() {
+    let _one = crate::one_at_a_time();
     // As `--mode autonomous` on the real robot: nothing powers up until a person says so.
     let mut gui = gui_with(None);
     gui.harness.state_mut().ask_to_start(Mode::Autonomous);
@@ -250,6 +259,7 @@ fn a_start_mode_waits_for_the_operators_confirmation() {
 
 #[test]
 fn the_header_says_when_the_robot_runs_without_real_time_priorities() {
+    let _one = crate::one_at_a_time();
     use mechweed::config::Backend;
     use mechweed::run::not_realtime;
     let mut rt = Settings::shipped().rt;
@@ -271,6 +281,7 @@ fn the_header_says_when_the_robot_runs_without_real_time_priorities() {
 /// it. (How soon in time is measured by `bench loop --gui`, not asserted here.)
 #[test]
 fn a_settled_gui_asks_for_no_frame_and_a_change_elsewhere_is_drawn_at_the_next_look() {
+    let _one = crate::one_at_a_time();
     let mut gui = gui_with(None);
     gui.wait_until("the first status", |app| app.view.status.tick > 0);
     let shared = gui.harness.state().shared.clone();
@@ -316,6 +327,7 @@ fn a_settled_gui_asks_for_no_frame_and_a_change_elsewhere_is_drawn_at_the_next_l
 /// the new controller from the GUI thread, and its threads must not inherit that CPU.
 #[test]
 fn a_reset_from_a_pinned_gui_starts_the_controllers_threads_on_every_cpu() {
+    let _one = crate::one_at_a_time();
     let every_cpu = allowed_cpus("self").expect("this process's CPUs");
     if !every_cpu.contains(['-', ',']) {
         eprintln!("skipped: this machine has one CPU ({every_cpu}), nothing to pin away from");

@@ -40,6 +40,7 @@ fn texts(harness: &Harness<'static, GuiApp>) -> Vec<(String, Color32)> {
 
 #[test]
 fn the_shipped_theme_is_light_and_f2_switches_it() {
+    let _one = crate::one_at_a_time();
     let mut harness = watching(Duration::from_millis(100), |_, _| {});
     assert_eq!(harness.state().theme, Theme::Light);
     assert!(!harness.ctx.global_style().visuals.dark_mode);
@@ -56,6 +57,7 @@ fn the_shipped_theme_is_light_and_f2_switches_it() {
 
 #[test]
 fn no_text_is_smaller_than_12_px() {
+    let _one = crate::one_at_a_time();
     // The reasons under the mode buttons were about 9 px, grey on dark.
     let harness = watching(Duration::from_millis(100), |_, _| {});
     for (style, font) in &harness.ctx.global_style().text_styles {
@@ -83,6 +85,7 @@ fn no_text_is_smaller_than_12_px() {
 
 #[test]
 fn a_pressed_estop_is_drawn_in_the_fault_colour() {
+    let _one = crate::one_at_a_time();
     let harness = watching(Duration::from_millis(100), |flow, payload| {
         if flow == mechweed::gui::remote::Flow::Tick {
             payload["estop_front_released"] = 0.into();
@@ -107,6 +110,7 @@ fn a_pressed_estop_is_drawn_in_the_fault_colour() {
 
 #[test]
 fn the_layout_does_not_move_when_the_robots_first_status_comes() {
+    let _one = crate::one_at_a_time();
     // Nothing received: no fault line, then "no fault" pushed the tabs down.
     let remote = mechweed::gui::remote::RemoteView::offline("mechweed", "tcp/10.0.0.7:7447");
     let mut harness = window(remote, Settings::shipped(), [1280.0, 720.0]);
@@ -132,6 +136,7 @@ fn the_layout_does_not_move_when_the_robots_first_status_comes() {
 
 #[test]
 fn the_layout_does_not_move_when_the_first_answer_comes() {
+    let _one = crate::one_at_a_time();
     let mut harness = watching(Duration::from_millis(100), |_, _| {});
     let before = harness.get_by_label("Status").rect();
     harness.key_press(egui::Key::Space);
@@ -148,6 +153,7 @@ fn the_layout_does_not_move_when_the_first_answer_comes() {
 
 #[test]
 fn the_window_asks_for_the_keyboard_at_start_and_says_when_it_is_not_its() {
+    let _one = crate::one_at_a_time();
     let remote = fed(Duration::ZERO, |_, _| {});
     let mut harness = window(remote, Settings::shipped(), [1280.0, 720.0]);
     assert!(shows(
@@ -172,6 +178,7 @@ fn the_window_asks_for_the_keyboard_at_start_and_says_when_it_is_not_its() {
 
 #[test]
 fn at_1280_by_720_every_panel_reaches_its_last_line() {
+    let _one = crate::one_at_a_time();
     // The simulated robot's window: modes on the left, the simulated robot on the right,
     // the Status tab in the middle, each scrolling where it must.
     let mut gui = gui_harness::gui_with(None);
@@ -267,6 +274,7 @@ fn press_space_away_from_the_window(display: &str) {
 
 #[test]
 fn space_halts_a_window_nobody_clicked_on_a_bare_x_server() {
+    let _one = crate::one_at_a_time();
     // The robot computer's case: no window manager gives the new window the keyboard,
     // and Space did nothing until someone clicked the window.
     let Some(x) = bare_x() else {

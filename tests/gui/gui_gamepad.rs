@@ -22,6 +22,7 @@ use gui_harness::gui_from;
 
 #[test]
 fn with_no_gamepad_the_status_tab_says_why_and_joystick_mode_stands() {
+    let _one = crate::one_at_a_time();
     let mut settings = Settings::shipped();
     settings.joystick.source = JoystickSource::Gamepad;
     settings.gamepad.device = GamepadDevice::Path("/nonexistent/event0".into());
@@ -99,6 +100,7 @@ fn inputs(view: View) -> Harness<'static, View> {
 
 #[test]
 fn the_status_tab_names_the_pad_its_sticks_and_its_dead_man() {
+    let _one = crate::one_at_a_time();
     let harness = inputs(pad_view(false));
     let shown =
         "Logitech Gamepad F310 (/dev/input/event5)  steer +50 %  speed +100 %  dead-man held";

@@ -89,6 +89,7 @@ fn click(h: &mut Harness<Panels>, label: &str) {
 
 #[test]
 fn a_latched_fault_shows_its_cause_and_why_nothing_can_start() {
+    let _one = crate::one_at_a_time();
     let mut view = robot(Mode::Fault, PowerState::Off);
     view.status.fault = Some(FaultRecord {
         cause: FaultCause::EstopFront,
@@ -123,6 +124,7 @@ fn a_latched_fault_shows_its_cause_and_why_nothing_can_start() {
 
 #[test]
 fn halt_is_sent_without_waiting_and_its_answer_shows_the_next_frame() {
+    let _one = crate::one_at_a_time();
     let mut h = panels(robot(Mode::Autonomous, PowerState::On), draw_modes);
     h.step();
     click(&mut h, "HALT");
@@ -142,6 +144,7 @@ fn halt_is_sent_without_waiting_and_its_answer_shows_the_next_frame() {
 
 #[test]
 fn a_refusal_is_shown_in_the_supervisors_words() {
+    let _one = crate::one_at_a_time();
     let mut h = panels(robot(Mode::Halt, PowerState::Off), draw_modes);
     h.step();
     assert!(enabled(&h, "Power up"));
@@ -163,6 +166,7 @@ fn a_refusal_is_shown_in_the_supervisors_words() {
 
 #[test]
 fn a_request_that_cannot_be_queued_is_said_at_once() {
+    let _one = crate::one_at_a_time();
     let mut h = panels(robot(Mode::Autonomous, PowerState::On), draw_modes);
     h.step();
     // Someone else has filled the supervisor's queue.
@@ -196,6 +200,7 @@ fn a_request_that_cannot_be_queued_is_said_at_once() {
 
 #[test]
 fn the_test_panel_sends_what_it_shows_and_says_a_refusal() {
+    let _one = crate::one_at_a_time();
     let mut view = robot(Mode::Test, PowerState::Off);
     view.status.inputs.battery_v = 24.3;
     let mut h = panels(view, draw_test);
@@ -244,6 +249,7 @@ fn the_test_panel_sends_what_it_shows_and_says_a_refusal() {
 
 #[test]
 fn the_tuning_panel_applies_only_in_halt_and_only_values_in_range() {
+    let _one = crate::one_at_a_time();
     let mut h = panels(robot(Mode::Autonomous, PowerState::On), draw_tuning);
     h.step();
     assert!(!enabled(&h, "Apply"));
@@ -281,6 +287,7 @@ fn the_tuning_panel_applies_only_in_halt_and_only_values_in_range() {
 
 #[test]
 fn the_status_panel_shows_every_input_and_test_link_pings_the_camera() {
+    let _one = crate::one_at_a_time();
     let mut view = robot(Mode::Halt, PowerState::Off);
     view.status.inputs.estop_back_released = false;
     view.status.inputs.battery_v = 23.75;
@@ -297,6 +304,7 @@ fn the_status_panel_shows_every_input_and_test_link_pings_the_camera() {
 
 #[test]
 fn the_status_panel_shows_the_bus_its_endpoints_and_what_it_published_and_dropped() {
+    let _one = crate::one_at_a_time();
     let mut view = robot(Mode::Halt, PowerState::Off);
     assert!({
         let mut h = panels(view.clone(), draw_status);
@@ -321,6 +329,7 @@ fn the_status_panel_shows_the_bus_its_endpoints_and_what_it_published_and_droppe
 
 #[test]
 fn the_status_tab_shows_the_fix_which_sensors_steer_and_the_filters_row() {
+    let _one = crate::one_at_a_time();
     use mechweed::steer::{FilterFigures, RowFigures, Steering};
     let mut view = robot(Mode::Autonomous, PowerState::On);
     view.steer.sources.steering = Steering::FilterGnss;

@@ -13,6 +13,7 @@ use test_supervisor::{TestSupervisor, robot};
 
 #[test]
 fn an_answer_that_never_comes_is_said_after_a_second() {
+    let _one = crate::one_at_a_time();
     let supervisor = TestSupervisor::new(View::default());
     let mut requests = Requests::default();
     let id = requests.ask(Request::Mode(Mode::Halt), "halted");
@@ -30,6 +31,7 @@ fn an_answer_that_never_comes_is_said_after_a_second() {
 
 #[test]
 fn the_script_asks_once_then_waits_for_the_answer_and_a_newer_status() {
+    let _one = crate::one_at_a_time();
     let mut supervisor = TestSupervisor::new(robot(Mode::Halt, PowerState::Off));
     let mut requests = Requests::default();
     let mut script = GuiScript::new(&[], Mode::Autonomous);

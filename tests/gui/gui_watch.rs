@@ -22,6 +22,7 @@ use watch_harness::{enabled, recorded, sent, shows, watching};
 
 #[test]
 fn the_same_panels_show_the_recorded_flows_and_the_header_names_the_robot() {
+    let _one = crate::one_at_a_time();
     let harness = watching(Duration::from_millis(100), |_, _| {});
     assert!(shows(
         &harness,
@@ -50,6 +51,7 @@ fn the_same_panels_show_the_recorded_flows_and_the_header_names_the_robot() {
 
 #[test]
 fn the_watched_robots_gnss_and_row_filter_are_shown_from_its_ticks() {
+    let _one = crate::one_at_a_time();
     // A robot steering by the fused row: its fix, which sensors steer and the filter's
     // row come in the tick flow, as its own Status tab shows them.
     let harness = watching(Duration::from_millis(100), |flow, payload| {
@@ -70,6 +72,7 @@ fn the_watched_robots_gnss_and_row_filter_are_shown_from_its_ticks() {
 
 #[test]
 fn the_header_turns_red_with_the_age_when_the_status_is_older_than_a_second() {
+    let _one = crate::one_at_a_time();
     let harness = watching(Duration::from_secs(3), |_, _| {});
     assert!(shows(
         &harness,
@@ -80,6 +83,7 @@ fn the_header_turns_red_with_the_age_when_the_status_is_older_than_a_second() {
 
 #[test]
 fn a_view_that_never_got_a_status_shows_no_value_and_says_what_it_waits_for() {
+    let _one = crate::one_at_a_time();
     // Nothing listening at the address: no status ever came. The window used to show
     // HALT, "E-stop front PRESSED", 0.00 V, "connected, idle", "schedulable" and a
     // claim about the robot's accept_requests, none of them received.
@@ -116,6 +120,7 @@ fn a_view_that_never_got_a_status_shows_no_value_and_says_what_it_waits_for() {
 
 #[test]
 fn a_robot_that_fell_silent_is_counted_up_each_second_then_greyed_then_unknown() {
+    let _one = crate::one_at_a_time();
     use mechweed::gui::app::Tab;
     use mechweed::gui::pace::Pace;
     // The pacer asked for a frame only when the link went stale, so the header froze at
@@ -169,6 +174,7 @@ fn a_robot_that_fell_silent_is_counted_up_each_second_then_greyed_then_unknown()
 
 #[test]
 fn before_the_robot_says_whether_it_takes_requests_nothing_is_claimed_about_it() {
+    let _one = crate::one_at_a_time();
     // The first status came; the answer to "accept_requests?" not yet.
     let remote = RemoteView::offline("mechweed", "tcp/10.0.0.7:7447");
     for (flow, payload) in recorded() {
@@ -187,6 +193,7 @@ fn before_the_robot_says_whether_it_takes_requests_nothing_is_claimed_about_it()
 
 #[test]
 fn a_fault_on_the_robot_is_shown_in_its_words() {
+    let _one = crate::one_at_a_time();
     let harness = watching(Duration::from_millis(100), |flow, payload| {
         if flow == Flow::Status {
             payload["mode"] = "fault".into();
@@ -202,6 +209,7 @@ fn a_fault_on_the_robot_is_shown_in_its_words() {
 
 #[test]
 fn halt_is_always_sent_and_the_rest_only_where_the_robot_takes_it_from_the_bus() {
+    let _one = crate::one_at_a_time();
     // Standing in halt, powered: every mode is the robot's to allow.
     let mut harness = watching(Duration::from_millis(100), |_, payload| {
         payload["mode"] = "halt".into();
@@ -259,6 +267,7 @@ fn robot(port: u16, extra: &[&str]) -> (tempfile::TempDir, Child) {
 
 #[test]
 fn the_view_reads_a_real_robots_flows_and_its_halt_is_answered() {
+    let _one = crate::one_at_a_time();
     let port = std::net::TcpListener::bind("127.0.0.1:0")
         .unwrap()
         .local_addr()
@@ -306,6 +315,7 @@ fn the_view_reads_a_real_robots_flows_and_its_halt_is_answered() {
 
 #[test]
 fn messages_that_are_not_the_robots_flows_are_counted_and_change_nothing() {
+    let _one = crate::one_at_a_time();
     let mut remote = RemoteView::offline("mechweed", "tcp/10.0.0.7:7447");
     let now = Instant::now();
     for (flow, payload) in recorded() {

@@ -16,3 +16,12 @@ mod gui_gamepad;
 mod gui_panels;
 mod gui_requests;
 mod gui_watch;
+
+/// The GUI's tests draw with the processor, and some count seconds on the wall clock (a
+/// view's "no data yet: ... (7 s)"): side by side (the tests run six at a time,
+/// .cargo/config.toml), one made another's second late on two CPUs. Each takes this
+/// lock first, so that they run one at a time.
+fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
+    static GUI: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    GUI.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}

@@ -109,6 +109,7 @@ fn flood_sender() {
 
 #[test]
 fn a_halt_is_answered_through_a_flood_of_requests_and_the_console_stays_readable() {
+    let _machine = crate::whole_machine();
     let keys = Keys::new();
     let robot = secured_robot(
         &keys,
@@ -153,6 +154,7 @@ fn a_halt_is_answered_through_a_flood_of_requests_and_the_console_stays_readable
 
 #[test]
 fn huge_payloads_are_dropped_and_the_robot_s_memory_does_not_grow() {
+    let _machine = crate::whole_machine();
     let keys = Keys::new();
     let robot = secured_robot(
         &keys,

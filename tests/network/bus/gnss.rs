@@ -5,6 +5,7 @@ use super::{Robot, json_lines};
 
 #[test]
 fn a_fused_run_publishes_which_sensors_steer_the_fix_and_the_filter() {
+    let _machine = crate::shared_machine();
     let robot = Robot::start(&[
         "--mode",
         "autonomous",
@@ -39,6 +40,7 @@ fn a_fused_run_publishes_which_sensors_steer_the_fix_and_the_filter() {
 
 #[test]
 fn a_camera_run_publishes_no_filter_and_no_fix() {
+    let _machine = crate::shared_machine();
     let robot = Robot::start(&["--duration", "4"]);
     let status = robot.bus(&["echo", "status", "--count", "2"]);
     robot.finish();

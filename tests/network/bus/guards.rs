@@ -10,6 +10,7 @@ use crate::common::{mechweed, text};
 
 #[test]
 fn a_person_holding_the_dead_man_keeps_the_robot_from_a_remote_autonomous() {
+    let _machine = crate::shared_machine();
     // Not secured: the rule is the robot's, whoever asks.
     let robot = Robot::start(&[
         "--duration",
@@ -43,6 +44,7 @@ fn a_person_holding_the_dead_man_keeps_the_robot_from_a_remote_autonomous() {
 
 #[test]
 fn keys_new_writes_private_keys_for_their_owner_only_and_refuses_to_overwrite() {
+    let _machine = crate::shared_machine();
     use std::os::unix::fs::PermissionsExt;
     let keys = Keys::new();
     for role in [
@@ -88,6 +90,7 @@ fn keys_new_writes_private_keys_for_their_owner_only_and_refuses_to_overwrite() 
 
 #[test]
 fn a_plain_listen_beyond_loopback_is_refused_before_anything_starts() {
+    let _machine = crate::shared_machine();
     let dir = tempfile::tempdir().unwrap();
     let shipped =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/config/robot.ini")).unwrap();

@@ -81,6 +81,7 @@ fn worst_cm(values_m: &[f64]) -> f64 {
 
 #[test]
 fn camsim_on_the_bus_steers_as_on_its_serial_link_and_its_silence_faults_the_robot() {
+    let _machine = crate::shared_machine();
     let serial = std::thread::spawn(|| drive_on_camsim(false));
     let (stdout, bus_m) = drive_on_camsim(true);
     let (serial_stdout, serial_m) = serial.join().unwrap();
@@ -113,6 +114,7 @@ fn camsim_on_the_bus_steers_as_on_its_serial_link_and_its_silence_faults_the_rob
 
 #[test]
 fn bad_input_on_the_bus_is_answered_with_what_is_wrong_and_changes_nothing() {
+    let _machine = crate::shared_machine();
     let robot = Robot::start(&[
         "--duration",
         "6",

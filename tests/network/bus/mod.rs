@@ -147,6 +147,7 @@ pub fn json_lines(out: &Output) -> Vec<serde_json::Value> {
 
 #[test]
 fn a_headless_run_publishes_status_ticks_and_a_fault_event() {
+    let _machine = crate::shared_machine();
     let robot = Robot::start(&["--duration", "8", "--set", "sim.events=4 estop_front"]);
     let status = robot.bus(&["echo", "status", "--count", "3"]);
     let ticks = robot.bus(&["echo", "tick", "--count", "3"]);
@@ -196,6 +197,7 @@ fn a_headless_run_publishes_status_ticks_and_a_fault_event() {
 
 #[test]
 fn halt_over_the_bus_stops_an_autonomous_run_and_the_robot_says_who_asked() {
+    let _machine = crate::shared_machine();
     let robot = Robot::start(&["--mode", "autonomous", "--duration", "8"]);
     std::thread::sleep(Duration::from_secs(2));
     let halt = robot.bus(&["request", "halt"]);
@@ -212,6 +214,7 @@ fn halt_over_the_bus_stops_an_autonomous_run_and_the_robot_says_who_asked() {
 
 #[test]
 fn a_mode_request_is_refused_by_default_and_decided_by_the_supervisor_with_operator() {
+    let _machine = crate::shared_machine();
     let robot = Robot::start(&["--duration", "6"]);
     let refused = robot.bus(&["request", "mode", "autonomous"]);
     assert!(!refused.status.success());
@@ -239,6 +242,7 @@ fn a_mode_request_is_refused_by_default_and_decided_by_the_supervisor_with_opera
 
 #[test]
 fn a_setting_set_in_halt_is_taken_and_refused_while_driving() {
+    let _machine = crate::shared_machine();
     let robot = Robot::start(&["--duration", "8", "--set", "bus.accept_requests=operator"]);
     let get = robot.bus(&["get", "pid.left.kp"]);
     assert!(
@@ -301,6 +305,7 @@ fn a_setting_set_in_halt_is_taken_and_refused_while_driving() {
 
 #[test]
 fn a_port_in_use_is_one_clear_error_or_a_run_without_the_bus() {
+    let _machine = crate::shared_machine();
     let taken = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
     let port = taken.local_addr().unwrap().port();
     let dir = tempfile::tempdir().unwrap();
@@ -340,6 +345,7 @@ fn a_port_in_use_is_one_clear_error_or_a_run_without_the_bus() {
 /// robot does (docs/bus.md).
 #[test]
 fn a_slow_receiver_gets_the_newest_status_and_the_robot_does_not_wait() {
+    let _machine = crate::shared_machine();
     let robot = Robot::start(&["--mode", "autonomous", "--duration", "10"]);
     let slow = robot.bus(&["echo", "status", "--seconds", "6", "--slow", "0.4"]);
     let lines = json_lines(&slow);

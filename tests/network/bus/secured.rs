@@ -126,6 +126,7 @@ fn bus_args(robot: &Robot, args: &[&str], identity: &[String]) -> Vec<String> {
 
 #[test]
 fn without_a_certificate_of_the_authority_nothing_is_seen_or_answered() {
+    let _machine = crate::shared_machine();
     let keys = Keys::new();
     let stranger = Keys::new(); // another authority: its operator is nobody here
     let robot = secured_robot(
@@ -172,6 +173,7 @@ fn without_a_certificate_of_the_authority_nothing_is_seen_or_answered() {
 
 #[test]
 fn a_viewer_sees_and_halts_but_cannot_power_up_or_drive() {
+    let _machine = crate::shared_machine();
     let keys = Keys::new();
     let robot = secured_robot(
         &keys,
@@ -233,6 +235,7 @@ fn ask(session: &zenoh::Session, key: &str, payload: &str) -> String {
 
 #[test]
 fn an_operator_powers_up_and_drives() {
+    let _machine = crate::shared_machine();
     let keys = Keys::new();
     let robot = secured_robot(
         &keys,
@@ -273,6 +276,7 @@ fn camsim_as(
 
 #[test]
 fn rows_steer_only_from_the_camera_identity() {
+    let _machine = crate::shared_machine();
     let keys = Keys::new();
     let drive = [
         "--duration",
@@ -314,6 +318,7 @@ fn rows_steer_only_from_the_camera_identity() {
 
 #[test]
 fn a_revoked_laptop_gets_nothing_and_the_robot_says_it_came() {
+    let _machine = crate::shared_machine();
     let keys = Keys::new();
     let keys_cmd = |args: &[&str]| {
         let out = mechweed().arg("keys").args(args).output().unwrap();
@@ -345,6 +350,7 @@ fn a_revoked_laptop_gets_nothing_and_the_robot_says_it_came() {
 
 #[test]
 fn a_second_program_sending_camera_rows_is_a_fault_that_names_both() {
+    let _machine = crate::shared_machine();
     let keys = Keys::new();
     let robot = secured_robot(
         &keys,

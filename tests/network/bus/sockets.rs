@@ -53,6 +53,7 @@ fn is_loopback(socket: &str) -> bool {
 
 #[test]
 fn with_the_shipped_settings_nothing_listens_but_loopback() {
+    let _machine = crate::shared_machine();
     // The shipped [bus] (the tests' settings turn it off; this one turns it back on).
     let robot = Robot::spawn(None, &["--duration", "5"]);
     let mut sockets = Vec::new();
@@ -170,6 +171,7 @@ impl Drop for SlowLink {
 
 #[test]
 fn over_a_slow_link_the_receiver_s_newest_status_is_never_a_second_old() {
+    let _machine = crate::shared_machine();
     let link = match SlowLink::make() {
         Ok(link) => link,
         Err(why) => {

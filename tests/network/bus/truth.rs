@@ -18,6 +18,7 @@ fn summary_ticks(stdout: &str, name: &str) -> f64 {
 
 #[test]
 fn the_steer_loops_rate_on_the_bus_is_the_one_the_run_summary_gives() {
+    let _machine = crate::shared_machine();
     // Camera frames wake the steer thread between its scheduled ticks; it published its
     // figures only on scheduled ticks that were a multiple of its rate, and the bus said
     // "steer 0 Hz, 0 ticks" (or froze) while the summary counted over a thousand.
@@ -50,6 +51,7 @@ fn the_steer_loops_rate_on_the_bus_is_the_one_the_run_summary_gives() {
 
 #[test]
 fn tools_with_nothing_to_reach_say_so_in_seconds_naming_the_endpoint() {
+    let _machine = crate::shared_machine();
     let nowhere = endpoint(free_port());
     for args in [
         &["get", "supervisor.rate_hz"][..],
@@ -102,6 +104,7 @@ fn tools_with_nothing_to_reach_say_so_in_seconds_naming_the_endpoint() {
 
 #[test]
 fn a_flow_the_robot_does_not_have_is_refused_with_the_ones_it_has() {
+    let _machine = crate::shared_machine();
     // "events" for "event": it waited for ever.
     let started = Instant::now();
     let out = mechweed()

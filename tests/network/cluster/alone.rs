@@ -51,6 +51,7 @@ fn master_killed(master_lost: &str) -> (tempfile::TempDir, Child, String) {
 
 #[test]
 fn when_the_master_goes_away_the_processes_run_on_or_stop_as_the_graph_says() {
+    let _machine = crate::shared_machine();
     // run_on (the default of the shipped graphs): the robot's program goes on.
     let (dir, launcher, robot) = master_killed("run_on");
     let mut started = Started(vec![launcher]);
@@ -88,6 +89,7 @@ fn when_the_master_goes_away_the_processes_run_on_or_stop_as_the_graph_says() {
 
 #[test]
 fn any_executable_runs_with_the_robots_name_and_endpoint_in_its_environment() {
+    let _machine = crate::shared_machine();
     let dir = tempfile::tempdir().unwrap();
     let folder = dir.path();
     let (master, robot) = (free_port(), free_port());

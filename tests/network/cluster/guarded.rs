@@ -112,6 +112,7 @@ fn read_all(pipe: &mut impl std::io::Read) -> String {
 
 #[test]
 fn a_rogue_at_the_masters_address_cannot_make_a_launcher_run_anything() {
+    let _machine = crate::shared_machine();
     // The master's identity of another authority (the TLS handshake fails), and one of
     // the cluster's own identities that is not the master's (the access rules drop its
     // answers).
@@ -121,6 +122,7 @@ fn a_rogue_at_the_masters_address_cannot_make_a_launcher_run_anything() {
 
 #[test]
 fn a_plan_naming_a_program_the_launcher_does_not_allow_is_refused() {
+    let _machine = crate::shared_machine();
     let dir = tempfile::tempdir().unwrap();
     let folder = dir.path();
     let master = free_port();
@@ -164,6 +166,7 @@ fn a_plan_naming_a_program_the_launcher_does_not_allow_is_refused() {
 
 #[test]
 fn a_launcher_refuses_a_plain_master_beyond_this_computer_and_a_name_not_its_machines() {
+    let _machine = crate::shared_machine();
     let dir = tempfile::tempdir().unwrap();
     let folder = dir.path();
     make_keys(folder, &["robot-pc", "laptop"]);

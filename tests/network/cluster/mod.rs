@@ -163,6 +163,7 @@ fn local_graph(folder: &Path) -> (PathBuf, String, String) {
 
 #[test]
 fn the_one_machine_graph_drives_restarts_the_camera_and_stops_with_safe_outputs() {
+    let _machine = crate::shared_machine();
     let dir = tempfile::tempdir().unwrap();
     let folder = dir.path();
     make_keys(folder, &["robot-pc", "camera-pc", "laptop"]);
@@ -298,6 +299,7 @@ fn the_one_machine_graph_drives_restarts_the_camera_and_stops_with_safe_outputs(
 
 #[test]
 fn a_broken_graph_is_refused_with_line_and_key_before_anything_starts() {
+    let _machine = crate::shared_machine();
     let dir = tempfile::tempdir().unwrap();
     let port = free_port();
     let graph = dir.path().join("broken.ini");
