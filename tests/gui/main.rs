@@ -18,9 +18,9 @@ mod gui_requests;
 mod gui_watch;
 
 /// The GUI's tests draw with the processor, and some count seconds on the wall clock (a
-/// view's "no data yet: ... (7 s)"): side by side (the tests run six at a time,
-/// .cargo/config.toml), one made another's second late on two CPUs. Each takes this
-/// lock first, so that they run one at a time.
+/// view's "no data yet: ... (7 s)"): side by side, one made another's second late on two
+/// CPUs when the tests ran six at a time. Each takes this lock first, so that they run
+/// one at a time.
 fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
     static GUI: std::sync::Mutex<()> = std::sync::Mutex::new(());
     GUI.lock().unwrap_or_else(|poisoned| poisoned.into_inner())

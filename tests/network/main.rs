@@ -9,9 +9,9 @@ mod bus;
 mod cluster;
 
 /// The flood tests load the machine on purpose (processes that flood the robot with
-/// requests and huge payloads), and the tests run six at a time (.cargo/config.toml):
-/// beside the others, a flood test's HALT came back late. A flood test takes the machine
-/// whole; every other test here shares it.
+/// requests and huge payloads): beside the others, when the tests ran six at a time, a
+/// flood test's HALT came back late. A flood test takes the machine whole; every other
+/// test here shares it.
 static MACHINE: std::sync::RwLock<()> = std::sync::RwLock::new(());
 
 fn shared_machine() -> std::sync::RwLockReadGuard<'static, ()> {
