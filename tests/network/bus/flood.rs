@@ -41,18 +41,19 @@ fn sender(what: &str, endpoint: &str, keys: &Keys, seconds: u32) -> Child {
             format!("{what} {endpoint} {} {seconds}", keys.path().display()),
         )
         .stdout(Stdio::piped())
-        .stderr(Stdio::null())
+        .stderr(Stdio::piped())
         .spawn()
         .unwrap()
 }
 
 /// (sent, answered by the robot) as a sender process says them.
 fn counts(child: Child) -> (u64, u64) {
-    let out = text(&child.wait_with_output().unwrap().stdout);
+    let output = child.wait_with_output().unwrap();
+    let out = text(&output.stdout);
     let line = out
         .lines()
         .find_map(|l| l.strip_prefix("flood_sender: "))
-        .unwrap_or_else(|| panic!("no counts from the sender: {out}"));
+        .unwrap_or_else(|| panic!("no counts from the sender: {out}{}", text(&output.stderr)));
     let mut words = line.split(' ');
     let mut next = || words.next().and_then(|w| w.parse().ok()).unwrap_or(0);
     (next(), next())
