@@ -1,6 +1,6 @@
 //! The product: the controller on real threads and real time. The supervisor thread
 //! owns the hardware; the steer thread and the camera-link thread each own their own
-//! state; they meet only through protected objects (state.rs) and bounded channels.
+//! state; they meet only through protected objects (core/src/state/mod.rs) and bounded channels.
 
 mod realtime;
 mod robot;

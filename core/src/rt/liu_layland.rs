@@ -1,4 +1,4 @@
-//! The Liu and Layland check of the periodic threads' measured load (rt.rs keeps the
+//! The Liu and Layland check of the periodic threads' measured load (rt/mod.rs keeps the
 //! figures it is worked out from).
 
 use super::LoopSummary;

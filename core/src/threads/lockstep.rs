@@ -1,6 +1,7 @@
 //! The lockstep driver: the same tick functions as the real-time threads, run one
 //! after the other on simulated time, as fast as the computer goes. Tests and
-//! benchmarks use it; the product uses run.rs.
+//! benchmarks use it; the product uses real threads (threads/supervisor.rs and
+//! steer.rs, started by the program's src/run/).
 //!
 //! Every millisecond of simulated time: the plant advances, bytes from the simulated
 //! camera computer go through the real decoder, the steer tick runs on a new estimate
@@ -274,7 +275,7 @@ impl Lockstep {
                 outputs
             }
             Io::Cards(rig) => {
-                // As run.rs's supervisor thread does with its Hw.
+                // As the supervisor thread (threads/supervisor.rs) does with its Hw.
                 rig.set_wires(&self.robot.inputs());
                 let mut outputs = match rig.hw.read() {
                     Ok(inputs) => self.supervisor.tick(now, &inputs, steer, link, &health),

@@ -1,6 +1,6 @@
 //! The bodies of the two periodic threads a run starts: the supervisor thread (it owns
 //! the hardware) and the steer thread. Each owns its state and meets the others only
-//! through protected objects and channels; run.rs starts them and collects them.
+//! through protected objects and channels; the program's src/run/ starts them and collects them.
 
 pub mod backend;
 pub mod lockstep;

@@ -134,7 +134,7 @@ impl SupervisorThread {
         let mut hw = SafeOnDrop(hw);
         let mut periodic = Periodic::new(rate_hz);
         // Every object below is written by a thread of lower priority: read without
-        // waiting (state.rs), the busy locks counted.
+        // waiting (state/mod.rs), the busy locks counted.
         let (mut steer, mut link, mut gui_beat) =
             (Latest::new(steer), Latest::new(link), Latest::new(gui_beat));
         let mut paused = false;
