@@ -2,8 +2,8 @@
 //! joystick mode with the weeding tool on it. The drive is an ordinary run (its record
 //! keeps every fix); this reads the record back, turns each fix of the antenna into the
 //! tool's position (the robot's heading from the antenna's own track), and hands them to
-//! the teacher (core/src/gnss/rowmap/teach.rs), which keeps a point every 25 cm of trusted RTK fixes
-//! and refuses a row with a stretch it could not trust. The row goes into the map file,
+//! the teacher (core/src/gnss/rowmap/teach.rs), which keeps a point every 25 cm of
+//! trusted RTK fixes and refuses a row with a stretch it could not trust. The row goes into the map file,
 //! replacing a row of the same name.
 
 use std::collections::VecDeque;

@@ -1,7 +1,8 @@
 //! The supervisor: once per tick (100 Hz) it takes every input, checks every fault,
 //! runs the three regulators and decides every output. It is a plain state machine:
-//! the real-time thread (threads/supervisor.rs, started by the program's src/run/) and the lockstep simulation (threads/lockstep.rs) both call
-//! `tick`, so there is one copy of the control logic.
+//! the real-time thread (threads/supervisor.rs, started by the program's src/run/)
+//! and the lockstep simulation (threads/lockstep.rs) both call `tick`, so there is
+//! one copy of the control logic.
 //!
 //! Modes: Halt at start; Joystick, Autonomous and Test from Halt (and Joystick <->
 //! Autonomous directly, bumpless); any fault latches Fault with safe outputs in the

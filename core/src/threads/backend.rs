@@ -1,5 +1,6 @@
 //! Opening the hardware that robot.ini [hw] asks for. The simulated robot is built in
-//! the program's src/run/robot.rs, as it comes with its camera computer and its truth; here is the real one:
+//! the program's src/run/robot.rs, as it comes with its camera computer and its
+//! truth; here is the real one:
 //! the three I/O cards, found on the PCI bus (or through /dev/port), started with safe
 //! outputs, and joined by the wiring of [io]. If a card is missing, the others still
 //! get their safe outputs before the run stops.
