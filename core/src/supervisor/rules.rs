@@ -112,6 +112,26 @@ mod tests {
     }
 
     #[test]
+    fn fault_is_never_a_mode_to_ask_for() {
+        // Powered, calibrated and standing: every other rule would let a mode in. Fault
+        // without a cause would leave the operator a latched fault that says nothing.
+        let mut st = Status {
+            tick: 1,
+            power: PowerState::On,
+            ..Status::default()
+        };
+        st.measured.calibrated = true;
+        for mode in [Mode::Halt, Mode::Joystick, Mode::Autonomous] {
+            st.mode = mode;
+            assert_eq!(
+                mode_refusal(Mode::Fault, &st),
+                Some(Refusal::FaultIsNotAMode),
+                "{mode} -> fault"
+            );
+        }
+    }
+
+    #[test]
     fn why_not_says_what_the_supervisor_would_refuse() {
         let mut st = Status::default();
         assert_eq!(mode_refusal(Mode::Halt, &st), Some(Refusal::NotStarted));

@@ -9,6 +9,7 @@ mod cards_closed_loop;
 mod config_errors;
 mod decoder_props;
 mod drive_guards;
+mod end_switches;
 mod faults;
 mod gnss_safety;
 mod gnss_steering;

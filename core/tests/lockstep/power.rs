@@ -6,7 +6,7 @@ use crate::common;
 
 use common::{autonomous, record, settings_with};
 use mechweed_core::state::fault_cause::FaultCause;
-use mechweed_core::state::modes::{Mode, Request};
+use mechweed_core::state::modes::{Mode, Refusal, Request};
 use mechweed_core::state::status::PowerState;
 use mechweed_core::threads::lockstep::Lockstep;
 use mechweed_hw::{EncoderId, Outputs};
@@ -200,4 +200,33 @@ fn a_mode_asked_while_the_contactor_closes_is_told_power_is_still_coming_on() {
         .to_string();
     assert!(refusal.contains("still coming on"), "{refusal}");
     assert!(!refusal.contains("press Power up"), "{refusal}");
+}
+
+#[test]
+fn from_test_a_driving_mode_is_refused_until_halt() {
+    // In Test with the relay closed and the wheels turning on the panel's volts: a
+    // driving mode taken directly would hand running motors and released brakes to the
+    // regulators without the stop in Halt between.
+    let s = settings_with("0.5 power_up, 2 mode test", &[]);
+    let mut sim = Lockstep::new(&s, Mode::Halt);
+    record(&mut sim, 2.5);
+    sim.request(Request::TestOutputs(panel(true, 3.0))).unwrap();
+    record(&mut sim, 1.0);
+    let st = sim.supervisor.status();
+    assert_eq!((st.mode, st.power), (Mode::Test, PowerState::On));
+    assert!(st.measured.calibrated);
+    for wanted in [Mode::Autonomous, Mode::Joystick] {
+        assert_eq!(
+            sim.request(Request::Mode(wanted)),
+            Err(Refusal::OnlyFromHalt(Mode::Test)),
+            "Test -> {wanted}"
+        );
+        let ticks = record(&mut sim, 0.2);
+        assert_eq!(sim.supervisor.mode(), Mode::Test);
+        assert!(
+            ticks.iter().all(|t| t.outputs == panel(true, 3.0)),
+            "the panel's outputs changed"
+        );
+    }
+    assert!(sim.supervisor.faults().is_empty());
 }

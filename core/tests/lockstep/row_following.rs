@@ -59,6 +59,7 @@ fn converges_from_5_cm_off_the_row() {
     let mut worst_after_5m: f64 = 0.0;
     while sim.robot.truth().distance_m < 15.0 {
         sim.tick();
+        assert!(sim.now_s() < 100.0, "the robot did not get to 15 m");
         let t = sim.robot.truth();
         if t.distance_m > 5.0 {
             worst_after_5m = worst_after_5m.max(t.tool_cross_track_m.abs());
