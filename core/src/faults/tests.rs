@@ -116,13 +116,24 @@ fn still_encoders(
     pot_dps: f64,
     seconds: f64,
 ) -> Option<FaultCause> {
+    still_encoders_from(0.0, driven_v, expected_mps, pot_dps, seconds)
+}
+
+/// The same, the potentiometer starting at `pot_deg`.
+fn still_encoders_from(
+    pot_deg: f64,
+    driven_v: [f64; 3],
+    expected_mps: [f64; 2],
+    pot_dps: f64,
+    seconds: f64,
+) -> Option<FaultCause> {
     let (mut checks, _) = checks();
     (1..=(seconds * 100.0) as usize).find_map(|k| {
         let now_s = k as f64 * 0.01;
         let scene = Scene {
             mode: Mode::Joystick,
             measured: Measured {
-                pot_angle_filtered_rad: (pot_dps * now_s).to_radians(),
+                pot_angle_filtered_rad: (pot_deg + pot_dps * now_s).to_radians(),
                 ..Measured::default()
             },
             driven_v,
@@ -240,5 +251,114 @@ fn motor_power_that_stays_on_after_the_relay_opened_is_a_welded_contactor() {
     assert_eq!(
         checks.standing_cause(&inputs),
         Some(FaultCause::ContactorWelded)
+    );
+}
+
+#[test]
+fn power_up_waits_for_each_standing_cause_and_for_nothing_else() {
+    let (checks, _) = checks();
+    let s = Settings::shipped().faults;
+    let healthy = healthy_inputs();
+    // Healthy, or one end switch closed: the steering must have power to leave it.
+    let one_switch = [
+        Inputs {
+            end_switch_left: true,
+            ..healthy
+        },
+        Inputs {
+            end_switch_right: true,
+            ..healthy
+        },
+    ];
+    for inputs in [healthy].iter().chain(&one_switch) {
+        assert_eq!(checks.standing_cause(inputs), None, "{inputs:?}");
+    }
+    let both = Inputs {
+        end_switch_left: true,
+        end_switch_right: true,
+        ..healthy
+    };
+    assert_eq!(
+        checks.standing_cause(&both),
+        Some(FaultCause::BothEndSwitches)
+    );
+    // A battery below its minimum: powered up, it would fault again at once.
+    let volts = s.battery_min_v - 0.5;
+    let low = Inputs {
+        battery_v: volts,
+        ..healthy
+    };
+    assert_eq!(
+        checks.standing_cause(&low),
+        Some(FaultCause::BatteryLow { volts })
+    );
+    let broken_pot = Inputs {
+        pot_v: 0.0,
+        ..healthy
+    };
+    assert_eq!(
+        checks.standing_cause(&broken_pot),
+        Some(FaultCause::PotOutOfRange { volts: 0.0 })
+    );
+}
+
+#[test]
+fn a_contactor_that_does_not_close_in_time_after_power_up_is_a_fault() {
+    // Power up pressed, the contactor never closes (a broken coil or relay): the robot
+    // must not wait for ever in "power coming on".
+    let timeout_s = Settings::shipped().supervisor.power_up_timeout_s;
+    let (mut checks, _) = checks();
+    let closing = |now_s: f64| Scene {
+        power: PowerState::Closing { since_s: 1.0 },
+        relay_closed: true,
+        ..Scene::at(now_s)
+    };
+    assert_eq!(closing(1.0 + timeout_s * 0.9).check(&mut checks), None);
+    assert_eq!(
+        closing(1.0 + timeout_s * 1.1).check(&mut checks),
+        Some(FaultCause::PowerUpFailed)
+    );
+}
+
+#[test]
+fn an_encoder_that_stands_is_a_fault_only_after_its_time() {
+    // A wheel starting from rest takes a moment to count: not a fault at once.
+    let stuck_s = Settings::shipped().faults.encoder_stuck_s;
+    assert_eq!(
+        still_encoders([4.0, 4.0, 0.0], [0.5, 0.5], 0.0, stuck_s * 0.9),
+        None
+    );
+    assert_eq!(
+        still_encoders([4.0, 4.0, 0.0], [0.5, 0.5], 0.0, stuck_s * 1.1),
+        Some(FaultCause::EncoderStuck(EncoderId::Left))
+    );
+}
+
+#[test]
+fn a_creep_up_a_slope_with_a_little_more_voltage_than_it_needs_is_no_stuck_encoder() {
+    // 0.04 m/s asked (below what counts as motion) needs 0.33 V by the feed-forward; up
+    // a slope the integrator adds a little: 2.2 V, above encoder_stuck_v (2 V) but not
+    // above what the creep needs plus that margin. The wheel may stand a moment.
+    let s = Settings::shipped();
+    let needed_v = s.pid_left.kff * 0.04;
+    let driven_v = s.faults.encoder_stuck_v + 0.2;
+    assert!(driven_v < needed_v + s.faults.encoder_stuck_v);
+    assert_eq!(
+        still_encoders([driven_v, driven_v, 0.0], [0.04, 0.04], 0.0, 2.0),
+        None
+    );
+}
+
+#[test]
+fn steering_held_off_centre_by_ground_friction_is_no_stuck_encoder() {
+    // Held at 10 degrees, the potentiometer's filtered reading wandering by 0.8 degrees:
+    // the wheel has not turned. What counts is the change since the encoder stood.
+    assert_eq!(
+        still_encoders_from(10.0, [0.0, 0.0, 6.0], [0.0, 0.0], 0.4, 2.0),
+        None
+    );
+    assert_eq!(
+        still_encoders_from(10.0, [0.0, 0.0, 6.0], [0.0, 0.0], 20.0, 2.0),
+        Some(FaultCause::EncoderStuck(EncoderId::Steer))
     );
 }

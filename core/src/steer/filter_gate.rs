@@ -127,3 +127,30 @@ impl GateMemory {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_suspect_sensor_is_used_again_only_from_its_third_pass_in_a_row() {
+        // A weed patch: frames 5 to 10 cm off, one now and then close enough to pass.
+        // Each alone would pull the row towards the weeds and let the next one in.
+        let mut gate = GateMemory::new();
+        let camera = Sensor::Camera;
+        for _ in 0..SUSPECT_AFTER {
+            assert_eq!(gate.failed(camera, 0.07, 100, false), Verdict::Reject);
+        }
+        for _ in 1..TRUSTED_AGAIN_AFTER {
+            assert_eq!(gate.passed(camera), Verdict::Reject, "a lone pass used");
+        }
+        // A rejection between starts the count again.
+        assert_eq!(gate.failed(camera, 0.07, 100, false), Verdict::Reject);
+        for _ in 1..TRUSTED_AGAIN_AFTER {
+            assert_eq!(gate.passed(camera), Verdict::Reject, "a lone pass used");
+        }
+        assert_eq!(gate.passed(camera), Verdict::Use, "never trusted again");
+        // Trusted again: from now on each pass is used at once.
+        assert_eq!(gate.passed(camera), Verdict::Use);
+    }
+}
