@@ -389,3 +389,6 @@ impl FaultChecks {
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod tests_others;
