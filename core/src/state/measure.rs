@@ -126,3 +126,61 @@ impl Measurement {
         *m
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::Settings;
+
+    fn measurement() -> (Measurement, Settings) {
+        let s = Settings::shipped();
+        (Measurement::new(&s.robot, &s.supervisor, &s.faults), s)
+    }
+
+    #[test]
+    fn speeds_from_counts_are_smoothed_over_the_speed_filters_time() {
+        // From rest, both wheels at 1 m/s from now on: counts in whole steps jitter by
+        // a count per tick, and the speed regulator must not see each jitter whole.
+        let (mut m, s) = measurement();
+        let dt_s = 0.01;
+        let per_tick = (s.robot.enc_counts_per_m * 1.0 * dt_s) as i64;
+        let mut inputs = Inputs::default();
+        m.update(&inputs, dt_s);
+        inputs.enc_left_counts += per_tick;
+        inputs.enc_right_counts += per_tick;
+        let first = m.update(&inputs, dt_s);
+        let blend = dt_s / (s.supervisor.speed_filter_s + dt_s);
+        assert!(blend < 0.5, "the shipped filter smooths little");
+        assert!(
+            (first.speed_mps - blend).abs() < 1e-9,
+            "{}",
+            first.speed_mps
+        );
+        for _ in 0..50 {
+            inputs.enc_left_counts += per_tick;
+            inputs.enc_right_counts += per_tick;
+            m.update(&inputs, dt_s);
+        }
+        assert!((m.measured.speed_mps - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn the_potentiometers_noise_is_smoothed_before_it_is_compared() {
+        // Calibrated at the centre, then one reading 3 degrees off (noise): the filtered
+        // angle moves by a sixth of it over one 10 ms tick, not all of it.
+        let (mut m, s) = measurement();
+        let dt_s = 0.01;
+        let mut inputs = Inputs {
+            pot_v: s.robot.pot_centre_v,
+            ..Inputs::default()
+        };
+        for _ in 0..100 {
+            m.update(&inputs, dt_s);
+        }
+        assert!(m.measured.calibrated);
+        inputs.pot_v += 3.0 * s.robot.pot_v_per_deg;
+        let after = m.update(&inputs, dt_s).pot_angle_filtered_rad.to_degrees();
+        let expected = 3.0 * dt_s / (POT_FILTER_S + dt_s);
+        assert!((after - expected).abs() < 1e-6, "{after} deg");
+    }
+}

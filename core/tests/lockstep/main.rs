@@ -18,3 +18,4 @@ mod power;
 mod records;
 mod regulators;
 mod row_following;
+mod supervisor_tick;
