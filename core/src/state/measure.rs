@@ -162,6 +162,37 @@ mod tests {
             m.update(&inputs, dt_s);
         }
         assert!((m.measured.speed_mps - 1.0).abs() < 1e-6);
+        // A second update in the same instant (no time between): the speeds stay, and
+        // are numbers, not 0/0.
+        let again = m.update(&inputs, 0.0);
+        assert!((again.speed_mps - 1.0).abs() < 1e-6, "{}", again.speed_mps);
+    }
+
+    #[test]
+    fn the_heading_rate_is_the_bicycle_models() {
+        // 1 m/s with the wheel at 10 degrees on a 1.3 m wheelbase (not the shipped 1 m,
+        // where a term wrongly multiplied or divided by it would not show).
+        let mut s = Settings::shipped();
+        s.robot.wheelbase_m = 1.3;
+        let mut m = Measurement::new(&s.robot, &s.supervisor, &s.faults);
+        let dt_s = 0.01;
+        let mut inputs = Inputs {
+            pot_v: s.robot.pot_centre_v,
+            ..Inputs::default()
+        };
+        for _ in 0..100 {
+            m.update(&inputs, dt_s);
+        }
+        inputs.enc_steer_counts = (10.0 * s.robot.steer_counts_per_deg) as i64;
+        let per_tick = (s.robot.enc_counts_per_m * dt_s) as i64;
+        for _ in 0..100 {
+            inputs.enc_left_counts += per_tick;
+            inputs.enc_right_counts += per_tick;
+            m.update(&inputs, dt_s);
+        }
+        let expected = 10f64.to_radians().tan() / 1.3;
+        let yaw_rate = m.measured.yaw_rate_rps;
+        assert!((yaw_rate - expected).abs() < 1e-6, "{yaw_rate} rad/s");
     }
 
     #[test]

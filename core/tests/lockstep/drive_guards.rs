@@ -192,3 +192,62 @@ fn the_end_switch_procedure_steers_back_within_the_wheel_angle_limit() {
     );
     assert_eq!(sim.supervisor.notices().len(), 1, "the procedure finished");
 }
+
+#[test]
+fn the_references_ramp_at_their_rates_and_a_late_tick_steps_them_by_two_periods_at_most() {
+    // Full speed and full left asked from rest: the speed reference grows at accel_mps2
+    // and the wheel angle's at wheel_angle_rate_dps, so that neither jumps. A tick 40 ms
+    // after the last (late, but within the late-tick limit) moves them by two periods'
+    // worth, not four.
+    let s = settings_with("", &[]);
+    let mut sim = Lockstep::new(&s, Mode::Joystick);
+    record(&mut sim, 1.0);
+    sim.robot.set_joystick(-4.0, 4.0, true);
+    let period_s = 1.0 / s.supervisor.rate_hz;
+    let speed_step = s.supervisor.accel_mps2 * period_s;
+    let angle_step = s.supervisor.wheel_angle_rate_dps.to_radians() * period_s;
+    record(&mut sim, 0.3);
+    let before = *sim.supervisor.status();
+    let command = sim.steer_command;
+    let t0_s = sim.now_s();
+    tick_with_frozen_command(&mut sim, t0_s, &command, 0.01);
+    let after = *sim.supervisor.status();
+    let grew = |a: f64, b: f64| b - a;
+    assert!((grew(before.speed_ref_mps, after.speed_ref_mps) - speed_step).abs() < 1e-9);
+    assert!(
+        (grew(before.wheel_angle_ref_rad, after.wheel_angle_ref_rad) - angle_step).abs() < 1e-9
+    );
+    // The next tick four periods after that one: the steps of two.
+    let now_s = t0_s + 0.01 + 4.0 * period_s;
+    let before = after;
+    sim.robot.advance_to(now_s);
+    let command = SteerCommand {
+        t_s: now_s,
+        ..command
+    };
+    let mut link = *sim.link.status();
+    link.beat_s = now_s;
+    sim.supervisor.tick(
+        now_s,
+        &sim.robot.inputs(),
+        &command,
+        &link,
+        &ThreadHealth::default(),
+    );
+    let after = *sim.supervisor.status();
+    assert!(
+        sim.supervisor.faults().is_empty(),
+        "{:?}",
+        sim.supervisor.faults()
+    );
+    let speed_grew = grew(before.speed_ref_mps, after.speed_ref_mps);
+    assert!(
+        (speed_grew - 2.0 * speed_step).abs() < 1e-9,
+        "{speed_grew} m/s"
+    );
+    let angle_grew = grew(before.wheel_angle_ref_rad, after.wheel_angle_ref_rad);
+    assert!(
+        (angle_grew - 2.0 * angle_step).abs() < 1e-9,
+        "{angle_grew} rad"
+    );
+}

@@ -38,7 +38,9 @@ fn switching_joystick_to_autonomous_is_bumpless() {
 
 #[test]
 fn wheel_speed_references_follow_ackermann_geometry() {
-    let s = settings_with("", &[]);
+    // A robot with a 1.3 m wheelbase: with the shipped 1 m, a term wrongly multiplied or
+    // divided by it would not show.
+    let s = settings_with("", &["robot.wheelbase_m=1.3", "sim.wheelbase_m=1.3"]);
     let mut sim = Lockstep::new(&s, Mode::Joystick);
     // Full left at a steady speed.
     sim.robot.set_joystick(-4.0, joystick_volts(&s, 0.4), true);
