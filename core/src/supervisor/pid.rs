@@ -139,6 +139,21 @@ mod tests {
     }
 
     #[test]
+    fn a_reset_forgets_the_integral_so_a_wheel_restarts_without_a_lurch() {
+        // Held by its brake for a second, the integrator wound up; standing resets it,
+        // and the next start gives feed-forward and proportional only.
+        let mut reg = pi();
+        for _ in 0..100 {
+            reg.update(0.2, 0.0, 0.01);
+        }
+        assert!(reg.integral_v > 1.0, "{}", reg.integral_v);
+        reg.reset();
+        let g = reg.gains;
+        let expected_v = g.kff * 0.2 + g.kp * 0.2 + g.ki * 0.2 * 0.01;
+        assert!((reg.update(0.2, 0.0, 0.01) - expected_v).abs() < 1e-9);
+    }
+
+    #[test]
     fn pd_derivative_acts_on_measurement_not_reference() {
         let mut reg = Pd::new(PdSettings {
             kp: 100.0,

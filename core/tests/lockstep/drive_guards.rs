@@ -7,7 +7,7 @@ use crate::common;
 use common::{autonomous, record, settings_with};
 use mechweed_core::rt::health::ThreadHealth;
 use mechweed_core::state::fault_cause::{FaultCause, JoystickAxis};
-use mechweed_core::state::modes::Mode;
+use mechweed_core::state::modes::{Mode, Request};
 use mechweed_core::steer::SteerCommand;
 use mechweed_core::threads::lockstep::Lockstep;
 use mechweed_hw::Outputs;
@@ -250,4 +250,35 @@ fn the_references_ramp_at_their_rates_and_a_late_tick_steps_them_by_two_periods_
         (angle_grew - 2.0 * angle_step).abs() < 1e-9,
         "{angle_grew} rad"
     );
+}
+
+#[test]
+fn the_weeding_tool_runs_only_while_the_robot_moves_autonomously() {
+    // Standing, starting, or driven by a person, the tool stays off: its blades must not
+    // turn beside someone at the joystick, nor in one place on the crop.
+    let s = settings_with("", &[]);
+    let mut sim = autonomous(&s);
+    let (mut ran, mut stood) = (0, 0);
+    for _ in 0..500 {
+        let tool_on = sim.tick().tool_on;
+        let st = sim.supervisor.status();
+        if st.speed_ref_mps <= 0.05 {
+            assert!(!tool_on, "tool on at {} m/s", st.speed_ref_mps);
+            stood += 1;
+        } else if st.speed_ref_mps > 0.1 {
+            assert!(tool_on, "tool off driving at {} m/s", st.speed_ref_mps);
+            ran += 1;
+        }
+    }
+    assert!(ran > 100 && stood > 10, "ran {ran} ticks, stood {stood}");
+
+    let mut sim = joystick_driving();
+    let ticks = record(&mut sim, 2.0);
+    assert!(
+        ticks.iter().all(|t| !t.outputs.tool_on),
+        "tool on in Joystick"
+    );
+    sim.request(Request::Mode(Mode::Halt)).unwrap();
+    let ticks = record(&mut sim, 1.0);
+    assert!(ticks.iter().all(|t| !t.outputs.tool_on), "tool on in Halt");
 }
