@@ -139,16 +139,25 @@ mod tests {
     }
 
     #[test]
-    fn a_reset_forgets_the_integral_so_a_wheel_restarts_without_a_lurch() {
+    fn the_integral_winds_up_only_to_the_limit_and_a_reset_forgets_it() {
         // Held by its brake for a second, the integrator wound up; standing resets it,
         // and the next start gives feed-forward and proportional only.
         let mut reg = pi();
         for _ in 0..100 {
             reg.update(0.2, 0.0, 0.01);
         }
-        assert!(reg.integral_v > 1.0, "{}", reg.integral_v);
-        reg.reset();
+        // It wound up only as far as the output's limit: feed-forward and proportional
+        // give 5 V, the integrator the rest, within one step.
         let g = reg.gains;
+        let held_v = g.out_max_v - (g.kff + g.kp) * 0.2;
+        let step_v = g.ki * 0.2 * 0.01;
+        assert!(
+            reg.integral_v > held_v - step_v && reg.integral_v <= held_v + 1e-9,
+            "integral {} V, limit {held_v} V",
+            reg.integral_v
+        );
+        assert!(reg.update(0.2, 0.0, 0.01) > g.out_max_v - step_v);
+        reg.reset();
         let expected_v = g.kff * 0.2 + g.kp * 0.2 + g.ki * 0.2 * 0.01;
         assert!((reg.update(0.2, 0.0, 0.01) - expected_v).abs() < 1e-9);
     }
