@@ -140,26 +140,30 @@ mod tests {
 
     #[test]
     fn the_integral_winds_up_only_to_the_limit_and_a_reset_forgets_it() {
-        // Held by its brake for a second, the integrator wound up; standing resets it,
-        // and the next start gives feed-forward and proportional only.
-        let mut reg = pi();
-        for _ in 0..100 {
-            reg.update(0.2, 0.0, 0.01);
+        // Held by its brake for a second, forwards and in reverse, the integrator winds
+        // up; standing resets it, and the next start gives feed-forward and proportional
+        // only.
+        for reference_mps in [0.2, -0.2] {
+            let mut reg = pi();
+            for _ in 0..100 {
+                reg.update(reference_mps, 0.0, 0.01);
+            }
+            // Only as far as the output's limit: feed-forward and proportional give 5 V,
+            // the integrator the rest, within one step.
+            let g = reg.gains;
+            let sign = f64::signum(reference_mps);
+            let held_v = g.out_max_v - (g.kff + g.kp) * 0.2;
+            let step_v = g.ki * 0.2 * 0.01;
+            let integral_v = sign * reg.integral_v;
+            assert!(
+                integral_v > held_v - step_v && integral_v <= held_v + 1e-9,
+                "integral {integral_v} V, limit {held_v} V at {reference_mps} m/s"
+            );
+            assert!(sign * reg.update(reference_mps, 0.0, 0.01) > g.out_max_v - step_v);
+            reg.reset();
+            let expected_v = sign * ((g.kff + g.kp) * 0.2 + step_v);
+            assert!((reg.update(reference_mps, 0.0, 0.01) - expected_v).abs() < 1e-9);
         }
-        // It wound up only as far as the output's limit: feed-forward and proportional
-        // give 5 V, the integrator the rest, within one step.
-        let g = reg.gains;
-        let held_v = g.out_max_v - (g.kff + g.kp) * 0.2;
-        let step_v = g.ki * 0.2 * 0.01;
-        assert!(
-            reg.integral_v > held_v - step_v && reg.integral_v <= held_v + 1e-9,
-            "integral {} V, limit {held_v} V",
-            reg.integral_v
-        );
-        assert!(reg.update(0.2, 0.0, 0.01) > g.out_max_v - step_v);
-        reg.reset();
-        let expected_v = g.kff * 0.2 + g.kp * 0.2 + g.ki * 0.2 * 0.01;
-        assert!((reg.update(0.2, 0.0, 0.01) - expected_v).abs() < 1e-9);
     }
 
     #[test]
