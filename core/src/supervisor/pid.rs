@@ -166,6 +166,55 @@ mod tests {
         }
     }
 
+    fn pd() -> Pd {
+        Pd::new(PdSettings {
+            kp: 100.0,
+            kd: 2.0,
+            d_filter_s: 0.02,
+            out_max_v: 10.0,
+        })
+    }
+
+    #[test]
+    fn pd_damps_by_the_measured_rate_through_its_filter() {
+        // The wheel turning steadily at 0.5 rad/s, the reference following it: only the
+        // damping acts. It takes dt / (d_filter_s + dt) of the rate at the first step,
+        // and all of it once the filter has settled.
+        let mut reg = pd();
+        let (dt_s, rate_rad_s) = (0.01, 0.5);
+        let mut angle_rad = 0.0;
+        reg.update(angle_rad, angle_rad, dt_s);
+        angle_rad += rate_rad_s * dt_s;
+        let first_v = reg.update(angle_rad, angle_rad, dt_s);
+        let blend = dt_s / (0.02 + dt_s);
+        assert!(
+            (first_v + 2.0 * rate_rad_s * blend).abs() < 1e-9,
+            "{first_v} V"
+        );
+        let mut settled_v = first_v;
+        for _ in 0..100 {
+            angle_rad += rate_rad_s * dt_s;
+            settled_v = reg.update(angle_rad, angle_rad, dt_s);
+        }
+        assert!((settled_v + 2.0 * rate_rad_s).abs() < 1e-6, "{settled_v} V");
+        // No time between two updates: the rate is kept, a number, not 0/0.
+        let again_v = reg.update(angle_rad, angle_rad, 0.0);
+        assert!((again_v - settled_v).abs() < 1e-12, "{again_v} V");
+    }
+
+    #[test]
+    fn a_reset_pd_takes_no_rate_from_before_it() {
+        // Turning fast, then standing and reset; at the next start the wheel is
+        // elsewhere: no damping kick from the old rate nor from the jump since.
+        let mut reg = pd();
+        for k in 0..20 {
+            reg.update(0.0, k as f64 * 0.02, 0.01);
+        }
+        reg.reset();
+        let out_v = reg.update(0.05, 0.0, 0.01);
+        assert!((out_v - 100.0 * 0.05).abs() < 1e-9, "{out_v} V");
+    }
+
     #[test]
     fn pd_derivative_acts_on_measurement_not_reference() {
         let mut reg = Pd::new(PdSettings {
