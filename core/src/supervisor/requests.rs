@@ -95,3 +95,44 @@ impl Supervisor {
         self.steering.gains = gains.steer;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camlink::LinkStatus;
+    use crate::config::Settings;
+    use crate::rt::health::ThreadHealth;
+    use crate::steer::SteerCommand;
+    use mechweed_hw::Inputs;
+
+    #[test]
+    fn a_request_from_the_bus_is_refused_while_a_person_holds_the_dead_man() {
+        let mut supervisor = Supervisor::new(&Settings::shipped());
+        let held = Inputs {
+            pot_v: 2.5,
+            battery_v: 25.0,
+            estop_front_released: true,
+            estop_back_released: true,
+            joystick_enable: true,
+            ..Inputs::default()
+        };
+        let link = LinkStatus::default();
+        supervisor.tick(
+            0.01,
+            &held,
+            &SteerCommand::default(),
+            &link,
+            &ThreadHealth::default(),
+        );
+        let auto = Request::Mode(Mode::Autonomous);
+        assert_eq!(
+            supervisor.handle_from(auto, true),
+            Err(Refusal::PersonAtTheRobot)
+        );
+        // The same request from the robot's own GUI meets the other rules only.
+        assert_eq!(
+            supervisor.handle_from(auto, false),
+            Err(Refusal::NotPowered)
+        );
+    }
+}
