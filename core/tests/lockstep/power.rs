@@ -229,4 +229,9 @@ fn from_test_a_driving_mode_is_refused_until_halt() {
         );
     }
     assert!(sim.supervisor.faults().is_empty());
+    // Through Halt: whatever the panel switched stays behind, the contactor opens.
+    sim.request(Request::Mode(Mode::Halt)).unwrap();
+    let ticks = record(&mut sim, 0.5);
+    assert_eq!(sim.supervisor.status().power, PowerState::Off);
+    assert!(ticks.iter().all(|t| t.outputs == Outputs::SAFE));
 }

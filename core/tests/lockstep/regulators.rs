@@ -175,3 +175,27 @@ fn wheel_references_are_zero_once_the_robot_stops_driving() {
         (0.0, 0.0, 0.0)
     );
 }
+
+#[test]
+fn driving_again_after_halt_starts_the_regulators_from_rest() {
+    // Halted while accelerating, the wheels' integrators hold what the ramp needed; kept
+    // into the next start, the robot would lurch forward when the dead-man is pressed
+    // with the joystick at rest.
+    let s = settings_with("", &[]);
+    let mut sim = Lockstep::new(&s, Mode::Joystick);
+    record(&mut sim, 1.0);
+    sim.robot.set_joystick(0.0, joystick_volts(&s, 0.8), true);
+    record(&mut sim, 0.6);
+    sim.request(Request::Mode(Mode::Halt)).unwrap();
+    record(&mut sim, 2.0);
+    assert!(sim.robot.truth().speed_mps.abs() < 0.01, "still rolling");
+    sim.robot.set_joystick(0.0, joystick_volts(&s, 0.0), true);
+    sim.request(Request::Mode(Mode::Joystick)).unwrap();
+    let first = sim.tick();
+    assert!(
+        first.amp_left_v.abs() < 0.2 && first.amp_right_v.abs() < 0.2,
+        "{} V, {} V at rest",
+        first.amp_left_v,
+        first.amp_right_v
+    );
+}
