@@ -355,3 +355,25 @@ impl Supervisor {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_fault_and_notice_logs_stop_at_their_capacity_and_never_grow_in_a_tick() {
+        // A long run can have hundreds of notices (each change of the sensors that
+        // steer): the logs keep the first LOG_CAPACITY, and a push beyond would
+        // allocate in the supervisor's tick.
+        let mut supervisor = Supervisor::new(&Settings::shipped());
+        for k in 0..LOG_CAPACITY + 10 {
+            let t_s = k as f64;
+            supervisor.say(Notice::RowEnded { driven_m: 1.0, t_s });
+            supervisor.enter_fault(FaultCause::PowerUpFailed);
+        }
+        assert_eq!(supervisor.notices().len(), LOG_CAPACITY);
+        assert_eq!(supervisor.faults().len(), LOG_CAPACITY);
+        assert_eq!(supervisor.notice_log.capacity(), LOG_CAPACITY);
+        assert_eq!(supervisor.fault_log.capacity(), LOG_CAPACITY);
+    }
+}
