@@ -122,6 +122,18 @@ mod tests {
     }
 
     #[test]
+    fn joystick_or_test_without_moving_keeps_the_row() {
+        // The operator takes the joystick in mid-row, or opens the test panel, and
+        // does not move: Autonomous after it finishes the same row.
+        let mut row = RowEnd::new(&settings(10.0));
+        let mut odo = 0.0;
+        drive(&mut row, Mode::Autonomous, &mut odo, 6.0);
+        row.update(Mode::Joystick, odo);
+        row.update(Mode::Test, odo);
+        assert!((row.driven_m() - 6.0).abs() < 0.011, "{} m", row.driven_m());
+    }
+
+    #[test]
     fn the_real_robot_with_no_row_length_never_ends_a_row() {
         let mut s = settings(0.0);
         s.backend = Backend::Cards;
