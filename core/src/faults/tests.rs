@@ -144,7 +144,7 @@ fn still_encoders_from(
     })
 }
 
-fn healthy_inputs() -> Inputs {
+pub(super) fn healthy_inputs() -> Inputs {
     Inputs {
         pot_v: 2.5,
         battery_v: 25.0,

@@ -1,6 +1,7 @@
 //! Unit tests of the checks that look at the other threads: the steer thread's row
 //! sources, the threads' heartbeats, and the supervisor's own timing.
 
+use super::tests::healthy_inputs;
 use super::*;
 use crate::camlink::LinkStatus;
 use crate::rt::health::ThreadHealth;
@@ -58,14 +59,7 @@ impl Given {
     /// The checks of one tick at `now_s` (the threads' beats as they are).
     fn check_at(&mut self, now_s: f64) -> Option<FaultCause> {
         self.now_s = now_s;
-        let inputs = Inputs {
-            pot_v: 2.5,
-            battery_v: 25.0,
-            estop_front_released: true,
-            estop_back_released: true,
-            motor_power_present: true,
-            ..Inputs::default()
-        };
+        let inputs = healthy_inputs();
         self.checks.check(&CheckContext {
             now_s,
             tick_gap_s: self.tick_gap_s,

@@ -137,6 +137,20 @@ mod tests {
         (Measurement::new(&s.robot, &s.supervisor, &s.faults), s)
     }
 
+    /// A second of standing with the steering at the centre, every `dt_s`: calibrated.
+    /// Returns those inputs.
+    fn calibrated_at_the_centre(m: &mut Measurement, s: &Settings, dt_s: f64) -> Inputs {
+        let inputs = Inputs {
+            pot_v: s.robot.pot_centre_v,
+            ..Inputs::default()
+        };
+        for _ in 0..(1.0 / dt_s) as usize {
+            m.update(&inputs, dt_s);
+        }
+        assert!(m.measured.calibrated);
+        inputs
+    }
+
     #[test]
     fn speeds_from_counts_are_smoothed_over_the_speed_filters_time() {
         // From rest, both wheels at 1 m/s from now on: counts in whole steps jitter by
@@ -176,13 +190,7 @@ mod tests {
         s.robot.wheelbase_m = 1.3;
         let mut m = Measurement::new(&s.robot, &s.supervisor, &s.faults);
         let dt_s = 0.01;
-        let mut inputs = Inputs {
-            pot_v: s.robot.pot_centre_v,
-            ..Inputs::default()
-        };
-        for _ in 0..100 {
-            m.update(&inputs, dt_s);
-        }
+        let mut inputs = calibrated_at_the_centre(&mut m, &s, dt_s);
         inputs.enc_steer_counts = (10.0 * s.robot.steer_counts_per_deg) as i64;
         let per_tick = (s.robot.enc_counts_per_m * dt_s) as i64;
         for _ in 0..100 {
@@ -201,14 +209,7 @@ mod tests {
         // angle moves by a sixth of it over one 10 ms tick, not all of it.
         let (mut m, s) = measurement();
         let dt_s = 0.01;
-        let mut inputs = Inputs {
-            pot_v: s.robot.pot_centre_v,
-            ..Inputs::default()
-        };
-        for _ in 0..100 {
-            m.update(&inputs, dt_s);
-        }
-        assert!(m.measured.calibrated);
+        let mut inputs = calibrated_at_the_centre(&mut m, &s, dt_s);
         inputs.pot_v += 3.0 * s.robot.pot_v_per_deg;
         let after = m.update(&inputs, dt_s).pot_angle_filtered_rad.to_degrees();
         let expected = 3.0 * dt_s / (POT_FILTER_S + dt_s);
