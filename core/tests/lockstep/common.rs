@@ -2,7 +2,9 @@
 #![allow(dead_code)]
 
 use mechweed_core::config::{DEFAULT_INI, Settings};
+use mechweed_core::rt::health::ThreadHealth;
 use mechweed_core::state::modes::Mode;
+use mechweed_core::steer::SteerCommand;
 use mechweed_core::threads::lockstep::Lockstep;
 use mechweed_hw::sim::parse_events;
 use mechweed_hw::{Inputs, Outputs};
@@ -50,4 +52,28 @@ pub fn record(sim: &mut Lockstep, seconds: f64) -> Vec<Tick> {
 /// A robot driving autonomously along the default row, started at t = 0.
 pub fn autonomous(settings: &Settings) -> Lockstep {
     Lockstep::new(settings, Mode::Autonomous)
+}
+
+/// One supervisor tick at `now_s`, the test standing in for the steer thread: `command`
+/// as if made now, a camera link that is alive, the robot's inputs as `alter` leaves them.
+pub fn tick_by_hand(
+    sim: &mut Lockstep,
+    now_s: f64,
+    command: &SteerCommand,
+    alter: impl FnOnce(&mut Inputs),
+) -> Outputs {
+    sim.robot.advance_to(now_s);
+    let mut inputs = sim.robot.inputs();
+    alter(&mut inputs);
+    let mut link = *sim.link.status();
+    link.beat_s = now_s;
+    let command = SteerCommand {
+        t_s: now_s,
+        ..*command
+    };
+    let outputs = sim
+        .supervisor
+        .tick(now_s, &inputs, &command, &link, &ThreadHealth::default());
+    sim.robot.set_outputs(&outputs);
+    outputs
 }

@@ -4,7 +4,7 @@
 
 use crate::common;
 
-use common::{autonomous, record, settings_with};
+use common::{autonomous, record, settings_with, tick_by_hand};
 use mechweed_core::rt::health::ThreadHealth;
 use mechweed_core::state::fault_cause::{FaultCause, JoystickAxis};
 use mechweed_core::state::modes::{Mode, Request};
@@ -220,20 +220,7 @@ fn the_references_ramp_at_their_rates_and_a_late_tick_steps_them_by_two_periods_
     // The next tick four periods after that one: the steps of two.
     let now_s = t0_s + 0.01 + 4.0 * period_s;
     let before = after;
-    sim.robot.advance_to(now_s);
-    let command = SteerCommand {
-        t_s: now_s,
-        ..command
-    };
-    let mut link = *sim.link.status();
-    link.beat_s = now_s;
-    sim.supervisor.tick(
-        now_s,
-        &sim.robot.inputs(),
-        &command,
-        &link,
-        &ThreadHealth::default(),
-    );
+    tick_by_hand(&mut sim, now_s, &command, |_| {});
     let after = *sim.supervisor.status();
     assert!(
         sim.supervisor.faults().is_empty(),

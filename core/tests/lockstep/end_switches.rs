@@ -5,9 +5,8 @@
 
 use crate::common;
 
-use common::{record, settings_with};
+use common::{record, settings_with, tick_by_hand};
 use mechweed_core::config::Settings;
-use mechweed_core::rt::health::ThreadHealth;
 use mechweed_core::state::fault_cause::FaultCause;
 use mechweed_core::state::modes::Mode;
 use mechweed_core::steer::{EndSwitchState, SteerCommand};
@@ -27,26 +26,6 @@ fn driving_by_joystick(s: &Settings) -> Lockstep {
     assert_eq!(sim.supervisor.mode(), Mode::Joystick);
     assert!(sim.robot.truth().speed_mps > 0.3, "not driving");
     sim
-}
-
-/// One supervisor tick at `now_s`, given `command` as if the steer thread made it now
-/// and a camera link that is alive; `held_left`: the left switch's contacts stay closed
-/// whatever the wheel does.
-fn tick_with(sim: &mut Lockstep, now_s: f64, command: &SteerCommand, held_left: bool) -> Outputs {
-    sim.robot.advance_to(now_s);
-    let mut inputs = sim.robot.inputs();
-    inputs.end_switch_left |= held_left;
-    let mut link = *sim.link.status();
-    link.beat_s = now_s;
-    let command = SteerCommand {
-        t_s: now_s,
-        ..*command
-    };
-    let outputs = sim
-        .supervisor
-        .tick(now_s, &inputs, &command, &link, &ThreadHealth::default());
-    sim.robot.set_outputs(&outputs);
-    outputs
 }
 
 /// The time of the tick at `k` steps of 10 ms after `t0_s`.
@@ -69,7 +48,7 @@ fn an_end_switch_that_no_procedure_takes_is_a_fault_in_its_time() {
     let mut hit_s = None;
     for k in 1..=200 {
         let now_s = tick_time(t0_s, k);
-        let outputs = tick_with(&mut sim, now_s, &command, false);
+        let outputs = tick_by_hand(&mut sim, now_s, &command, |_| {});
         if hit_s.is_none() && sim.supervisor.status().inputs.end_switch_left {
             hit_s = Some(now_s);
         }
@@ -106,7 +85,9 @@ fn an_end_switch_still_closed_after_its_time_out_is_a_fault() {
     let ticks = ((KICK_S - t0_s + timeout_s + 0.5) * 100.0).round() as usize;
     for k in 1..=ticks {
         let now_s = tick_time(t0_s, k);
-        let outputs = tick_with(&mut sim, now_s, &command, hit_s.is_some());
+        // From the kick on, the switch's contacts stay closed whatever the wheel does.
+        let held = hit_s.is_some();
+        let outputs = tick_by_hand(&mut sim, now_s, &command, |i| i.end_switch_left |= held);
         if hit_s.is_none() && sim.supervisor.status().inputs.end_switch_left {
             hit_s = Some(now_s);
             // What the procedure commands from its first tick on: stand, steer back.

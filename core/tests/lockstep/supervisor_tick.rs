@@ -4,13 +4,12 @@
 
 use crate::common;
 
-use common::{autonomous, record, settings_with};
+use common::{autonomous, record, settings_with, tick_by_hand};
 use mechweed_core::config::{CameraPort, GnssPort, SteerSource};
-use mechweed_core::rt::health::ThreadHealth;
 use mechweed_core::state::fault_cause::FaultCause;
 use mechweed_core::state::modes::Mode;
 use mechweed_core::state::status::Notice;
-use mechweed_core::steer::{SteerCommand, Steering};
+use mechweed_core::steer::Steering;
 use mechweed_core::threads::lockstep::Lockstep;
 use mechweed_hw::Outputs;
 
@@ -24,20 +23,8 @@ fn a_tick_that_comes_late_is_a_fault_naming_how_late() {
     record(&mut sim, 3.0);
     assert!(sim.supervisor.faults().is_empty());
     let now_s = sim.now_s() + 0.1;
-    sim.robot.advance_to(now_s);
-    let command = SteerCommand {
-        t_s: now_s,
-        ..sim.steer_command
-    };
-    let mut link = *sim.link.status();
-    link.beat_s = now_s;
-    let outputs = sim.supervisor.tick(
-        now_s,
-        &sim.robot.inputs(),
-        &command,
-        &link,
-        &ThreadHealth::default(),
-    );
+    let command = sim.steer_command;
+    let outputs = tick_by_hand(&mut sim, now_s, &command, |_| {});
     assert_eq!(outputs, Outputs::SAFE);
     let log = sim.supervisor.faults();
     let Some(FaultCause::LateTick { late_ms, limit_ms }) = log.first().map(|f| f.cause) else {
