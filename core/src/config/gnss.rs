@@ -42,6 +42,12 @@ pub struct GnssSettings {
     pub timeout_s: f64,
     /// From the receiver measuring a position to its sentences arriving, s.
     pub latency_s: f64,
+    /// A fix whose corrections are older than this (GGA's correction age) is not
+    /// trusted, s.
+    pub max_correction_age_s: f64,
+    /// Steering by GNSS without the camera to confirm it, RTK float fixes steer (slowly)
+    /// for at most this far past the last RTK fixed one, m.
+    pub float_hold_m: f64,
     /// `mechweed teach` warns when the taught path ran farther than this from the row
     /// the camera saw, m (median over the drive).
     pub teach_warn_off_row_m: f64,
@@ -108,6 +114,8 @@ pub(super) fn load(r: &mut Reader) -> GnssSettings {
         trusted: r.parsed(s, "trust", trusted_codes).unwrap_or(1 << 4),
         timeout_s: r.f64(s, "timeout_s", 0.05, 10.0),
         latency_s: r.f64(s, "latency_s", 0.0, 1.0),
+        max_correction_age_s: r.f64(s, "max_correction_age_s", 0.1, 60.0),
+        float_hold_m: r.f64(s, "float_hold_m", 0.0, 100.0),
         teach_warn_off_row_m: r.f64(s, "teach_warn_off_row_m", 0.0, 1.0),
     }
 }

@@ -163,7 +163,7 @@ impl fmt::Display for FaultCause {
             ),
             FaultCause::NoRowSource { camera_s, gnss_s } => write!(
                 f,
-                "no row to steer by: the camera has given no usable row for {camera_s:.2} s and GNSS no trusted fix for {gnss_s:.2} s"
+                "no row to steer by: the camera has given no usable row for {camera_s:.2} s and GNSS no fix it may steer by for {gnss_s:.2} s (the notice before says why)"
             ),
             FaultCause::ThreadStopped { thread, for_s } => {
                 write!(

@@ -3,6 +3,9 @@
 use super::filter::{FilterSettings, GateProbability};
 use crate::config::{FilterConfig, SteerSource};
 
+/// GNSS alone: the row's offset at start, s.d., m (a robot put down anywhere near its row).
+const INITIAL_OFFSET_SD_GNSS_M: f64 = 0.5;
+
 /// The filter's settings from [filter], for a source. GNSS alone has nothing to tell
 /// the map's error from the robot's offset by: the map is taken as the row (its bias
 /// known to be 0), or the filter would split each GNSS offset between the two and steer
@@ -28,6 +31,10 @@ pub(crate) fn filter_settings(c: &FilterConfig, source: SteerSource) -> FilterSe
         SteerSource::Gnss => {
             f.map_bias_sd_per_sqrt_m = 0.0;
             f.initial_sd.map_bias_m = 0.0;
+            // Before its first fix the filter does not know where the row is: a robot
+            // put down 40 cm beside it must be told so by that fix, not have it rejected
+            // (a rejected fix is not heard, and the robot would stop for want of GNSS).
+            f.initial_sd.offset_m = INITIAL_OFFSET_SD_GNSS_M;
         }
         SteerSource::Fused => {
             f.camera_bias_sd_m = c.camera_bias_sd_m;

@@ -7,6 +7,7 @@ mod camera_hold;
 pub mod endswitch;
 pub mod filter;
 mod filter_config;
+mod fix_checks;
 pub mod joystick;
 pub mod law;
 mod odometry;

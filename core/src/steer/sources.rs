@@ -27,6 +27,7 @@ mod fuse;
 use super::camera_hold::{CameraHold, Held};
 use super::filter::{RowFilter, Travel};
 use super::filter_config::filter_settings;
+use super::fix_checks::{FixChecks, degraded};
 use super::odometry::OdometryHistory;
 use crate::camlink::LinkStatus;
 use crate::config::{GnssSettings, Settings, SourceSettings, SteerSource};
@@ -37,8 +38,6 @@ pub use crate::state::steering::Steering;
 
 /// The camera link is up yet gives no row to steer by.
 const NO_USABLE_ROW: &str = "the camera has given no estimate of [camera] min_quality or better for [steer] camera_fallback_s";
-const NO_TRUSTED_FIX: &str =
-    "no trusted GNSS fix (of [gnss] trusted quality) for [steer] gnss_fallback_s";
 const NEITHER: &str = "neither the camera nor GNSS has given a usable row";
 use mechweed_hw::nmea::FixQuality;
 
@@ -122,6 +121,8 @@ pub struct RowSources {
     camera_unfused: bool,
     gap_hold_m: f64,
     used_fix_s: f64,
+    /// What the last fix's epoch, corrections and quality allow.
+    fix_checks: FixChecks,
     /// The quality and time of the last trusted fix used.
     last_fix_used: Option<(FixQuality, f64)>,
     /// The last time each sensor was good, s.
@@ -156,6 +157,7 @@ impl RowSources {
             camera_unfused: false,
             gap_hold_m: settings.camera.gap_hold_m,
             last_fix_used: None,
+            fix_checks: FixChecks::default(),
             used_fix_s: f64::NEG_INFINITY,
             camera_good_s: f64::NEG_INFINITY,
             gnss_good_s: f64::NEG_INFINITY,
@@ -175,9 +177,9 @@ impl RowSources {
             },
             why: match (self.steering, self.s.source) {
                 (Steering::FilterGnss, SteerSource::Fused) => Some(self.camera_trouble),
-                (Steering::FilterCamera, _) => Some(NO_TRUSTED_FIX),
+                (Steering::FilterCamera, _) => Some(self.fix_checks.trouble),
                 (Steering::Nothing, SteerSource::Fused) => Some(NEITHER),
-                (Steering::Nothing, _) => Some(NO_TRUSTED_FIX),
+                (Steering::Nothing, _) => Some(self.fix_checks.trouble),
                 _ => None,
             },
         }
@@ -224,6 +226,7 @@ impl RowSources {
         }
         self.odometry.clear();
         self.camera_unfused = false;
+        self.fix_checks.reset();
         self.camera_good_s = now_s;
         self.gnss_good_s = now_s;
         self.reset_s = now_s;
@@ -299,7 +302,7 @@ impl RowSources {
             self.camera_unfused = false;
             self.fuse_camera(link);
         }
-        self.fuse_gnss(gnss);
+        self.fuse_gnss(gnss, m.distance_m);
         self.steering = self.choose(now_s);
         let (camera_heard, gnss_heard) = (
             self.camera_good_s > self.reset_s,
@@ -313,8 +316,12 @@ impl RowSources {
         };
         let speed_mps = match (self.steering, self.s.source) {
             _ if !heard => return None,
-            // Fused that lost its camera slows down; GNSS chosen alone does not.
-            (Steering::FilterGnss, SteerSource::Fused) => {
+            // Fused that lost its camera slows down, and GNSS alone on a fix less than
+            // RTK fixed; GNSS chosen alone on RTK fixed does not.
+            (Steering::FilterGnss, source)
+                if source == SteerSource::Fused
+                    || self.last_fix_used.is_some_and(|(q, _)| degraded(q)) =>
+            {
                 cruise_mps.min(self.s.gnss_only_speed_mps)
             }
             _ => cruise_mps,

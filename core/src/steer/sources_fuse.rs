@@ -30,8 +30,9 @@ impl RowSources {
         );
     }
 
-    /// A new trusted fix into the filter, against the row map.
-    pub(super) fn fuse_gnss(&mut self, gnss: &GnssStatus) {
+    /// A new trusted fix into the filter, against the row map; the robot has driven
+    /// `driven_m` (odometry).
+    pub(super) fn fuse_gnss(&mut self, gnss: &GnssStatus, driven_m: f64) {
         let (Some(fix), Some(place)) = (gnss.last_fix, &mut self.place) else {
             return;
         };
@@ -39,7 +40,7 @@ impl RowSources {
             return;
         }
         self.used_fix_s = gnss.last_fix_s;
-        if !self.gnss.trusts(fix.quality) {
+        if !self.fix_checks.admit(&fix, &self.gnss) {
             return;
         }
         // The fix is of the pose the receiver measured at, its latency before it came; the
@@ -71,14 +72,15 @@ impl RowSources {
             }
         }
         let sd_m = fix.sd_m().unwrap_or(fix.quality.typical_sd_m());
-        // GNSS is there while located fixes come, whether or not the gate takes them, but
-        // not while the filter refuses them (a fix it cannot relate to now): then GNSS is
-        // lost after its time-out, and the robot stops saying so.
-        if self
+        // GNSS is there while the filter takes its fixes: not while its gate rejects them
+        // (they disagree with the row), nor while it refuses them (a fix it cannot relate
+        // to now), nor on RTK float alone for long (fix_checks.rs). Then GNSS is lost after
+        // its time-out, and the robot stops saying why.
+        let outcome = self
             .filter
-            .update_gnss(view.offset_m, sd_m.max(0.005), since)
-            != Outcome::Refused
-        {
+            .update_gnss(view.offset_m, sd_m.max(0.005), since);
+        let used = matches!(outcome, Outcome::Used | Outcome::Reset);
+        if (self.fix_checks).heard(&fix, used, driven_m, camera_in, &self.gnss) {
             self.gnss_good_s = gnss.last_fix_s;
         }
     }

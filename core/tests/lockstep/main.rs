@@ -11,6 +11,7 @@ mod decoder_props;
 mod drive_guards;
 mod end_switches;
 mod faults;
+mod gnss_degraded;
 mod gnss_safety;
 mod gnss_steering;
 mod no_alloc;
