@@ -10,6 +10,13 @@
 //!
 //! The row is chosen at the first fix of a run (the nearest one) and kept until
 //! `choose_again`, so that a neighbouring row never takes over mid-row.
+//!
+//! A row may be driven either way. A map's points run one way, and from one fix at a
+//! standstill nothing tells which way the robot faces: taken the wrong way round, every
+//! offset comes out on the wrong side and the robot steers away from its row. So the
+//! direction is found from the fixes themselves: over the first `DIRECTION_AFTER_M` driven,
+//! the place along the row grows (along the map's order) or shrinks (against it), and from
+//! then on the line is followed the way the robot drives it.
 
 use mechweed_hw::geo::{Geodetic, LocalFrame};
 use mechweed_hw::nmea::Fix;
@@ -25,6 +32,22 @@ pub(crate) struct MapView {
     pub along_m: f64,
     /// The row's index in the map.
     pub row: usize,
+    /// This fix found the robot driving against the map's point order: what the fixes
+    /// before it said came out on the wrong side.
+    pub turned_round: bool,
+}
+
+/// Driven this far, the place along the row has moved by several times the fixes' noise,
+/// and the steering, on the wrong side for that long, has barely turned the robot, m.
+const DIRECTION_AFTER_M: f64 = 0.3;
+
+/// Which way the robot drives its row.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Direction {
+    /// Not yet known: the first fix's place along the row and the distance driven then.
+    Unknown(Option<(f64, f64)>),
+    Along,
+    Against,
 }
 
 pub struct RowPlace {
@@ -34,6 +57,7 @@ pub struct RowPlace {
     antenna_left_m: f64,
     row: Option<usize>,
     hint: usize,
+    direction: Direction,
 }
 
 impl RowPlace {
@@ -63,6 +87,7 @@ impl RowPlace {
             antenna_left_m,
             row: None,
             hint: 0,
+            direction: Direction::Unknown(None),
         })
     }
 
@@ -84,11 +109,23 @@ impl RowPlace {
     /// Choose the row afresh at the next fix (a new autonomous run).
     pub(crate) fn choose_again(&mut self) {
         self.row = None;
+        self.direction = Direction::Unknown(None);
+    }
+
+    /// The robot drives its row against the map's point order.
+    pub(crate) fn against_map(&self) -> bool {
+        self.direction == Direction::Against
     }
 
     /// The map line from the robot at `fix`, the row heading `row_heading_rad` to the
-    /// left of the robot's (the row filter's estimate). None when no row is near.
-    pub(crate) fn locate(&mut self, fix: &Fix, row_heading_rad: f64) -> Option<MapView> {
+    /// left of the robot's (the row filter's estimate), the robot having driven `driven_m`
+    /// (odometry, forward). None when no row is near.
+    pub(crate) fn locate(
+        &mut self,
+        fix: &Fix,
+        row_heading_rad: f64,
+        driven_m: f64,
+    ) -> Option<MapView> {
         let antenna = self.frame.to_enu(Geodetic {
             lat_deg: fix.lat_deg,
             lon_deg: fix.lon_deg,
@@ -109,8 +146,10 @@ impl RowPlace {
         // with it. Start from the line beside the antenna; a second round moves to the
         // line beside the axle, which on a 20 m arc turns 1.4 degrees in 0.5 m.
         let mut foot = line.project(antenna.east_m, antenna.north_m, &mut self.hint)?;
+        let against = self.direction == Direction::Against;
+        let facing_rad = if against { std::f64::consts::PI } else { 0.0 };
         for _ in 0..2 {
-            let heading_rad = foot.heading_rad - row_heading_rad;
+            let heading_rad = foot.heading_rad + facing_rad - row_heading_rad;
             let (sin, cos) = heading_rad.sin_cos();
             let axle_east_m =
                 antenna.east_m - self.antenna_ahead_m * cos + self.antenna_left_m * sin;
@@ -121,11 +160,41 @@ impl RowPlace {
         if !line.is_beside(foot.s_m) {
             return None;
         }
+        let turned_round = self.find_direction(foot.s_m, driven_m);
+        let against = self.direction == Direction::Against;
         Some(MapView {
-            // The axle left of the line is the line to the axle's right.
-            offset_m: -foot.offset_m,
+            // The axle left of the line is the line to the axle's right (facing the
+            // map's way; facing against it, to its left).
+            offset_m: if against {
+                foot.offset_m
+            } else {
+                -foot.offset_m
+            },
             along_m: foot.s_m,
             row,
+            turned_round,
         })
+    }
+
+    /// The direction, from the place along the row `along_m` with `driven_m` driven; true
+    /// when this fix found it against the map.
+    fn find_direction(&mut self, along_m: f64, driven_m: f64) -> bool {
+        let Direction::Unknown(first) = self.direction else {
+            return false;
+        };
+        let Some((first_along_m, first_driven_m)) = first else {
+            self.direction = Direction::Unknown(Some((along_m, driven_m)));
+            return false;
+        };
+        if driven_m - first_driven_m < DIRECTION_AFTER_M {
+            return false;
+        }
+        let against = along_m < first_along_m;
+        self.direction = if against {
+            Direction::Against
+        } else {
+            Direction::Along
+        };
+        against
     }
 }

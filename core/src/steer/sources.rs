@@ -38,6 +38,8 @@ pub use crate::state::steering::Steering;
 
 /// The camera link is up yet gives no row to steer by.
 const NO_USABLE_ROW: &str = "the camera has given no estimate of [camera] min_quality or better for [steer] camera_fallback_s";
+const AGAINST_MAP: &str =
+    "the row is driven against its map's point order, and its line is followed that way";
 const NEITHER: &str = "neither the camera nor GNSS has given a usable row";
 use mechweed_hw::nmea::FixQuality;
 
@@ -180,6 +182,7 @@ impl RowSources {
                 (Steering::FilterCamera, _) => Some(self.fix_checks.trouble),
                 (Steering::Nothing, SteerSource::Fused) => Some(NEITHER),
                 (Steering::Nothing, _) => Some(self.fix_checks.trouble),
+                _ if self.place.as_ref().is_some_and(RowPlace::against_map) => Some(AGAINST_MAP),
                 _ => None,
             },
         }

@@ -7,7 +7,7 @@ use crate::camlink::LinkStatus;
 use crate::config::SteerSource;
 use crate::gnss::GnssStatus;
 use crate::state::steering::Steering;
-use crate::steer::filter::Outcome;
+use crate::steer::filter::{Outcome, RowFilter};
 use crate::steer::receiver::receiver_moved_sd_m;
 
 impl RowSources {
@@ -54,9 +54,13 @@ impl RowSources {
         let then = self.filter.state_before(since);
         // A fix beside no row of the map (another field's map, a headland) is no GNSS
         // to steer by: the robot must not drive on the filter's guess.
-        let Some(view) = place.locate(&fix, then.heading_rad) else {
+        let Some(view) = place.locate(&fix, then.heading_rad, driven_m) else {
             return;
         };
+        // Driven against the map's order: the fixes so far put the row on the wrong side.
+        if view.turned_round {
+            self.filter = RowFilter::new(*self.filter.settings());
+        }
         // Fused with the camera in the filter: the receiver's own error, which the map's
         // bias carries, may have moved since the last fix used. (GNSS alone, the map is
         // the row: a wider bias would take part of each fix from the robot's offset.)

@@ -55,8 +55,9 @@ pub struct Supervisor {
     status: Status,
     fault_log: Vec<FaultRecord>,
     notice_log: Vec<Notice>,
-    /// Which sensors steered at the last notice of it (autonomous by GNSS or fused).
-    steering_said: Option<Steering>,
+    /// Which sensors steered at the last notice of it, and why (autonomous by GNSS or
+    /// fused).
+    steering_said: Option<(Steering, Option<&'static str>)>,
     /// When the joystick's dead-man was last held, s: a person at the robot, whom the
     /// bus never overrides (rules.rs, remote_refusal).
     deadman_held_s: f64,
@@ -330,9 +331,9 @@ impl Supervisor {
             self.steering_said = None;
             return;
         }
-        let steering = steer.sources.steering;
-        if self.steering_said != Some(steering) {
-            self.steering_said = Some(steering);
+        let (steering, why) = (steer.sources.steering, steer.sources.why);
+        if self.steering_said != Some((steering, why)) {
+            self.steering_said = Some((steering, why));
             self.say(Notice::Steering {
                 steering,
                 why: steer.sources.why,

@@ -128,3 +128,32 @@ fn fixes_the_gate_rejects_do_not_keep_gnss_alive() {
     );
     assert!(said(&sim, "gate rejects the GNSS fixes"));
 }
+
+#[test]
+fn a_row_driven_against_its_maps_point_order_is_followed_that_way() {
+    // The map's points listed from the row's far end. Taken the map's way round, every
+    // fix put the row on the wrong side: the robot swung 7 cm away from it and faulted
+    // with "the row is 25 cm to its left".
+    for source in [SteerSource::Gnss, SteerSource::Fused] {
+        let mut s = gnss_alone("");
+        s.sources.source = source;
+        let mut sim = Lockstep::new(&s, Mode::Autonomous);
+        let mut reversed = sim.robot.planted_map();
+        reversed.reverse();
+        let place = RowPlace::from_points(&reversed, s.gnss.antenna_ahead_m, s.gnss.antenna_left_m);
+        sim.steer = SteerCore::with_map(&s, Some(place.unwrap()));
+        let (_, _, driven_m) = run_past(&mut sim, 0.0, 0.0, 20.0);
+        assert!(
+            driven_m > 15.0,
+            "{source:?}: the robot drove {driven_m:.2} m"
+        );
+        assert!(
+            sim.supervisor.faults().is_empty(),
+            "{:?}",
+            sim.supervisor.faults()
+        );
+        let worst_cm = sim.robot.cross_track().summary().max_cm;
+        assert!(worst_cm < 6.0, "{source:?}: {worst_cm:.1} cm off the row");
+        assert!(said(&sim, "against its map's point order"), "{source:?}");
+    }
+}
