@@ -34,30 +34,17 @@ use mechweed_hw::sim::SimParams;
 use nalgebra::{SMatrix, SVector};
 
 use crate::bench::floor::{
-    DOUBLINGS, Geometry, riccati, sensor_variances, steady_filter, within_stretch_variance,
+    DOUBLINGS, Geometry, sensor_variances, steady_filter, within_stretch_variance,
 };
 use crate::config::{PdSettings, SteerSource};
 
-const N: usize = 8;
-const Y: usize = 0;
-const HEADING: usize = 1;
-const WHEEL: usize = 2;
-const WHEEL_RATE: usize = 3;
-const CRAB: usize = 4;
-const CRAB_RATE: usize = 5;
-const CAMERA_BIAS: usize = 6;
-const MAP_BIAS: usize = 7;
-type Matrix = SMatrix<f64, N, N>;
-type Column = SVector<f64, N>;
+use crate::steer::lqr::{
+    CAMERA_BIAS, CRAB_RATE, Column, HEADING, MAP_BIAS, Matrix, N, SteeringModel, WHEEL, WHEEL_RATE,
+    Y, continuous, discrete as held, forget_per_s, optimal_gain,
+};
+
 /// The closed loop: the state and the filter's error.
 type Loop = SMatrix<f64, { 2 * N }, { 2 * N }>;
-
-/// The price of the commanded wheel angle against the tool's offset, m² per rad²: small
-/// enough that the steering is as fast as the model lets it be.
-const ANGLE_PRICE: f64 = 1e-5;
-/// The crab's own drift back to level, in slope lengths: slow, only so that the model
-/// has a steady state.
-const CRAB_RETURN_LENGTHS: f64 = 20.0;
 
 /// The tool's error s.d. over `measured_m` of row under the best linear steering of the
 /// model when `source` steers at `speed_mps` on `plant`'s realistic field with the
@@ -132,25 +119,9 @@ fn discrete(
     period_s: f64,
 ) -> (Matrix, Column, Matrix) {
     let t = &plant.tier;
-    // How fast a Gauss-Markov process over `length_m` forgets at this speed, 1/s (the
-    // floor's `forget` is the share kept over a frame instead).
-    let forget_per_s = |length_m: f64| if length_m > 0.0 { v / length_m } else { 1e3 };
-    // The regulator's volts move the wheel at rate_rps_per_v through the motor's lag.
-    let rate_rps_per_v = plant.steer_rate_dps_per_v.to_radians();
-    let lag_s = plant.steer_lag_s.max(1e-3);
-    let mut a = Matrix::zeros();
-    let mut b = Column::zeros();
-    a[(Y, HEADING)] = v;
-    a[(Y, CRAB)] = v;
-    a[(HEADING, WHEEL)] = v / plant.wheelbase_m;
-    a[(WHEEL, WHEEL_RATE)] = 1.0;
-    a[(WHEEL_RATE, WHEEL)] = -rate_rps_per_v * steering.kp / lag_s;
-    a[(WHEEL_RATE, WHEEL_RATE)] = -(1.0 + rate_rps_per_v * steering.kd) / lag_s;
-    b[WHEEL_RATE] = rate_rps_per_v * steering.kp / lag_s;
+    let forget_per_s = |length_m: f64| forget_per_s(v, length_m);
+    let (mut a, b) = continuous(&steering_model(plant, steering), v);
     let slope_m = t.slope_length_m.max(1e-3);
-    a[(CRAB, CRAB)] = -v / (CRAB_RETURN_LENGTHS * slope_m);
-    a[(CRAB, CRAB_RATE)] = v;
-    a[(CRAB_RATE, CRAB_RATE)] = -forget_per_s(slope_m / 2.0);
     a[(CAMERA_BIAS, CAMERA_BIAS)] = -forget_per_s(t.camera_bias_length_m);
     a[(MAP_BIAS, MAP_BIAS)] = -forget_per_s(plant.gnss.map_error_length_m);
     let crab_rate_sd_per_m =
@@ -166,10 +137,7 @@ fn discrete(
     qc[(MAP_BIAS, MAP_BIAS)] =
         2.0 * forget_per_s(plant.gnss.map_error_length_m) * plant.gnss.map_error_sd_m.powi(2);
     // Exact over the period: A and B from one exponential, Q from Van Loan's.
-    let mut ab = SMatrix::<f64, { N + 1 }, { N + 1 }>::zeros();
-    ab.fixed_view_mut::<N, N>(0, 0).copy_from(&(a * period_s));
-    ab.fixed_view_mut::<N, 1>(0, N).copy_from(&(b * period_s));
-    let ab = ab.exp();
+    let (_, b_d) = held(&a, &b, period_s);
     let mut van_loan = SMatrix::<f64, { 2 * N }, { 2 * N }>::zeros();
     van_loan
         .fixed_view_mut::<N, N>(0, 0)
@@ -183,11 +151,7 @@ fn discrete(
     let e = van_loan.exp();
     let a_d: Matrix = e.fixed_view::<N, N>(N, N).transpose();
     let q_d = a_d * e.fixed_view::<N, N>(0, N);
-    (
-        a_d,
-        ab.fixed_view::<N, 1>(0, N).into(),
-        (q_d + q_d.transpose()) / 2.0,
-    )
+    (a_d, b_d, (q_d + q_d.transpose()) / 2.0)
 }
 
 /// The steady covariance of (state, filter's error) under the optimal gain and the
@@ -234,18 +198,17 @@ fn closed_loop<const M: usize>(
     finite.then_some((x, closed))
 }
 
-/// The gain K of u = -K x that minimises the mean of the tool's offset squared (the tool
-/// `tool_x_m` ahead of the rear axle) plus ANGLE_PRICE u².
-fn optimal_gain(a: &Matrix, b: &Column, tool_x_m: f64) -> Option<SMatrix<f64, 1, N>> {
-    let mut tool = Column::zeros();
-    (tool[Y], tool[HEADING]) = (1.0, tool_x_m);
-    let s = riccati(
-        a,
-        &(b * b.transpose() / ANGLE_PRICE),
-        &(tool * tool.transpose()),
-    )?;
-    let k = (b.transpose() * s * a) / (ANGLE_PRICE + (b.transpose() * s * b)[0]);
-    k.iter().all(|v| v.is_finite()).then_some(k)
+/// The steering model of `plant` with the regulator `steering` (the law's, law_lqr.rs,
+/// is the same of the controller's settings).
+pub(crate) fn steering_model(plant: &SimParams, steering: &PdSettings) -> SteeringModel {
+    SteeringModel {
+        wheelbase_m: plant.wheelbase_m,
+        rate_rps_per_v: plant.steer_rate_dps_per_v.to_radians(),
+        lag_s: plant.steer_lag_s,
+        kp: steering.kp,
+        kd: steering.kd,
+        slope_length_m: plant.tier.slope_length_m,
+    }
 }
 
 #[cfg(test)]

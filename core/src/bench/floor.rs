@@ -34,9 +34,9 @@ const CAMERA_BIAS: usize = 3;
 const MAP_BIAS: usize = 4;
 type Matrix = SMatrix<f64, N, N>;
 
-/// Rounds of doubling for a Riccati equation: 2⁴⁰ frames, far beyond the thousands the
-/// longest correlation length needs (the map's 20 m is 200 frames at 1 m/s).
-pub(crate) const DOUBLINGS: usize = 40;
+// Rounds of doubling for a Riccati equation: 2⁴⁰ frames, far beyond the thousands the
+// longest correlation length needs (the map's 20 m is 200 frames at 1 m/s).
+pub(crate) use crate::steer::lqr::{DOUBLINGS, riccati};
 
 /// Where the robot's sensors and tool are, ahead of the rear axle, m.
 #[derive(Debug, Clone, Copy)]
@@ -191,30 +191,6 @@ pub(crate) fn steady_filter<const S: usize, const M: usize>(
     let prior = riccati(&f.transpose(), &(h.transpose() * r.try_inverse()? * h), q)?;
     let gain = prior * h.transpose() * (h * prior * h.transpose() + r).try_inverse()?;
     Some((prior, gain))
-}
-
-/// The steady solution X of the Riccati equation X = Aᵀ X (I + G X)⁻¹ A + H (control:
-/// G = B R⁻¹ Bᵀ, H the cost; a Kalman filter's prior: Fᵀ for A, G = Hᵀ R⁻¹ H, H the
-/// process noise), by the doubling algorithm: each round doubles the steps of the
-/// recursion it stands for, so the field's slow errors (the slope's, the map's:
-/// thousands of frames) settle in a few dozen rounds.
-pub(crate) fn riccati<const S: usize>(
-    a: &SMatrix<f64, S, S>,
-    g: &SMatrix<f64, S, S>,
-    h: &SMatrix<f64, S, S>,
-) -> Option<SMatrix<f64, S, S>> {
-    let (mut a, mut g, mut h) = (*a, *g, *h);
-    for _ in 0..DOUBLINGS {
-        let w = (SMatrix::<f64, S, S>::identity() + g * h).try_inverse()?;
-        let (a_w, w_a) = (a * w, w * a);
-        (a, g, h) = (
-            a_w * a,
-            g + a_w * g * a.transpose(),
-            h + a.transpose() * h * w_a,
-        );
-        (g, h) = ((g + g.transpose()) / 2.0, (h + h.transpose()) / 2.0);
-    }
-    h.iter().all(|v| v.is_finite()).then_some(h)
 }
 
 #[cfg(test)]

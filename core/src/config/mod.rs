@@ -132,6 +132,8 @@ pub struct PdSettings {
 /// The steering law and the steer thread.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SteerSettings {
+    /// Which steering law turns the row into a wheel angle.
+    pub law: SteerLaw,
     pub rate_hz: f64,
     pub speed_mps: f64,
     pub lookahead_m: f64,
@@ -140,6 +142,29 @@ pub struct SteerSettings {
     pub curvature_filter_m: f64,
     pub latency_s: f64,
     pub endswitch_back_deg: f64,
+}
+
+/// The steering laws ([steer] law).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SteerLaw {
+    /// Linear-quadratic on the row filter's whole state (steer/law_lqr.rs).
+    Lqr,
+    /// Pure pursuit of a look-ahead point, with an integral on the tool (steer/law.rs).
+    Pursuit,
+}
+
+impl SteerLaw {
+    pub const NAMES: [&str; 2] = ["lqr", "pursuit"];
+
+    pub fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+
+    pub fn from_name(name: &str) -> Option<SteerLaw> {
+        [SteerLaw::Lqr, SteerLaw::Pursuit]
+            .into_iter()
+            .find(|law| law.name() == name)
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -350,6 +375,7 @@ fn pd(r: &mut Reader, s: &str) -> PdSettings {
 fn steer(r: &mut Reader) -> SteerSettings {
     let s = "steer";
     SteerSettings {
+        law: [SteerLaw::Lqr, SteerLaw::Pursuit][r.choice(s, "law", &SteerLaw::NAMES)],
         rate_hz: r.f64(s, "rate_hz", 1.0, 200.0),
         speed_mps: r.f64(s, "speed_mps", 0.0, 3.0),
         lookahead_m: r.f64(s, "lookahead_m", 0.1, 10.0),

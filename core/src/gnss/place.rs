@@ -16,7 +16,8 @@
 //! offset comes out on the wrong side and the robot steers away from its row. So the
 //! direction is found from the fixes themselves: over the first `DIRECTION_AFTER_M` driven,
 //! the place along the row grows (along the map's order) or shrinks (against it), and from
-//! then on the line is followed the way the robot drives it.
+//! then on the line is followed the way the robot drives it. Until then the fixes steer
+//! nothing (sources_fuse.rs).
 
 use mechweed_hw::geo::{Geodetic, LocalFrame};
 use mechweed_hw::nmea::Fix;
@@ -32,9 +33,9 @@ pub(crate) struct MapView {
     pub along_m: f64,
     /// The row's index in the map.
     pub row: usize,
-    /// This fix found the robot driving against the map's point order: what the fixes
-    /// before it said came out on the wrong side.
-    pub turned_round: bool,
+    /// Which way the robot drives the row is known: until then `offset_m` may be on the
+    /// wrong side.
+    pub direction_known: bool,
 }
 
 /// Driven this far, the place along the row has moved by several times the fixes' noise,
@@ -160,7 +161,7 @@ impl RowPlace {
         if !line.is_beside(foot.s_m) {
             return None;
         }
-        let turned_round = self.find_direction(foot.s_m, driven_m);
+        self.find_direction(foot.s_m, driven_m);
         let against = self.direction == Direction::Against;
         Some(MapView {
             // The axle left of the line is the line to the axle's right (facing the
@@ -172,29 +173,24 @@ impl RowPlace {
             },
             along_m: foot.s_m,
             row,
-            turned_round,
+            direction_known: !matches!(self.direction, Direction::Unknown(_)),
         })
     }
 
-    /// The direction, from the place along the row `along_m` with `driven_m` driven; true
-    /// when this fix found it against the map.
-    fn find_direction(&mut self, along_m: f64, driven_m: f64) -> bool {
+    /// The direction, from the place along the row `along_m` with `driven_m` driven.
+    fn find_direction(&mut self, along_m: f64, driven_m: f64) {
         let Direction::Unknown(first) = self.direction else {
-            return false;
+            return;
         };
         let Some((first_along_m, first_driven_m)) = first else {
             self.direction = Direction::Unknown(Some((along_m, driven_m)));
-            return false;
+            return;
         };
-        if driven_m - first_driven_m < DIRECTION_AFTER_M {
-            return false;
+        if driven_m - first_driven_m >= DIRECTION_AFTER_M {
+            self.direction = match along_m < first_along_m {
+                true => Direction::Against,
+                false => Direction::Along,
+            };
         }
-        let against = along_m < first_along_m;
-        self.direction = if against {
-            Direction::Against
-        } else {
-            Direction::Along
-        };
-        against
     }
 }

@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 
 use mechweed_hw::Outputs;
 
-use crate::config::{PdSettings, PiSettings, SteerSettings};
+use crate::config::{PdSettings, PiSettings, SteerLaw, SteerSettings};
 use crate::state::modes::{Gains, Mode, Refusal, Request};
 
 /// "REQUEST => accepted" or "REQUEST => refused: WHY".
@@ -60,7 +60,8 @@ fn gains_text(g: &Gains) -> String {
 
 fn steer_text(s: &SteerSettings) -> String {
     format!(
-        "steer.rate_hz={:?} steer.speed_mps={:?} steer.lookahead_m={:?} steer.ki_per_m2={:?} steer.integral_max_deg={:?} steer.curvature_filter_m={:?} steer.latency_s={:?} steer.endswitch_back_deg={:?}",
+        "steer.law={} steer.rate_hz={:?} steer.speed_mps={:?} steer.lookahead_m={:?} steer.ki_per_m2={:?} steer.integral_max_deg={:?} steer.curvature_filter_m={:?} steer.latency_s={:?} steer.endswitch_back_deg={:?}",
+        s.law.name(),
         s.rate_hz,
         s.speed_mps,
         s.lookahead_m,
@@ -161,7 +162,14 @@ impl Values {
     }
 
     fn steer(&mut self) -> Result<SteerSettings, String> {
+        // Records from before the choice of law were all steered by pure pursuit.
+        let law = match self.0.remove("steer.law") {
+            None => SteerLaw::Pursuit,
+            Some(name) => SteerLaw::from_name(&name)
+                .ok_or_else(|| format!("steer.law={name} is not a steering law"))?,
+        };
         Ok(SteerSettings {
+            law,
             rate_hz: self.num("steer.rate_hz")?,
             speed_mps: self.num("steer.speed_mps")?,
             lookahead_m: self.num("steer.lookahead_m")?,

@@ -10,6 +10,8 @@ mod filter_config;
 mod fix_checks;
 pub mod joystick;
 pub mod law;
+mod law_lqr;
+pub(crate) mod lqr;
 mod odometry;
 mod receiver;
 pub mod sources;
@@ -17,7 +19,7 @@ pub mod sources;
 use mechweed_hw::Side;
 
 use crate::camlink::LinkStatus;
-use crate::config::{Settings, SteerSettings};
+use crate::config::{Settings, SteerLaw, SteerSettings};
 use crate::gnss::GnssStatus;
 use crate::gnss::place::RowPlace;
 use crate::state::measure::Measured;
@@ -26,6 +28,7 @@ use crate::state::status::Status;
 use endswitch::EndSwitchProcedure;
 pub use endswitch::EndSwitchState;
 use law::{LawOutput, Motion, RowFollower};
+use law_lqr::LqrLaw;
 use sources::RowSources;
 pub use sources::{FilterFigures, RowFigures, SourceHealth, Steering};
 
@@ -55,6 +58,7 @@ pub struct SteerCommand {
 pub struct SteerCore {
     settings: Settings,
     law: RowFollower,
+    lqr: LqrLaw,
     rows: RowSources,
     endswitch: EndSwitchProcedure,
     last_mode: Mode,
@@ -71,6 +75,7 @@ impl SteerCore {
         SteerCore {
             settings: settings.clone(),
             law: RowFollower::new(&settings.steer, &settings.robot),
+            lqr: LqrLaw::new(settings),
             rows: RowSources::new(settings, place),
             endswitch: EndSwitchProcedure::default(),
             last_mode: Mode::Halt,
@@ -88,6 +93,7 @@ impl SteerCore {
             ..*new
         };
         self.law = RowFollower::new(s, &self.settings.robot);
+        self.lqr = LqrLaw::new(&self.settings);
     }
 
     /// The steering-law parameters in use.
@@ -167,6 +173,7 @@ impl SteerCore {
         }
         if mode == Mode::Autonomous {
             self.law.reset();
+            self.lqr.reset();
             self.rows.reset(now_s);
         }
         if !mode.drives() {
@@ -192,8 +199,21 @@ impl SteerCore {
                     yaw_rate_rps: m.yaw_rate_rps,
                     wheel_angle_rad: m.wheel_angle_rad,
                 };
-                let law =
-                    (self.law).update_moved(&row.estimate, row.since, row.repeated, now_s, &motion);
+                // The lqr law needs the filter's whole state; the camera's estimate alone
+                // goes to pure pursuit.
+                let filtered = self.rows.health().steering != Steering::Camera;
+                let law = match self.settings.steer.law {
+                    SteerLaw::Lqr if filtered => {
+                        (self.lqr).update(&self.rows.filter().state(), now_s, &motion)
+                    }
+                    _ => (self.law).update_moved(
+                        &row.estimate,
+                        row.since,
+                        row.repeated,
+                        now_s,
+                        &motion,
+                    ),
+                };
                 ((row.speed_mps, law.wheel_angle_rad), law)
             }
             // No fresh estimate yet (or any more): do not drive blind. The supervisor

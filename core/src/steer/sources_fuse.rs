@@ -7,7 +7,7 @@ use crate::camlink::LinkStatus;
 use crate::config::SteerSource;
 use crate::gnss::GnssStatus;
 use crate::state::steering::Steering;
-use crate::steer::filter::{Outcome, RowFilter};
+use crate::steer::filter::Outcome;
 use crate::steer::receiver::receiver_moved_sd_m;
 
 impl RowSources {
@@ -57,9 +57,12 @@ impl RowSources {
         let Some(view) = place.locate(&fix, then.heading_rad, driven_m) else {
             return;
         };
-        // Driven against the map's order: the fixes so far put the row on the wrong side.
-        if view.turned_round {
-            self.filter = RowFilter::new(*self.filter.settings());
+        // Until the fixes have shown which way the robot drives its row (place.rs), they
+        // cannot say on which side the row is: they are heard, and the filter's row, the
+        // one straight ahead where GNSS steers alone, is held for those few decimetres.
+        if !view.direction_known {
+            self.gnss_good_s = gnss.last_fix_s;
+            return;
         }
         // Fused with the camera in the filter: the receiver's own error, which the map's
         // bias carries, may have moved since the last fix used. (GNSS alone, the map is

@@ -143,9 +143,11 @@ fn a_row_driven_against_its_maps_point_order_is_followed_that_way() {
         let place = RowPlace::from_points(&reversed, s.gnss.antenna_ahead_m, s.gnss.antenna_left_m);
         sim.steer = SteerCore::with_map(&s, Some(place.unwrap()));
         let (_, _, driven_m) = run_past(&mut sim, 0.0, 0.0, 20.0);
+        let faults = sim.supervisor.faults();
+        let notices = sim.supervisor.notices();
         assert!(
             driven_m > 15.0,
-            "{source:?}: the robot drove {driven_m:.2} m"
+            "{source:?}: the robot drove {driven_m:.2} m; {faults:?} {notices:?}"
         );
         assert!(
             sim.supervisor.faults().is_empty(),
