@@ -174,6 +174,12 @@ pub struct CameraSettings {
     pub min_quality: u8,
     /// A camera repeating its last estimate (a gap in the row) steers for this far, m.
     pub gap_hold_m: f64,
+    /// In a gap, and while looking for the first plants, the robot drives this fast at
+    /// most, m/s.
+    pub gap_speed_mps: f64,
+    /// Autonomous mode begun where the camera sees no row: the robot drives straight
+    /// ahead for at most this far to find the first plants, m.
+    pub first_row_m: f64,
 }
 
 /// Real-time scheduling and the supervisor's watch over the other threads.
@@ -422,5 +428,7 @@ fn camera(r: &mut Reader) -> CameraSettings {
         min_quality: r.u64(s, "min_quality", 1, 100) as u8,
         // Beyond a few metres odometry alone no longer keeps the tool on the row.
         gap_hold_m: r.f64(s, "gap_hold_m", 0.0, 10.0),
+        gap_speed_mps: r.f64(s, "gap_speed_mps", 0.0, 3.0),
+        first_row_m: r.f64(s, "first_row_m", 0.0, 10.0),
     }
 }

@@ -3,8 +3,9 @@
 use super::filter::{FilterSettings, GateProbability};
 use crate::config::{FilterConfig, SteerSource};
 
-/// GNSS alone: the row's offset at start, s.d., m (a robot put down anywhere near its row).
-const INITIAL_OFFSET_SD_GNSS_M: f64 = 0.5;
+/// GNSS or the camera alone: the row's offset at start, s.d., m (a robot put down anywhere
+/// near its row).
+const INITIAL_OFFSET_SD_M: f64 = 0.5;
 
 /// The filter's settings from [filter], for a source. GNSS alone has nothing to tell
 /// the map's error from the robot's offset by: the map is taken as the row (its bias
@@ -34,13 +35,15 @@ pub(crate) fn filter_settings(c: &FilterConfig, source: SteerSource) -> FilterSe
             // Before its first fix the filter does not know where the row is: a robot
             // put down 40 cm beside it must be told so by that fix, not have it rejected
             // (a rejected fix is not heard, and the robot would stop for want of GNSS).
-            f.initial_sd.offset_m = INITIAL_OFFSET_SD_GNSS_M;
+            f.initial_sd.offset_m = INITIAL_OFFSET_SD_M;
         }
         SteerSource::Fused => {
             f.camera_bias_sd_m = c.camera_bias_sd_m;
             f.initial_sd.camera_bias_m = c.camera_bias_sd_m;
         }
-        SteerSource::Camera => {}
+        // The camera alone, as GNSS alone: its first row may be anywhere in its view (a
+        // start beside the row, plants found after a gap at the start).
+        SteerSource::Camera => f.initial_sd.offset_m = INITIAL_OFFSET_SD_M,
     }
     f
 }

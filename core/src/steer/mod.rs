@@ -199,13 +199,8 @@ impl SteerCore {
                     yaw_rate_rps: m.yaw_rate_rps,
                     wheel_angle_rad: m.wheel_angle_rad,
                 };
-                // The lqr law needs the filter's whole state; the camera's estimate alone
-                // goes to pure pursuit.
-                let filtered = self.rows.health().steering != Steering::Camera;
                 let law = match self.settings.steer.law {
-                    SteerLaw::Lqr if filtered => {
-                        (self.lqr).update(&self.rows.filter().state(), now_s, &motion)
-                    }
+                    SteerLaw::Lqr => (self.lqr).update(&self.rows.filter().state(), now_s, &motion),
                     _ => (self.law).update_moved(
                         &row.estimate,
                         row.since,

@@ -38,6 +38,8 @@ pub use crate::state::steering::Steering;
 
 /// The camera link is up yet gives no row to steer by.
 const NO_USABLE_ROW: &str = "the camera has given no estimate of [camera] min_quality or better for [steer] camera_fallback_s";
+const SEARCHING: &str = "no row in sight yet: driving straight ahead at [camera] gap_speed_mps for at most [camera] first_row_m to find the first plants";
+const IN_A_GAP: &str = "a gap in the row: the camera repeats its last row, carried by the robot's own motion at [camera] gap_speed_mps for at most [camera] gap_hold_m";
 const AGAINST_MAP: &str =
     "the row is driven against its map's point order, and its line is followed that way";
 const NEITHER: &str = "neither the camera nor GNSS has given a usable row";
@@ -52,6 +54,9 @@ pub struct SourceHealth {
     /// within [camera] gap_hold_m), and GNSS a trusted fix, s.
     pub camera_good_s: f64,
     pub gnss_good_s: f64,
+    /// Autonomous by the camera alone, begun with no row in sight: the robot drives
+    /// straight ahead to find its first plants, for at most [camera] first_row_m.
+    pub searching: bool,
     /// The row filter's row offset at the rear axle, m (0 when the camera steers alone).
     pub row_offset_m: f64,
     /// Why a sensor is not steering now (the camera's or GNSS's trouble), for the
@@ -122,6 +127,11 @@ pub struct RowSources {
     /// A new camera estimate came that the filter has not had yet.
     camera_unfused: bool,
     gap_hold_m: f64,
+    gap_speed_mps: f64,
+    first_row_m: f64,
+    /// Odometry's distance at the first tick of this autonomous spell, m.
+    start_distance_m: Option<f64>,
+    searching: bool,
     used_fix_s: f64,
     /// What the last fix's epoch, corrections and quality allow.
     fix_checks: FixChecks,
@@ -158,6 +168,10 @@ impl RowSources {
             camera_trouble: NO_USABLE_ROW,
             camera_unfused: false,
             gap_hold_m: settings.camera.gap_hold_m,
+            gap_speed_mps: settings.camera.gap_speed_mps,
+            first_row_m: settings.camera.first_row_m,
+            start_distance_m: None,
+            searching: false,
             last_fix_used: None,
             fix_checks: FixChecks::default(),
             used_fix_s: f64::NEG_INFINITY,
@@ -173,6 +187,7 @@ impl RowSources {
             steering: self.steering,
             camera_good_s: self.camera_good_s,
             gnss_good_s: self.gnss_good_s,
+            searching: self.searching,
             row_offset_m: match self.s.source {
                 SteerSource::Camera => 0.0,
                 _ => self.filter.state().offset_m,
@@ -181,6 +196,10 @@ impl RowSources {
                 (Steering::FilterGnss, SteerSource::Fused) => Some(self.camera_trouble),
                 (Steering::FilterCamera, _) => Some(self.fix_checks.trouble),
                 (Steering::Nothing, SteerSource::Fused) => Some(NEITHER),
+                _ if self.searching => Some(SEARCHING),
+                (Steering::Camera, _) if self.held.repeated => Some(IN_A_GAP),
+                // The camera alone's other troubles are the supervisor's camera faults.
+                (_, SteerSource::Camera) => None,
                 (Steering::Nothing, _) => Some(self.fix_checks.trouble),
                 _ if self.place.as_ref().is_some_and(RowPlace::against_map) => Some(AGAINST_MAP),
                 _ => None,
@@ -229,6 +248,8 @@ impl RowSources {
         }
         self.odometry.clear();
         self.camera_unfused = false;
+        self.start_distance_m = None;
+        self.searching = false;
         self.fix_checks.reset();
         self.camera_good_s = now_s;
         self.gnss_good_s = now_s;
@@ -244,9 +265,10 @@ impl RowSources {
     /// camera still has a row.
     pub fn watch(&mut self, now_s: f64, m: &Measured, link: &LinkStatus) {
         let step = self.odometry.remember(now_s, m);
-        if let (Some(step), false) = (step, self.s.source == SteerSource::Camera) {
+        if let Some(step) = step {
             self.filter.predict(step.travelled_m, step.turned_rad);
         }
+        self.start_distance_m.get_or_insert(m.distance_m);
         self.held = self
             .hold
             .see(&link.last_usable, link.last_usable_s, m.distance_m);
@@ -279,46 +301,32 @@ impl RowSources {
         gnss: &GnssStatus,
         cruise_mps: f64,
     ) -> Option<RowChoice> {
-        let held = self.held;
         let camera_fresh = now_s - link.last_usable_s < self.link_timeout_s && self.held_ok;
-        if self.s.source == SteerSource::Camera {
-            self.steering = Steering::Camera;
-            // Where the image was taken: by odometry, or (a new estimate just after
-            // entering autonomous mode, a repeated one is not fresh then) as the robot
-            // moves now.
-            let (since, known) = self.odometry.since(held.first_s - self.latency_s);
-            let age_s = self.latency_s + (now_s - held.first_s).max(0.0);
-            return camera_fresh.then_some(RowChoice {
-                estimate: link.last_usable,
-                since: if known {
-                    since
-                } else {
-                    Travel::at_rates(m.speed_mps, m.yaw_rate_rps, age_s)
-                },
-                repeated: held.repeated,
-                speed_mps: cruise_mps,
-            });
-        }
         // A repeated estimate tells the filter nothing new; a new one that came during
         // an end-switch procedure is fused now, at its capture pose.
-        if self.s.source == SteerSource::Fused && self.camera_unfused {
+        if self.s.source != SteerSource::Gnss && self.camera_unfused {
             self.camera_unfused = false;
             self.fuse_camera(link);
         }
-        self.fuse_gnss(gnss, m.distance_m);
-        self.steering = self.choose(now_s);
+        if self.s.source != SteerSource::Camera {
+            self.fuse_gnss(gnss, m.distance_m);
+        }
+        self.steering = self.choose(now_s, camera_fresh);
+        let searching = self.searching(now_s, m);
         let (camera_heard, gnss_heard) = (
             self.camera_good_s > self.reset_s,
             self.gnss_good_s > self.reset_s,
         );
         let heard = match self.steering {
             Steering::Fused => camera_heard || gnss_heard,
-            Steering::FilterCamera => camera_heard,
+            Steering::FilterCamera | Steering::Camera => camera_heard,
             Steering::FilterGnss => gnss_heard,
-            Steering::Camera | Steering::Nothing => false,
+            Steering::Nothing => false,
         };
         let speed_mps = match (self.steering, self.s.source) {
+            _ if searching => cruise_mps.min(self.gap_speed_mps),
             _ if !heard => return None,
+            (Steering::Camera, _) if self.held.repeated => cruise_mps.min(self.gap_speed_mps),
             // Fused that lost its camera slows down, and GNSS alone on a fix less than
             // RTK fixed; GNSS chosen alone on RTK fixed does not.
             (Steering::FilterGnss, source)
@@ -347,9 +355,22 @@ impl RowSources {
         })
     }
 
+    /// The camera alone, with no row seen yet in this spell: after [steer]
+    /// camera_fallback_s standing, and within [camera] first_row_m of where it began, the
+    /// robot drives straight ahead to find its first plants.
+    fn searching(&mut self, now_s: f64, m: &Measured) -> bool {
+        let heard = self.camera_good_s > self.reset_s;
+        let driven_m = m.distance_m - self.start_distance_m.unwrap_or(m.distance_m);
+        // Standing for the camera's fall-back time first: its first frames may be on the way.
+        let waited = now_s - self.reset_s >= self.s.camera_fallback_s;
+        self.searching =
+            self.s.source == SteerSource::Camera && !heard && waited && driven_m < self.first_row_m;
+        self.searching
+    }
+
     /// Which sensors steer, from how long each has been without a good measurement:
     /// GNSS alone is lost after [gnss] timeout_s; fused falls back after its own times.
-    fn choose(&self, now_s: f64) -> Steering {
+    fn choose(&self, now_s: f64, camera_fresh: bool) -> Steering {
         let camera_ok = now_s - self.camera_good_s <= self.s.camera_fallback_s;
         let gnss_lost_after_s = match self.s.source {
             SteerSource::Gnss => self.gnss.timeout_s,
@@ -357,6 +378,7 @@ impl RowSources {
         };
         let gnss_ok = now_s - self.gnss_good_s <= gnss_lost_after_s;
         match (self.s.source, camera_ok, gnss_ok) {
+            (SteerSource::Camera, _, _) if camera_fresh => Steering::Camera,
             (SteerSource::Gnss, _, true) => Steering::FilterGnss,
             (SteerSource::Fused, true, true) => Steering::Fused,
             (SteerSource::Fused, true, false) => Steering::FilterCamera,

@@ -327,7 +327,9 @@ impl Supervisor {
     /// is a notice (the console's line, the GUI's, the record's event).
     fn say_steering(&mut self, steer: &SteerCommand, now_s: f64) {
         let autonomous = self.status.mode == Mode::Autonomous && steer.mode == Mode::Autonomous;
-        if !autonomous || self.settings.sources.source == SteerSource::Camera {
+        // The camera alone says only what it lacks: a gap, the first plants not seen yet.
+        let camera_alone = self.settings.sources.source == SteerSource::Camera;
+        if !autonomous || (camera_alone && steer.sources.why.is_none()) {
             self.steering_said = None;
             return;
         }

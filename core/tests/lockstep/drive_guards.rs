@@ -190,7 +190,8 @@ fn the_end_switch_procedure_steers_back_within_the_wheel_angle_limit() {
         "{:?}",
         sim.supervisor.faults()
     );
-    assert_eq!(sim.supervisor.notices().len(), 1, "the procedure finished");
+    let notices = sim.supervisor.notices();
+    assert_eq!(notices.len(), 1, "the procedure finished: {notices:?}");
 }
 
 #[test]

@@ -208,12 +208,13 @@ fn weed_patches_are_rejected_by_the_gate_and_the_fused_tool_stays_within_2_cm_of
         "the tool {worst:.2} cm off the row at {at:?}; {counters:?}"
     );
     assert!(counters.camera_rejected >= 20, "{counters:?}");
-    // The camera alone follows the weeds.
+    // The camera alone goes through the same filter and gate: it followed the weeds
+    // more than 3 cm aside when its estimates went to the law as they came.
     s.sources.source = SteerSource::Camera;
     let camera = drive(&s, 200.0);
     let camera_worst_cm = worst_cm(&camera.errors_m, 0.0, f64::INFINITY);
     assert!(
-        camera_worst_cm > 3.0,
+        camera_worst_cm <= 2.0,
         "the camera alone {camera_worst_cm:.2} cm off"
     );
 }

@@ -328,10 +328,13 @@ fn a_gap_longer_than_the_hold_stops_the_robot_naming_the_camera() {
 }
 
 #[test]
-fn stopped_in_a_gap_and_started_again_the_robot_waits_for_a_new_image() {
+fn started_again_in_a_gap_the_robot_looks_for_plants_straight_ahead_slowly_then_faults() {
     // The odometry starts afresh in each autonomous spell, so it no longer knows where
     // the repeated estimate's image was taken: moved as the robot moves now, the old row
-    // line would steer the robot on for the rest of the hold.
+    // line would steer the robot on for the rest of the hold. It is not steered by: the
+    // robot stands for [steer] camera_fallback_s, then drives straight ahead at [camera]
+    // gap_speed_mps for at most [camera] first_row_m, saying so, and faults on finding no
+    // plants (this gap is 12 m long).
     let s = gappy_row(10.0, 12.0);
     let mut sim = Lockstep::new(&s, Mode::Autonomous);
     let gaps = drive_through_gaps(&mut sim, 60.0, 1.0);
@@ -341,17 +344,40 @@ fn stopped_in_a_gap_and_started_again_the_robot_waits_for_a_new_image() {
     assert!(sim.robot.truth().speed_mps.abs() < 1e-3, "stopped");
     sim.request(Request::Mode(Mode::Autonomous)).unwrap();
     let restarted_at_m = sim.robot.truth().distance_m;
-    sim.run_for(3.0);
+    sim.run_for(s.sources.camera_fallback_s - 0.05);
+    let standing_m = sim.robot.truth().distance_m - restarted_at_m;
+    assert!(standing_m < 0.01, "drove {standing_m} m before looking");
+    let mut top_mps = 0.0f64;
+    let searched_for_s = s.camera.first_row_m / s.camera.gap_speed_mps + 5.0;
+    let until_s = sim.now_s() + searched_for_s;
+    while sim.now_s() < until_s && sim.supervisor.faults().is_empty() {
+        sim.tick();
+        top_mps = top_mps.max(sim.robot.truth().speed_mps);
+    }
     let (last, driven_m) = (sim.link.status().last_usable, sim.robot.truth().distance_m);
     assert_eq!(
         (last.offset_m, last.angle_rad),
         gaps.numbers,
         "still in the gap"
     );
+    let slow = s.camera.gap_speed_mps;
+    // Within the speed regulator's overshoot.
+    assert!(top_mps < slow + 0.05, "{top_mps} m/s, gap speed {slow}");
+    let searched_m = driven_m - restarted_at_m;
+    let most_m = s.camera.first_row_m + 0.2;
     assert!(
-        driven_m - restarted_at_m < 0.02,
-        "drove {} m",
-        driven_m - restarted_at_m
+        searched_m < most_m,
+        "drove {searched_m} m looking for plants"
     );
+    assert!(
+        searched_m > s.camera.first_row_m - 0.1,
+        "drove {searched_m} m"
+    );
+    let said = sim
+        .supervisor
+        .notices()
+        .iter()
+        .any(|n| n.to_string().contains("no row in sight yet"));
+    assert!(said, "{:?}", sim.supervisor.notices());
     assert_the_camera_sees_no_row(&sim);
 }
