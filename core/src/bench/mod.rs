@@ -7,3 +7,4 @@
 pub mod bound;
 pub mod floor;
 pub mod rows;
+pub mod summary;

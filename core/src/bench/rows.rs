@@ -233,6 +233,7 @@ pub fn table(runs: &[RowRun]) -> String {
         "source  row       speed   mean    s.d.    RMS     p95     max    >2cm  filter  floor  bound  faults\n",
     );
     out += "                  m/s     cm      cm      cm      cm      cm     %     s.d. cm   cm     cm\n";
+    out += "(bound: n/c, not comparable, for a run that stopped before its row's end)\n";
     for r in runs {
         let c = &r.cross_track_cm;
         out += &format!(
@@ -250,8 +251,12 @@ pub fn table(runs: &[RowRun]) -> String {
                 .map_or("-".to_string(), |e| format!("{:.2}", e.sd_cm)),
             r.filter_floor_cm
                 .map_or("-".to_string(), |f| format!("{f:.2}")),
-            r.steering_bound_cm
-                .map_or("-".to_string(), |b| format!("{b:.2}")),
+            // A stopped run's figures cover part of its row: its bound is not comparable.
+            match (r.steering_bound_cm, r.faults.is_empty()) {
+                (None, _) => "-".to_string(),
+                (Some(_), false) => "n/c".to_string(),
+                (Some(b), true) => format!("{b:.2}"),
+            },
             if r.faults.is_empty() {
                 "none".to_string()
             } else {

@@ -8,6 +8,7 @@ use clap::ValueEnum;
 use mechweed_hw::sim::FieldKind;
 
 use crate::bench::rows::{run_all, table, unused_overrides};
+use crate::bench::summary::{summarise, summary_table};
 use crate::config::SteerSource;
 use crate::programs::{load_settings, print_errors, settings_file, write_json};
 
@@ -35,6 +36,11 @@ pub struct RowsArgs {
     /// Seed of the simulation.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Many seeds, A-B (for example 1-10): every run of each, then a summary per source
+    /// and speed (median and worst RMS over the steering bound, runs stopped, runs over
+    /// 8 and 10 cm). Instead of --seed.
+    #[arg(long, value_name = "A-B", value_parser = parse_seeds, conflicts_with = "seed")]
+    pub seeds: Option<(u64, u64)>,
     /// The field: clean (0.3, 0.5, 1.0 m/s) or realistic (what real fields add, [sim]
     /// field_*; 0.5, 1.0, 2.0 m/s).
     #[arg(long, value_enum, default_value_t = BenchField::Clean)]
@@ -54,6 +60,7 @@ pub fn program(args: RowsArgs) -> ExitCode {
         config,
         set,
         seed,
+        seeds,
         field,
         sources,
         json,
@@ -84,7 +91,31 @@ pub fn program(args: RowsArgs) -> ExitCode {
             BenchSource::Fused => SteerSource::Fused,
         })
         .collect();
-    let runs = run_all(&settings, field, &sources, seed);
+    let (first, last) = seeds.unwrap_or((seed, seed));
+    let mut runs = Vec::new();
+    for seed in first..=last {
+        if seeds.is_some() {
+            eprintln!("seed {seed} of {first}-{last}");
+        }
+        runs.extend(run_all(&settings, field, &sources, seed));
+    }
     print!("{}", table(&runs));
+    if seeds.is_some() {
+        print!("\n{}", summary_table(&summarise(&runs)));
+    }
     write_json(json, &runs)
+}
+
+/// "A-B", the first and last seed.
+fn parse_seeds(text: &str) -> Result<(u64, u64), String> {
+    let bad = || format!("'{text}' is not a range of seeds A-B, such as 1-10");
+    let (a, b) = text.split_once('-').ok_or_else(bad)?;
+    let (a, b): (u64, u64) = (
+        a.trim().parse().map_err(|_| bad())?,
+        b.trim().parse().map_err(|_| bad())?,
+    );
+    match a <= b {
+        true => Ok((a, b)),
+        false => Err(format!("'{text}': the first seed is after the last")),
+    }
 }
