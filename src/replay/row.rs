@@ -222,6 +222,9 @@ impl Row<'_> {
                 // Not recorded: it only words the notice of a change, which a replay
                 // compares by the change itself.
                 why: None,
+                // Not recorded either: a record of a start that looked for its first
+                // plants replays as one that saw none.
+                searching: false,
             },
             law: LawOutput {
                 wheel_angle_rad: f64::NAN,
