@@ -2,8 +2,10 @@
 //! linear-quadratic regulator of the steering model in lqr.rs.
 //!
 //! 1. The state. The filter knows the row's offset, heading and curvature at the rear
-//!    axle and the robot's crab; the supervisor measures the wheel's angle, and its rate
-//!    is the angle's change since the last update. In the model's terms the robot is
+//!    axle and the robot's crab; the supervisor measures the wheel's angle. Its rate is
+//!    taken as 0: the steer thread runs at its rate and on every camera estimate, a few
+//!    milliseconds apart at times, and the angle's change over so short a time, times its
+//!    gain, shook the wheel (9 cm off the row on rows from the bus). In the model's terms the robot is
 //!    -offset from the row and turned -heading from it (the filter speaks of the row seen
 //!    from the robot, the model of the robot seen from the row).
 //! 2. The curvature. A row that bends needs its own wheel angle, atan(wheelbase
@@ -22,8 +24,7 @@
 use super::filter::RowState;
 use super::law::{LawOutput, Motion};
 use super::lqr::{
-    ANGLE_PRICE, CRAB, Gain, HEADING, SteeringModel, WHEEL, WHEEL_RATE, Y, continuous, discrete,
-    priced_gain,
+    ANGLE_PRICE, CRAB, Gain, HEADING, SteeringModel, WHEEL, Y, continuous, discrete, priced_gain,
 };
 use crate::config::Settings;
 
@@ -114,12 +115,7 @@ impl LqrLaw {
     /// The wheel angle for the filter's `row` now, at `now_s`.
     pub fn update(&mut self, row: &RowState, now_s: f64, motion: &Motion) -> LawOutput {
         let wheel_rad = motion.wheel_angle_rad;
-        let (wheel_rate_rps, dt_s) = match self.last {
-            Some((t_s, last_rad)) if now_s > t_s => {
-                ((wheel_rad - last_rad) / (now_s - t_s), now_s - t_s)
-            }
-            _ => (0.0, 0.0),
-        };
+        let dt_s = self.last.map_or(0.0, |(t_s, _)| (now_s - t_s).max(0.0));
         self.last = Some((now_s, wheel_rad));
         let at =
             |x_m: f64| row.offset_m + row.heading_rad * x_m + row.curvature_per_m * x_m * x_m / 2.0;
@@ -143,7 +139,6 @@ impl LqrLaw {
                 (Y, -row.offset_m),
                 (HEADING, -row.heading_rad),
                 (WHEEL, wheel_rad - held_rad),
-                (WHEEL_RATE, wheel_rate_rps),
                 (CRAB, row.slip_rad),
             ];
             -x.iter().map(|&(i, value)| k[i] * value).sum::<f64>()
