@@ -4,8 +4,8 @@
 //! 1. The state. The filter knows the row's offset, heading and curvature at the rear
 //!    axle and the robot's crab; the supervisor measures the wheel's angle. Its rate is
 //!    taken as 0: the steer thread runs at its rate and on every camera estimate, a few
-//!    milliseconds apart at times, and the angle's change over so short a time, times its
-//!    gain, shook the wheel (9 cm off the row on rows from the bus). In the model's terms the robot is
+//!    milliseconds apart at times, and the angle's change over so short a time is noise.
+//!    In the model's terms the robot is
 //!    -offset from the row and turned -heading from it (the filter speaks of the row seen
 //!    from the robot, the model of the robot seen from the row).
 //! 2. The curvature. A row that bends needs its own wheel angle, atan(wheelbase
