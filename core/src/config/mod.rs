@@ -15,6 +15,7 @@ mod reader;
 mod record;
 mod sim;
 mod source;
+mod steer;
 
 use std::path::Path;
 
@@ -32,6 +33,7 @@ pub use gui::{GuiSettings, Theme};
 pub use reader::{ConfigError, Place, Reader, override_parts};
 pub use record::{RecordFormats, RecordSettings};
 pub use source::SettingsSource;
+pub use steer::{SteerLaw, SteerSettings};
 
 /// The settings file shipped with the program, used when no file is given and
 /// config/robot.ini is not in the working directory.
@@ -127,44 +129,6 @@ pub struct PdSettings {
     /// Time constant of the derivative's low-pass filter, s.
     pub d_filter_s: f64,
     pub out_max_v: f64,
-}
-
-/// The steering law and the steer thread.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SteerSettings {
-    /// Which steering law turns the row into a wheel angle.
-    pub law: SteerLaw,
-    pub rate_hz: f64,
-    pub speed_mps: f64,
-    pub lookahead_m: f64,
-    pub ki_per_m2: f64,
-    pub integral_max_deg: f64,
-    pub curvature_filter_m: f64,
-    pub latency_s: f64,
-    pub endswitch_back_deg: f64,
-}
-
-/// The steering laws ([steer] law).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SteerLaw {
-    /// Linear-quadratic on the row filter's whole state (steer/law_lqr.rs).
-    Lqr,
-    /// Pure pursuit of a look-ahead point, with an integral on the tool (steer/law.rs).
-    Pursuit,
-}
-
-impl SteerLaw {
-    pub const NAMES: [&str; 2] = ["lqr", "pursuit"];
-
-    pub fn name(self) -> &'static str {
-        Self::NAMES[self as usize]
-    }
-
-    pub fn from_name(name: &str) -> Option<SteerLaw> {
-        [SteerLaw::Lqr, SteerLaw::Pursuit]
-            .into_iter()
-            .find(|law| law.name() == name)
-    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -273,7 +237,7 @@ impl Settings {
             pid_left: pi(&mut r, "pid.left"),
             pid_right: pi(&mut r, "pid.right"),
             pid_steer: pd(&mut r, "pid.steer"),
-            steer: steer(&mut r),
+            steer: steer::load(&mut r),
             sources: gnss::sources(&mut r),
             filter: filter::load(&mut r),
             joystick: joystick::load(&mut r),
@@ -375,21 +339,6 @@ fn pd(r: &mut Reader, s: &str) -> PdSettings {
         kd: r.f64(s, "kd", 0.0, 1000.0),
         d_filter_s: r.f64(s, "d_filter_s", 0.0, 1.0),
         out_max_v: r.f64(s, "out_max_v", 0.0, 10.0),
-    }
-}
-
-fn steer(r: &mut Reader) -> SteerSettings {
-    let s = "steer";
-    SteerSettings {
-        law: [SteerLaw::Lqr, SteerLaw::Pursuit][r.choice(s, "law", &SteerLaw::NAMES)],
-        rate_hz: r.f64(s, "rate_hz", 1.0, 200.0),
-        speed_mps: r.f64(s, "speed_mps", 0.0, 3.0),
-        lookahead_m: r.f64(s, "lookahead_m", 0.1, 10.0),
-        ki_per_m2: r.f64(s, "ki_per_m2", 0.0, 10.0),
-        integral_max_deg: r.f64(s, "integral_max_deg", 0.0, 30.0),
-        curvature_filter_m: r.f64(s, "curvature_filter_m", 0.01, 100.0),
-        latency_s: r.f64(s, "latency_s", 0.0, 1.0),
-        endswitch_back_deg: r.f64(s, "endswitch_back_deg", 0.0, 45.0),
     }
 }
 
