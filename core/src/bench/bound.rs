@@ -120,7 +120,7 @@ fn discrete(
 ) -> (Matrix, Column, Matrix) {
     let t = &plant.tier;
     let forget_per_s = |length_m: f64| forget_per_s(v, length_m);
-    let (mut a, b) = continuous(&steering_model(plant, steering), v);
+    let (mut a, b) = continuous(&SteeringModel::new(plant, steering, plant.wheelbase_m), v);
     let slope_m = t.slope_length_m.max(1e-3);
     a[(CAMERA_BIAS, CAMERA_BIAS)] = -forget_per_s(t.camera_bias_length_m);
     a[(MAP_BIAS, MAP_BIAS)] = -forget_per_s(plant.gnss.map_error_length_m);
@@ -196,19 +196,6 @@ fn closed_loop<const M: usize>(
     }
     let finite = x.iter().chain(closed.iter()).all(|v| v.is_finite());
     finite.then_some((x, closed))
-}
-
-/// The steering model of `plant` with the regulator `steering` (the law's, law_lqr.rs,
-/// is the same of the controller's settings).
-pub(crate) fn steering_model(plant: &SimParams, steering: &PdSettings) -> SteeringModel {
-    SteeringModel {
-        wheelbase_m: plant.wheelbase_m,
-        rate_rps_per_v: plant.steer_rate_dps_per_v.to_radians(),
-        lag_s: plant.steer_lag_s,
-        kp: steering.kp,
-        kd: steering.kd,
-        slope_length_m: plant.tier.slope_length_m,
-    }
 }
 
 #[cfg(test)]

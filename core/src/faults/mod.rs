@@ -302,8 +302,6 @@ impl FaultChecks {
         // (an old image's estimate repeated sees it only for [camera] gap_hold_m: the steer
         // thread says, as of its last tick, since when the camera has had a row it steers
         // by; a steer thread that stalls is its own fault, not the camera's).
-        // While the steer thread looks for the first plants (within [camera] first_row_m,
-        // it says), a camera that sees no row is what it expects.
         // Two programs sending rows: neither's are taken, and the robot stops until one
         // is gone (a rogue's rows, or a second camera program started by mistake).
         if c.link.rival_sources {
@@ -314,9 +312,12 @@ impl FaultChecks {
             let silent_s = since(c.link.last_row_s);
             let held_too_long_s = c.steer.t_s - c.steer.sources.camera_good_s.max(c.mode_since_s);
             let blind_s = since(c.link.last_usable_s).max(held_too_long_s);
+            // While the steer thread looks for the first plants (within [camera]
+            // first_row_m, it says), a camera that sees no row is what it expects.
+            let looking = c.steer.sources.searching;
             if silent_s > self.camera.link_timeout_s {
                 report(FaultCause::CameraLinkLost { silent_s });
-            } else if blind_s > self.camera.link_timeout_s && !c.steer.sources.searching {
+            } else if blind_s > self.camera.link_timeout_s && !looking {
                 report(FaultCause::CameraSeesNoRow { for_s: blind_s });
             }
         }

@@ -52,8 +52,8 @@ pub(crate) struct LqrLaw {
     max_wheel_angle_rad: f64,
     tool_x_m: f64,
     lookahead_m: f64,
-    /// The last update's time and wheel angle, for the wheel's rate.
-    last: Option<(f64, f64)>,
+    /// The last update's time, for the distance the integral adds over.
+    last_t_s: Option<f64>,
     /// The integral of the tool's offset over distance, as a curvature, 1/m, and its
     /// gain and limit ([steer] ki_per_m2, integral_max_deg).
     integral_per_m: f64,
@@ -61,23 +61,11 @@ pub(crate) struct LqrLaw {
     integral_max_per_m: f64,
 }
 
-/// The steering model of the controller's settings (the benchmark's bound takes the same
-/// of its plant, bench/bound.rs).
-pub(crate) fn steering_model(s: &Settings) -> SteeringModel {
-    SteeringModel {
-        wheelbase_m: s.robot.wheelbase_m,
-        rate_rps_per_v: s.sim.steer_rate_dps_per_v.to_radians(),
-        lag_s: s.sim.steer_lag_s,
-        kp: s.pid_steer.kp,
-        kd: s.pid_steer.kd,
-        slope_length_m: s.sim.tier.slope_length_m,
-    }
-}
-
 impl LqrLaw {
     /// The law for `s`, its gains designed for the steer thread's period.
     pub fn new(s: &Settings) -> LqrLaw {
-        let model = steering_model(s);
+        // The same model as the benchmark's bound (bench/bound.rs), of this robot.
+        let model = SteeringModel::new(&s.sim, &s.pid_steer, s.robot.wheelbase_m);
         let period_s = 1.0 / s.steer.rate_hz;
         let tool_x_m = s.robot.tool_offset_m;
         let gains = std::array::from_fn(|i| {
@@ -91,7 +79,7 @@ impl LqrLaw {
             max_wheel_angle_rad: s.robot.max_wheel_angle_deg.to_radians(),
             tool_x_m,
             lookahead_m: s.steer.lookahead_m,
-            last: None,
+            last_t_s: None,
             integral_per_m: 0.0,
             ki_per_m2: s.steer.ki_per_m2,
             integral_max_per_m: s.steer.integral_max_deg.to_radians().tan() / s.robot.wheelbase_m,
@@ -100,7 +88,7 @@ impl LqrLaw {
 
     /// Start afresh (entering autonomous mode).
     pub fn reset(&mut self) {
-        self.last = None;
+        self.last_t_s = None;
         self.integral_per_m = 0.0;
     }
 
@@ -115,8 +103,8 @@ impl LqrLaw {
     /// The wheel angle for the filter's `row` now, at `now_s`.
     pub fn update(&mut self, row: &RowState, now_s: f64, motion: &Motion) -> LawOutput {
         let wheel_rad = motion.wheel_angle_rad;
-        let dt_s = self.last.map_or(0.0, |(t_s, _)| (now_s - t_s).max(0.0));
-        self.last = Some((now_s, wheel_rad));
+        let dt_s = self.last_t_s.map_or(0.0, |t_s| (now_s - t_s).max(0.0));
+        self.last_t_s = Some(now_s);
         let at =
             |x_m: f64| row.offset_m + row.heading_rad * x_m + row.curvature_per_m * x_m * x_m / 2.0;
         // 5. What the model leaves on an arc or a slope, the tool's mean offset, goes by

@@ -21,7 +21,10 @@
 //! Gauss-Markov processes over distance. The LQR minimises the tool's mean square offset
 //! (y + tool_x heading) plus ANGLE_PRICE u², u held over each steer period.
 
+use mechweed_hw::sim::SimParams;
 use nalgebra::{SMatrix, SVector};
+
+use crate::config::PdSettings;
 
 pub(crate) const N: usize = 8;
 pub(crate) const Y: usize = 0;
@@ -57,6 +60,22 @@ pub(crate) struct SteeringModel {
     pub kd: f64,
     /// Over what distance the side slope changes, m.
     pub slope_length_m: f64,
+}
+
+impl SteeringModel {
+    /// The model of a robot of `wheelbase_m` whose steering motor is `plant`'s ([sim]
+    /// steer_rate_dps_per_v, steer_lag_s), regulated by `steering` ([pid.steer]), on
+    /// `plant`'s field's slope.
+    pub(crate) fn new(plant: &SimParams, steering: &PdSettings, wheelbase_m: f64) -> Self {
+        SteeringModel {
+            wheelbase_m,
+            rate_rps_per_v: plant.steer_rate_dps_per_v.to_radians(),
+            lag_s: plant.steer_lag_s,
+            kp: steering.kp,
+            kd: steering.kd,
+            slope_length_m: plant.tier.slope_length_m,
+        }
+    }
 }
 
 /// How fast a Gauss-Markov process over `length_m` forgets at `v`, 1/s.
