@@ -2,29 +2,12 @@
 //! decimetres, and fixes the row filter's gate rejects. Each starts from what drove the
 //! robot off its row: the degraded fixes steering at full speed with no fault.
 
-use crate::common;
-
-use common::settings_with;
-use mechweed_core::config::{CameraPort, GnssPort, Settings, SteerSource};
-use mechweed_core::gnss::place::RowPlace;
+use crate::gnss_safety::{give_map, gnss_alone, stopped_with_no_row};
+use mechweed_core::config::SteerSource;
 use mechweed_core::state::modes::Mode;
 use mechweed_core::state::status::Notice;
-use mechweed_core::steer::SteerCore;
 use mechweed_core::threads::lockstep::Lockstep;
 use mechweed_hw::geo::Geodetic;
-use mechweed_hw::sim::{RowShape, SimParams, parse_events};
-
-fn gnss_alone(events: &str) -> Settings {
-    let mut s = settings_with("", &[]);
-    s.sim = SimParams {
-        events: parse_events(events).unwrap(),
-        ..SimParams::benchmark(RowShape::Straight, 1)
-    };
-    s.sources.source = SteerSource::Gnss;
-    s.gnss.port = GnssPort::Link(CameraPort::Sim);
-    s.steer.speed_mps = 1.0;
-    s
-}
 
 /// Where the robot had driven when GNSS began to float, and the fastest it went after
 /// `settle_s` more.
@@ -74,14 +57,7 @@ fn rtk_float_with_no_camera_slows_the_robot_and_then_stops_it_saying_why() {
         "{floated_m:.2} m on float, hold {}",
         s.gnss.float_hold_m
     );
-    let faults = sim.supervisor.faults();
-    assert_eq!(faults.len(), 1, "{faults:?}");
-    assert!(
-        faults[0]
-            .cause
-            .to_string()
-            .starts_with("no row to steer by")
-    );
+    stopped_with_no_row(&sim);
     assert!(said(&sim, "RTK float for longer than [gnss] float_hold_m"));
     assert!(sim.robot.outputs().is_safe());
 }
@@ -112,20 +88,12 @@ fn fixes_the_gate_rejects_do_not_keep_gnss_alive() {
             false => *p,
         })
         .collect();
-    let place = RowPlace::from_points(&stepped, s.gnss.antenna_ahead_m, s.gnss.antenna_left_m);
-    sim.steer = SteerCore::with_map(&s, Some(place.unwrap()));
+    give_map(&mut sim, &s, &stepped);
     let (_, _, driven_m) = run_past(&mut sim, 0.0, 0.0, 30.0);
     assert!(driven_m < 12.0, "the robot drove {driven_m:.2} m");
     let worst_cm = sim.robot.cross_track().summary().max_cm;
     assert!(worst_cm < 10.0, "{worst_cm:.1} cm off the row");
-    let faults = sim.supervisor.faults();
-    assert_eq!(faults.len(), 1, "{faults:?}");
-    assert!(
-        faults[0]
-            .cause
-            .to_string()
-            .starts_with("no row to steer by")
-    );
+    stopped_with_no_row(&sim);
     assert!(said(&sim, "gate rejects the GNSS fixes"));
 }
 
@@ -140,8 +108,7 @@ fn a_row_driven_against_its_maps_point_order_is_followed_that_way() {
         let mut sim = Lockstep::new(&s, Mode::Autonomous);
         let mut reversed = sim.robot.planted_map();
         reversed.reverse();
-        let place = RowPlace::from_points(&reversed, s.gnss.antenna_ahead_m, s.gnss.antenna_left_m);
-        sim.steer = SteerCore::with_map(&s, Some(place.unwrap()));
+        give_map(&mut sim, &s, &reversed);
         let (_, _, driven_m) = run_past(&mut sim, 0.0, 0.0, 20.0);
         let faults = sim.supervisor.faults();
         let notices = sim.supervisor.notices();

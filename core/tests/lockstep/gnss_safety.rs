@@ -14,7 +14,7 @@ use mechweed_core::threads::lockstep::Lockstep;
 use mechweed_hw::geo::Geodetic;
 use mechweed_hw::sim::{RowShape, SimParams, parse_events};
 
-fn gnss_alone(events: &str) -> Settings {
+pub(crate) fn gnss_alone(events: &str) -> Settings {
     let mut s = settings_with("", &[]);
     s.sim = SimParams {
         events: parse_events(events).unwrap(),
@@ -37,13 +37,13 @@ fn run(sim: &mut Lockstep, seconds: f64) -> f64 {
 }
 
 /// The robot steers by `points` as its row map instead of its field's own.
-fn give_map(sim: &mut Lockstep, s: &Settings, points: &[Geodetic]) {
+pub(crate) fn give_map(sim: &mut Lockstep, s: &Settings, points: &[Geodetic]) {
     let place = RowPlace::from_points(points, s.gnss.antenna_ahead_m, s.gnss.antenna_left_m);
     sim.steer = SteerCore::with_map(s, Some(place.unwrap()));
 }
 
 /// The run ended in the one fault that names both sensors.
-fn stopped_with_no_row(sim: &Lockstep) {
+pub(crate) fn stopped_with_no_row(sim: &Lockstep) {
     let faults = sim.supervisor.faults();
     assert_eq!(faults.len(), 1, "{faults:?}");
     let cause = faults[0].cause.to_string();
