@@ -6,7 +6,7 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
-use mechweed_core::config::Settings;
+use mechweed_core::config::{CameraPort, GnssPort, Settings, SteerLaw, SteerSource};
 use mechweed_core::state::modes::{Mode, Request};
 use mechweed_core::threads::lockstep::{Io, Lockstep};
 
@@ -86,6 +86,37 @@ fn no_allocation_per_tick_while_driving_or_faulting() {
         other_modes, 0,
         "allocations in joystick mode and in a fault"
     );
+}
+
+#[test]
+fn no_allocation_per_tick_steering_by_each_law() {
+    // The shipped law is pure pursuit; the lqr law's gains are designed when the steer
+    // thread starts, and its update must touch only fixed-size state. Both steer through
+    // the row filter, from the camera alone and fused with GNSS.
+    for law in [SteerLaw::Lqr, SteerLaw::Pursuit] {
+        for source in [SteerSource::Camera, SteerSource::Fused] {
+            let mut settings = Settings::shipped();
+            settings.steer.law = law;
+            settings.sources.source = source;
+            settings.gnss.port = GnssPort::Link(CameraPort::Sim);
+            let mut sim = Lockstep::new(&settings, Mode::Autonomous);
+            sim.run_for(3.0);
+            let driving = allocations_in(|| {
+                for _ in 0..2000 {
+                    sim.tick();
+                }
+            });
+            assert_eq!(
+                sim.supervisor.mode(),
+                Mode::Autonomous,
+                "{law:?} {source:?}"
+            );
+            assert_eq!(
+                driving, 0,
+                "allocations steering by {law:?} from {source:?}"
+            );
+        }
+    }
 }
 
 #[test]
