@@ -30,10 +30,10 @@ use crate::config::Settings;
 
 /// The price of the wheel's rate against the tool's offset, m² s² per rad². The model
 /// knows neither the regulator's 40°/s limit nor the filter's noise on the heading, which
-/// its largest gain turns into wheel jitter; priced, the wheel moves at 0.05 rad/s per
-/// centimetre of offset or so. On the realistic field's seeds 1 to 10 (fused), prices of
-/// 3e-4 and 1e-3 stopped 14 and 3 of 30 runs at 2 m/s (off the row), 3e-3 none; 1e-2
-/// cost 5 to 10 % more RMS.
+/// its largest gain turns into wheel jitter. On the benchmark's realistic field, seeds 1
+/// to 10, fused: 3e-4 stopped 8 of 30 runs at 1 m/s and 21 at 2 m/s, 1e-3 stopped 3 at
+/// 2 m/s, 3e-3 none; 1e-2 stopped none either but its median RMS over the bound was 4 to
+/// 7 % higher.
 const WHEEL_RATE_PRICE: f64 = 3e-3;
 
 /// The integral acts only with the tool this close to the row, m.
