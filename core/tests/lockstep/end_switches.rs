@@ -29,6 +29,25 @@ fn driving_by_joystick(s: &Settings) -> Lockstep {
 }
 
 /// The time of the tick at `k` steps of 10 ms after `t0_s`.
+/// The run's one fault is `cause`, latched after `allowed_s` from the switch closing at
+/// `hit_s` (`None`: it never closed) and within the tick after.
+fn the_only_fault_in_its_time(
+    sim: &Lockstep,
+    hit_s: Option<f64>,
+    cause: FaultCause,
+    allowed_s: f64,
+) {
+    let hit_s = hit_s.expect("the kick never closed the switch");
+    let log = sim.supervisor.faults();
+    assert_eq!(log.len(), 1, "{log:?}");
+    assert_eq!(log[0].cause, cause);
+    let after_s = log[0].t_s - hit_s;
+    assert!(
+        after_s > allowed_s && after_s < allowed_s + 0.015,
+        "{after_s:.3} s after the switch closed, allowed {allowed_s} s"
+    );
+}
+
 fn tick_time(t0_s: f64, k: usize) -> f64 {
     t0_s + k as f64 * 0.01
 }
@@ -58,14 +77,11 @@ fn an_end_switch_that_no_procedure_takes_is_a_fault_in_its_time() {
             assert_eq!(outputs, Outputs::SAFE, "at {now_s:.2} s");
         }
     }
-    let hit_s = hit_s.expect("the kick never closed the switch");
-    let log = sim.supervisor.faults();
-    assert_eq!(log.len(), 1, "{log:?}");
-    assert_eq!(log[0].cause, FaultCause::EndSwitchUnhandled(Side::Left));
-    let after_s = log[0].t_s - hit_s;
-    assert!(
-        after_s > unhandled_s && after_s < unhandled_s + 0.015,
-        "{after_s:.3} s after the switch closed, allowed {unhandled_s} s"
+    the_only_fault_in_its_time(
+        &sim,
+        hit_s,
+        FaultCause::EndSwitchUnhandled(Side::Left),
+        unhandled_s,
     );
     assert_eq!(sim.supervisor.mode(), Mode::Fault);
 }
@@ -107,13 +123,10 @@ fn an_end_switch_still_closed_after_its_time_out_is_a_fault() {
             assert_eq!(outputs, Outputs::SAFE, "at {now_s:.2} s");
         }
     }
-    let hit_s = hit_s.expect("the kick never closed the switch");
-    let log = sim.supervisor.faults();
-    assert_eq!(log.len(), 1, "{log:?}");
-    assert_eq!(log[0].cause, FaultCause::EndSwitchStuck(Side::Left));
-    let after_s = log[0].t_s - hit_s;
-    assert!(
-        after_s > timeout_s && after_s < timeout_s + 0.015,
-        "{after_s:.3} s after the switch closed, allowed {timeout_s} s"
+    the_only_fault_in_its_time(
+        &sim,
+        hit_s,
+        FaultCause::EndSwitchStuck(Side::Left),
+        timeout_s,
     );
 }
