@@ -183,19 +183,23 @@ pub fn run_row(
     }
 }
 
+/// What the realistic field's robot is, for the benchmark's first line.
+pub fn field_line(field: FieldKind) -> Option<String> {
+    (field == FieldKind::Realistic).then(|| {
+        format!(
+            "field: realistic ([sim] field_*); the drive geared for 2 m/s ({REALISTIC_MOTOR_GAIN_MPS_PER_V} m/s per V), the speed regulators' gains scaled to match"
+        )
+    })
+}
+
 /// Every row at every speed of `field`, once per source, saying each run as it starts
-/// (stderr) and the realistic field's robot first (stdout).
+/// (stderr).
 pub fn run_all(
     settings: &Settings,
     field: FieldKind,
     sources: &[SteerSource],
     seed: u64,
 ) -> Vec<RowRun> {
-    if field == FieldKind::Realistic {
-        println!(
-            "field: realistic ([sim] field_*); the drive geared for 2 m/s ({REALISTIC_MOTOR_GAIN_MPS_PER_V} m/s per V), the speed regulators' gains scaled to match"
-        );
-    }
     let mut runs = Vec::new();
     for &source in sources {
         for row in ROWS {

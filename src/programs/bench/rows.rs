@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use clap::ValueEnum;
 use mechweed_hw::sim::FieldKind;
 
-use crate::bench::rows::{run_all, table, unused_overrides};
+use crate::bench::rows::{field_line, run_all, table, unused_overrides};
 use crate::bench::summary::{summarise, summary_table};
 use crate::config::SteerSource;
 use crate::programs::{load_settings, print_errors, settings_file, write_json};
@@ -91,6 +91,9 @@ pub fn program(args: RowsArgs) -> ExitCode {
             BenchSource::Fused => SteerSource::Fused,
         })
         .collect();
+    if let Some(line) = field_line(field) {
+        println!("{line}");
+    }
     let (first, last) = seeds.unwrap_or((seed, seed));
     let mut runs = Vec::new();
     for seed in first..=last {
