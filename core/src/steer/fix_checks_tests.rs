@@ -76,3 +76,14 @@ fn float_without_the_camera_is_heard_only_within_its_hold_past_the_last_fixed_fi
     assert!(checks.heard(&float, true, 50.0, true, &g));
     assert!(degraded(FixQuality::RtkFloat) && !degraded(FixQuality::RtkFixed));
 }
+
+#[test]
+fn a_new_run_judges_float_from_its_own_first_fixed_fix() {
+    // Fixed at the end of the last run, float from the start of this one: the last run's
+    // fixed fix must not let this run's float steer alone.
+    let (mut checks, g) = (FixChecks::default(), gnss());
+    assert!(checks.heard(&fix(1.0, FixQuality::RtkFixed, None), true, 10.0, false, &g));
+    checks.reset();
+    let float = fix(2.0, FixQuality::RtkFloat, Some(1.0));
+    assert!(!checks.heard(&float, true, 10.5, false, &g));
+}

@@ -174,6 +174,18 @@ fn losing_both_the_camera_and_rtk_halts_the_robot_naming_both() {
         faults[0].t_s
     );
     assert!(run.sim.robot.outputs().is_safe());
+    // Each change is said with what the others lack, and the map is driven its own way.
+    let said: Vec<String> = (run.sim.supervisor.notices().iter())
+        .map(|n| n.to_string())
+        .collect();
+    let camera_alone = "steering by the camera alone: no trusted GNSS fix";
+    let neither = ": neither the camera nor GNSS has given a usable row";
+    assert!(said.iter().any(|n| n.starts_with(camera_alone)), "{said:?}");
+    assert!(said.iter().any(|n| n.ends_with(neither)), "{said:?}");
+    assert!(
+        !said.iter().any(|n| n.contains("against its map")),
+        "{said:?}"
+    );
 }
 
 #[test]
@@ -312,5 +324,26 @@ fn a_bump_both_sensors_see_does_not_lock_the_filter_out_and_take_the_robot_off_i
         run.faults.is_empty() && worst_cm < 10.0,
         "worst {worst_cm:.1} cm, faults {:?}",
         run.faults
+    );
+}
+
+#[test]
+fn fused_with_no_fix_at_the_start_drives_on_the_camera_without_waiting_for_gnss() {
+    // Either sensor heard is enough to start: a fused robot whose receiver has no fix
+    // yet must not stand until GNSS falls back ([steer] gnss_fallback_s) while its
+    // camera sees the row.
+    let s = settings(SteerSource::Fused, FieldKind::Clean, 0.5, "0 gnss_lost");
+    let mut sim = Lockstep::new(&s, Mode::Autonomous);
+    let fallback_s = s.sources.gnss_fallback_s;
+    while sim.now_s() < fallback_s - 0.05 {
+        sim.tick();
+    }
+    assert_eq!(sim.steer_command.sources.steering, Steering::Fused);
+    let driven_m = sim.robot.truth().distance_m;
+    assert!(driven_m > 0.05, "drove {driven_m:.3} m in {fallback_s} s");
+    assert!(
+        sim.supervisor.faults().is_empty(),
+        "{:?}",
+        sim.supervisor.faults()
     );
 }

@@ -5,6 +5,7 @@
 
 mod common;
 
+mod camera_gaps;
 mod cards_closed_loop;
 mod config_errors;
 mod decoder_props;

@@ -233,7 +233,7 @@ fn the_realistic_benchmark_takes_the_fields_gnss_float_episodes_from_the_setting
 /// The straight benchmark row at 1 m/s on a field whose only disturbance is gaps of
 /// `gap_m`, one every `every_m` on average, in which the camera repeats its last estimate
 /// at quality 40 (usable: [camera] min_quality is 30).
-fn gappy_row(gap_m: f64, every_m: f64) -> Settings {
+pub(crate) fn gappy_row(gap_m: f64, every_m: f64) -> Settings {
     let mut s = settings_with("", &[]);
     s.sim = SimParams {
         field: FieldKind::Realistic,
