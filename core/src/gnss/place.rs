@@ -194,3 +194,80 @@ impl RowPlace {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mechweed_hw::geo::Enu;
+    use mechweed_hw::nmea::FixQuality;
+
+    const ORIGIN: Geodetic = Geodetic {
+        lat_deg: 52.0,
+        lon_deg: 5.66,
+        height_m: 0.0,
+    };
+
+    /// A straight row 20 m due north, a point every metre; the antenna on the centre line.
+    fn place() -> RowPlace {
+        let frame = LocalFrame::new(ORIGIN);
+        let points: Vec<Geodetic> = (0..=20)
+            .map(|i| {
+                frame.to_geodetic(Enu {
+                    east_m: 0.0,
+                    north_m: f64::from(i),
+                    up_m: 0.0,
+                })
+            })
+            .collect();
+        RowPlace::from_points(&points, 0.0, 0.0).unwrap()
+    }
+
+    /// A fix of the antenna `north_m` along the row and `east_m` beside it.
+    fn fix(north_m: f64, east_m: f64) -> Fix {
+        let at = LocalFrame::new(ORIGIN).to_geodetic(Enu {
+            east_m,
+            north_m,
+            up_m: 0.0,
+        });
+        Fix {
+            utc_s_of_day: 0.0,
+            lat_deg: at.lat_deg,
+            lon_deg: at.lon_deg,
+            altitude_m: None,
+            quality: FixQuality::RtkFixed,
+            satellites: None,
+            hdop: None,
+            correction_age_s: None,
+            sd_east_m: None,
+            sd_north_m: None,
+            speed_mps: None,
+            course_deg: None,
+        }
+    }
+
+    #[test]
+    fn the_direction_is_found_only_once_the_robot_has_driven_and_found_again_each_run() {
+        let mut place = place();
+        // Standing 10 cm east of the line, the fixes wandering along it by a centimetre:
+        // nothing says which way the robot faces, however many fixes come.
+        for (k, north_m) in [10.0, 9.99, 10.01, 9.98].into_iter().enumerate() {
+            let view = place
+                .locate(&fix(north_m, 0.1), 0.0, 12.0 + 0.01 * k as f64)
+                .unwrap();
+            assert!(!view.direction_known, "known at fix {k}");
+        }
+        // Driven 0.4 m with the place along the row shrinking: against the map's order,
+        // the robot facing south, and the line, west of it, on its right.
+        let view = place.locate(&fix(9.6, 0.1), 0.0, 12.4).unwrap();
+        assert!(view.direction_known && place.against_map());
+        assert!((view.offset_m + 0.1).abs() < 0.01, "{view:?}");
+        // A new run finds it again, here along the map's order: facing north, the line on
+        // the robot's left.
+        place.choose_again();
+        let view = place.locate(&fix(5.0, 0.1), 0.0, 20.0).unwrap();
+        assert!(!view.direction_known && !place.against_map());
+        let view = place.locate(&fix(5.4, 0.1), 0.0, 20.4).unwrap();
+        assert!(view.direction_known && !place.against_map());
+        assert!((view.offset_m - 0.1).abs() < 0.01, "{view:?}");
+    }
+}
