@@ -12,6 +12,7 @@
 //! - `bus`: the data flows to other programs and machines (Zenoh), and who may act.
 //! - `cluster`: one graph file starts the programs of several machines.
 //! - `replay`: a record's inputs through the supervisor again.
+//! - `ros2`: the robot's flows as ROS 2 topics and bags (rmw_zenoh's wire format).
 //! - `programs`: each command of the `mechweed` program, with its options.
 //!
 //! The core's modules are re-exported here, so that `mechweed::config` and
@@ -24,6 +25,7 @@ pub mod gamepad;
 pub mod gui;
 pub mod programs;
 pub mod replay;
+pub mod ros2;
 pub mod run;
 
 pub use mechweed_core::{

@@ -7,7 +7,7 @@ use clap::Parser;
 use mechweed::console::log_style;
 use mechweed::programs::{
     Cli, Command, bench, bus, camsim, check_config, cluster, done, gnsssim, keys, probe, record,
-    replay, run, said, teach, watch,
+    replay, ros2, run, said, teach, watch,
 };
 
 fn main() -> ExitCode {
@@ -27,6 +27,7 @@ fn main() -> ExitCode {
         Some(Command::Bus(args)) => bus::bus(args),
         Some(Command::Cluster(command)) => cluster::cluster(command),
         Some(Command::Watch(args)) => watch::watch(args),
+        Some(Command::Ros2(args)) => ros2::run(args),
         Some(Command::Keys(command)) => said(keys::run(command)),
     }
 }

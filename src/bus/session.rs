@@ -44,6 +44,10 @@ pub enum Role<'a> {
     Tool { connect: Vec<String>, wait: bool },
     /// The cluster's master: listens where the graph says, for the launchers.
     Master { listen: String },
+    /// `mechweed ros2` on the ROS machines' side: a client of their router, as ROS 2
+    /// tools find it; fails after 3 s when the router is not there (the bridge tries
+    /// again, saying so).
+    RosClient { router: String },
 }
 
 /// Zenoh's error in words a user can act on: without the source file and line inside
@@ -85,6 +89,13 @@ pub fn open(role: Role, tls: Option<&TlsFiles>) -> Result<Session, BusError> {
             "[cluster] master",
             true,
         ),
+        Role::RosClient { router } => (
+            Vec::new(),
+            vec![router.clone()],
+            false,
+            "[ros2] connect",
+            false,
+        ),
     };
     // Sessions at once: the robot's flows need a camera, a few views and recorders and
     // bus tools; the master one per launcher and status tool. A flood of sessions
@@ -92,12 +103,16 @@ pub fn open(role: Role, tls: Option<&TlsFiles>) -> Result<Session, BusError> {
     let max_sessions = match role {
         Role::Robot(_) => 32,
         Role::Master { .. } => 64,
-        Role::Tool { .. } => 8,
+        Role::Tool { .. } | Role::RosClient { .. } => 8,
+    };
+    let mode = match role {
+        Role::RosClient { .. } => "\"client\"",
+        _ => "\"peer\"",
     };
     let mut config = zenoh::Config::default();
     let json = |items: &[String]| serde_json::to_string(items).expect("strings are JSON");
     let mut settings = vec![
-        ("mode", "\"peer\"".to_string()),
+        ("mode", mode.to_string()),
         // Explicit, also when empty: a peer's default listens on every network.
         ("listen/endpoints", json(&listen)),
         ("connect/endpoints", json(&connect)),

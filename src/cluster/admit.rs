@@ -45,6 +45,8 @@ fn role_of(command: &str) -> Option<Role> {
         "camsim" => Some(Role::Camera),
         "watch" => Some(Role::Operator),
         "record" => Some(Role::Recorder),
+        // Read-only on the robot's bus: it takes the flows and asks for nothing.
+        "ros2" => Some(Role::Viewer),
         _ => None,
     }
 }

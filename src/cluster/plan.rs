@@ -105,6 +105,14 @@ pub(crate) fn launch(graph: &Graph, process: &Process) -> Launch {
             args.extend(["--robot".to_string(), robot.clone()]);
             args.extend(process.args.iter().cloned());
         }
+        Program::Ros2 => {
+            args.push("ros2".to_string());
+            if let Some(at) = &controller_at {
+                args.extend(["--robot-connect".to_string(), at.clone()]);
+            }
+            args.extend(["--robot".to_string(), robot.clone()]);
+            args.extend(process.args.iter().cloned());
+        }
         Program::Executable(_) => {
             args.extend(process.args.iter().cloned());
             env.push(("MECHWEED_ROBOT".to_string(), robot.clone()));

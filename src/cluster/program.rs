@@ -19,6 +19,8 @@ pub(crate) enum Program {
     Watch,
     /// `mechweed record --bus`: the off-board recorder.
     Record,
+    /// `mechweed ros2`: the robot's flows as ROS 2 topics on the ROS machines' router.
+    Ros2,
     /// Any other executable, by name (on the PATH) or path.
     Executable(String),
 }
@@ -33,14 +35,17 @@ const FLOW_KEYS: [(&str, &str); 5] = [
 ];
 
 impl Program {
-    /// `run`, `camsim`, `watch`, `record`, or an executable.
+    /// `run`, `camsim`, `watch`, `record`, `ros2`, or an executable.
     pub fn parse(text: &str) -> Result<Program, String> {
         Ok(match text {
             "run" => Program::Run,
             "camsim" => Program::Camsim,
             "watch" => Program::Watch,
             "record" => Program::Record,
-            "" => return Err("is empty: run, camsim, watch, record, or an executable".into()),
+            "ros2" => Program::Ros2,
+            "" => {
+                return Err("is empty: run, camsim, watch, record, ros2, or an executable".into());
+            }
             other if other.contains(char::is_whitespace) => {
                 return Err(format!(
                     "'{other}' is more than one word: put the arguments in args"
@@ -57,6 +62,7 @@ impl Program {
             Program::Camsim => "camsim",
             Program::Watch => "watch",
             Program::Record => "record",
+            Program::Ros2 => "ros2",
             Program::Executable(path) => path,
         }
     }
@@ -67,7 +73,7 @@ impl Program {
 
     /// Programs that read robot.ini take `set.SECTION.KEY` overrides.
     pub(crate) fn takes_settings(&self) -> bool {
-        matches!(self, Program::Run | Program::Record)
+        matches!(self, Program::Run | Program::Record | Program::Ros2)
     }
 
     /// The mechweed program's ports in `direction`; None: any port (an executable).
@@ -79,8 +85,8 @@ impl Program {
             (Program::Camsim, Out) => &["rows"],
             (Program::Camsim, In) => &[],
             (Program::Watch, Out) => &["requests"],
-            (Program::Watch | Program::Record, In) => &["status", "tick", "event"],
-            (Program::Record, Out) => &[],
+            (Program::Watch | Program::Record | Program::Ros2, In) => &["status", "tick", "event"],
+            (Program::Record | Program::Ros2, Out) => &[],
             (Program::Executable(_), _) => return None,
         })
     }

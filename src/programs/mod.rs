@@ -1,6 +1,7 @@
 //! The programs of `mechweed`, one file (or folder) each, with its options (clap)
 //! beside its code: `run`, `check-config`, `bench ...`, `camsim`, `teach`, `gnsssim`,
-//! `probe`, `record ...`, `replay`, `bus ...`, `cluster ...`, `watch` and `keys ...`.
+//! `probe`, `record ...`, `replay`, `bus ...`, `cluster ...`, `watch`, `ros2` and
+//! `keys ...`.
 //! Here: the command line as a whole, and the few steps every program shares (its
 //! settings, its errors, its last line). src/main.rs only picks the program.
 
@@ -14,6 +15,7 @@ pub mod keys;
 pub mod probe;
 pub mod record;
 pub mod replay;
+pub mod ros2;
 pub mod run;
 pub mod teach;
 pub mod watch;
@@ -76,6 +78,9 @@ pub enum Command {
     Cluster(cluster::ClusterCommand),
     /// The operator GUI on another computer, fed by the robot's flows on the bus.
     Watch(watch::WatchArgs),
+    /// The robot's flows as ROS 2 topics, for rviz2, ros2 topic echo, PlotJuggler and
+    /// Foxglove on the ROS machines (rmw_zenoh's format; read-only).
+    Ros2(ros2::Ros2Args),
     /// The cluster's certificates: who may do what on the bus and the cluster.
     #[command(subcommand)]
     Keys(keys::KeysCommand),

@@ -11,6 +11,7 @@ use crate::programs::{load_settings, parse_metres, print_errors};
 
 #[derive(clap::Args)]
 #[command(args_conflicts_with_subcommands = true)]
+#[command(group(clap::ArgGroup::new("from_bus").args(["bus", "ros2"])))]
 pub struct RecordArgs {
     #[command(subcommand)]
     pub command: Option<RecordCommand>,
@@ -18,25 +19,30 @@ pub struct RecordArgs {
     /// files as a run record, into [record] folder, until Ctrl-C.
     #[arg(long)]
     pub bus: bool,
+    /// Record the robot's flows on the bus as a ROS 2 bag: the topics of `mechweed
+    /// ros2`, CDR in MCAP (mechweed-ros2-UTC.mcap in [record] folder), which `ros2 bag
+    /// play` and Foxglove take, until Ctrl-C.
+    #[arg(long)]
+    pub ros2: bool,
     /// Where the robot program listens ([bus] listen on the robot).
-    #[arg(long, value_name = "ENDPOINT", default_value = crate::programs::bus::tools::DEFAULT_ENDPOINT, requires = "bus")]
+    #[arg(long, value_name = "ENDPOINT", default_value = crate::programs::bus::tools::DEFAULT_ENDPOINT, requires = "from_bus")]
     pub connect: String,
     /// The robot's name on the bus ([bus] robot on the robot).
     #[arg(
         long,
         value_name = "NAME",
         default_value = "mechweed",
-        requires = "bus"
+        requires = "from_bus"
     )]
     pub robot: String,
     /// Stop after this many seconds.
-    #[arg(long, value_name = "SECONDS", value_parser = crate::config::parse_seconds, requires = "bus")]
+    #[arg(long, value_name = "SECONDS", value_parser = crate::config::parse_seconds, requires = "from_bus")]
     pub seconds: Option<f64>,
     /// Settings file (its [record] folder and formats) [default: config/robot.ini, or the built-in copy]
-    #[arg(long, value_name = "FILE", requires = "bus")]
+    #[arg(long, value_name = "FILE", requires = "from_bus")]
     pub config: Option<PathBuf>,
     /// Override one setting, e.g. --set record.folder=field-records (repeatable).
-    #[arg(long = "set", value_name = "SECTION.KEY=VALUE", requires = "bus")]
+    #[arg(long = "set", value_name = "SECTION.KEY=VALUE", requires = "from_bus")]
     pub set: Vec<String>,
     /// With --bus: this program's identity on a secured bus (--keys DIR --as recorder).
     #[command(flatten)]
@@ -66,6 +72,14 @@ pub enum RecordCommand {
 pub fn record(args: RecordArgs) -> ExitCode {
     match (args.bus, args.command) {
         (false, Some(command)) => summary(command),
+        (false, None) if args.ros2 => ros2_bag(
+            args.connect,
+            args.robot,
+            args.seconds,
+            args.config,
+            &args.set,
+            args.identity.files(),
+        ),
         (true, _) => from_bus(
             args.connect,
             args.robot,
@@ -76,7 +90,7 @@ pub fn record(args: RecordArgs) -> ExitCode {
         ),
         (false, None) => {
             eprintln!(
-                "say what to do with records: `mechweed record summary FILE`, or `mechweed record --bus` to record the robot's flows here"
+                "say what to do with records: `mechweed record summary FILE`, `mechweed record --bus` to record the robot's flows here, or `mechweed record --ros2` for a ROS 2 bag of them"
             );
             ExitCode::FAILURE
         }
@@ -117,6 +131,35 @@ fn from_bus(
     }
 }
 
+/// `record --ros2`: the robot's flows as a ROS 2 bag.
+fn ros2_bag(
+    connect: String,
+    robot: String,
+    seconds: Option<f64>,
+    config: Option<PathBuf>,
+    set: &[String],
+    tls: Option<crate::config::TlsFiles>,
+) -> ExitCode {
+    let settings = match load_settings(config.as_deref(), set) {
+        Ok(settings) => settings,
+        Err(errors) => {
+            print_errors(&errors);
+            return ExitCode::FAILURE;
+        }
+    };
+    let opts = crate::ros2::bag::Options {
+        connect,
+        robot,
+        seconds,
+        record: settings.record,
+        ros: settings
+            .ros2
+            .unwrap_or_else(crate::config::Ros2Settings::shipped),
+        tls,
+    };
+    crate::programs::said(crate::ros2::bag::record(&opts, &ctrl_c()))
+}
+
 fn summary(command: RecordCommand) -> ExitCode {
     let RecordCommand::Summary {
         file,
@@ -145,6 +188,12 @@ fn summary(command: RecordCommand) -> ExitCode {
     } else {
         file
     };
+    if crate::ros2::bag_read::is_ros2_bag(&file) {
+        return crate::programs::said(crate::ros2::bag_read::summary(&file).map(|text| {
+            print!("{text}");
+            String::new()
+        }));
+    }
     match crate::record::summary::summarise(&file, from_m) {
         Ok(summary) => {
             print!("{}", summary.text());

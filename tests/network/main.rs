@@ -1,5 +1,6 @@
 //! The bus between real processes on loopback: the robot program, the bus tools, the
-//! simulated peers, the off-board recorder and the cluster's master and launchers,
+//! simulated peers, the off-board recorder, the ROS 2 bridge and the cluster's master
+//! and launchers,
 //! each test on ports of its own.
 
 #[path = "../common/mod.rs"]
@@ -7,6 +8,7 @@ mod common;
 
 mod bus;
 mod cluster;
+mod ros2;
 
 /// The flood tests load the machine on purpose (processes that flood the robot with
 /// requests and huge payloads): beside the others, when the tests ran six at a time, a

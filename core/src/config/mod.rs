@@ -13,6 +13,7 @@ mod joystick;
 mod lines;
 mod reader;
 mod record;
+mod ros2;
 mod sim;
 mod source;
 mod steer;
@@ -32,6 +33,7 @@ pub use lines::{parse_seconds, read_text};
 pub use gui::{GuiSettings, Theme};
 pub use reader::{ConfigError, Place, Reader, override_parts};
 pub use record::{RecordFormats, RecordSettings};
+pub use ros2::{Distro, MAX_DOMAIN_ID, Ros2Settings, parse_namespace, parse_router};
 pub use source::SettingsSource;
 pub use steer::{SteerLaw, SteerSettings};
 
@@ -205,6 +207,8 @@ pub struct Settings {
     pub gnss: GnssSettings,
     /// The operator's window ([gui]).
     pub gui: GuiSettings,
+    /// How `mechweed ros2` shows the robot to ROS 2 tools; None: no [ros2] section.
+    pub ros2: Option<Ros2Settings>,
     /// The text these settings were read from, for the bus's configuration ports.
     pub source: SettingsSource,
 }
@@ -253,6 +257,7 @@ impl Settings {
             bus: bus::load(&mut r),
             gnss: gnss::load(&mut r),
             gui: gui::load(&mut r),
+            ros2: ros2::load(&mut r),
             source: SettingsSource {
                 label: file.to_string(),
                 text: text.to_string(),
@@ -261,7 +266,7 @@ impl Settings {
         };
         checks::across(&settings, &mut r);
         gnss::check(&settings, &mut r);
-        let errors = r.finish(SECTIONS);
+        let errors = r.finish_with(SECTIONS, &["ros2"]);
         if errors.is_empty() {
             Ok(settings)
         } else {

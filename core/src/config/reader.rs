@@ -348,7 +348,12 @@ impl Reader {
     }
 
     /// Report missing sections, unknown sections and unknown keys; return every error.
-    pub fn finish(mut self, sections: &[&str]) -> Vec<ConfigError> {
+    pub fn finish(self, sections: &[&str]) -> Vec<ConfigError> {
+        self.finish_with(sections, &[])
+    }
+
+    /// As `finish`, with `optional` sections that may be missing.
+    pub fn finish_with(mut self, sections: &[&str], optional: &[&str]) -> Vec<ConfigError> {
         for &name in sections {
             if self.ini.section(Some(name)).is_none() {
                 self.push(Origin::Nowhere, format!("missing section [{name}]"));
@@ -357,7 +362,7 @@ impl Reader {
         let mut unknown = Vec::new();
         for (name, props) in self.ini.iter() {
             let name = name.unwrap_or("");
-            if !sections.contains(&name) {
+            if !sections.contains(&name) && !optional.contains(&name) {
                 if name.is_empty() && props.is_empty() {
                     continue;
                 }

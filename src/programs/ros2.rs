@@ -1,0 +1,102 @@
+//! `mechweed ros2`: the robot's flows as ROS 2 topics, for rviz2, `ros2 topic echo`,
+//! PlotJuggler and Foxglove on the ROS machines (src/ros2/, docs/ros2.md). Its
+//! settings are robot.ini's [ros2]; each flag here overrides one.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use crate::config::{Distro, Ros2Settings, parse_namespace, parse_router};
+use crate::console::ctrl_c;
+use crate::programs::{load_settings, print_errors};
+
+#[derive(clap::Args)]
+pub struct Ros2Args {
+    /// The ROS machines' router, rmw_zenohd ([ros2] connect), e.g. tcp/192.168.1.20:7447.
+    #[arg(long, value_name = "ENDPOINT", value_parser = parse_router)]
+    pub connect: Option<String>,
+    /// ROS_DOMAIN_ID of the ROS machines ([ros2] domain_id, 0..232).
+    #[arg(long, value_name = "ID", value_parser = clap::value_parser!(u32).range(0..=crate::config::MAX_DOMAIN_ID as i64))]
+    pub domain_id: Option<u32>,
+    /// The namespace of the node and the robot's topics ([ros2] namespace), e.g. /mechweed.
+    #[arg(long, value_name = "NAMESPACE", value_parser = parse_namespace)]
+    pub namespace: Option<String>,
+    /// The ROS 2 release of the ROS machines ([ros2] distro).
+    #[arg(long, value_name = "RELEASE", value_parser = clap::builder::PossibleValuesParser::new(Distro::NAMES))]
+    pub distro: Option<String>,
+    /// Where the robot program listens ([bus] listen on the robot).
+    #[arg(long, value_name = "ENDPOINT", default_value = crate::programs::bus::tools::DEFAULT_ENDPOINT)]
+    pub robot_connect: String,
+    /// The robot's name on the bus ([bus] robot on the robot).
+    #[arg(long, value_name = "NAME", default_value = "mechweed")]
+    pub robot: String,
+    /// Stop after this many seconds (default: at Ctrl-C).
+    #[arg(long, value_name = "SECONDS", value_parser = crate::config::parse_seconds)]
+    pub seconds: Option<f64>,
+    /// Settings file (its [ros2]) [default: config/robot.ini, or the built-in copy]
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Override one setting, e.g. --set ros2.wheel_radius_m=0.25 (repeatable).
+    #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
+    pub set: Vec<String>,
+    /// This program's identity on a secured bus (--keys DIR --as NAME, a viewer).
+    #[command(flatten)]
+    pub identity: crate::programs::keys::IdentityArgs,
+}
+
+impl Ros2Args {
+    /// [ros2] from the settings file (the shipped values when it has none, said), with
+    /// the flags over it.
+    fn settings(&self) -> Result<Ros2Settings, ExitCode> {
+        let settings = load_settings(self.config.as_deref(), &self.set).map_err(|errors| {
+            print_errors(&errors);
+            ExitCode::FAILURE
+        })?;
+        let mut ros = settings.ros2.unwrap_or_else(|| {
+            eprintln!("ros2: the settings file has no [ros2]: using the shipped values");
+            Ros2Settings::shipped()
+        });
+        if let Some(connect) = &self.connect {
+            ros.connect = connect.clone();
+        }
+        if let Some(id) = self.domain_id {
+            ros.domain_id = id;
+        }
+        if let Some(namespace) = &self.namespace {
+            ros.namespace = namespace.clone();
+        }
+        if let Some(distro) = self.distro.as_deref().and_then(Distro::from_name) {
+            ros.distro = distro;
+        }
+        Ok(ros)
+    }
+}
+
+/// The ROS router and the robot's bus at one endpoint would be one Zenoh network, the
+/// robot's flows and ROS's mixed, and no ROS machine would hear the topics: refused.
+fn check_apart(router: &str, robot: &str) -> Result<(), String> {
+    if router == robot {
+        return Err(format!(
+            "the ROS router and the robot's bus are both at {router}: rmw_zenohd and the robot program both listen on port 7447 when nothing else is said. Start rmw_zenohd on the ROS machine and name it with --connect, or move one: [bus] listen on the robot, --robot-connect here"
+        ));
+    }
+    Ok(())
+}
+
+pub fn run(args: Ros2Args) -> ExitCode {
+    let ros = match args.settings() {
+        Ok(ros) => ros,
+        Err(code) => return code,
+    };
+    if let Err(why) = check_apart(&ros.connect, &args.robot_connect) {
+        eprintln!("{why}");
+        return ExitCode::FAILURE;
+    }
+    let opts = crate::ros2::bridge::Options {
+        connect: args.robot_connect,
+        robot: args.robot,
+        ros,
+        tls: args.identity.files(),
+        seconds: args.seconds,
+    };
+    crate::programs::said(crate::ros2::bridge::run(&opts, &ctrl_c()))
+}

@@ -1,0 +1,23 @@
+//! ROS 2 tools see the robot (docs/ros2.md): `mechweed ros2` publishes the robot's
+//! flows as standard ROS 2 messages in the wire format of ROS 2's Zenoh middleware
+//! (rmw_zenoh), and `mechweed record --ros2` writes the same messages to an MCAP bag
+//! that `ros2 bag` plays. Read-only: nothing from ROS drives the robot.
+//!
+//! - `msgs`, `types`, `cdr`: the messages, their definitions and type hashes, CDR;
+//! - `wire`: keys, liveliness tokens, the attachment (rmw_zenoh's rules);
+//! - `topics`, `flows`, `odom`, `diagnostics`: which topics, made from which flow;
+//! - `pump`: the robot's flows heard and made into messages, for:
+//! - `bridge`: the program; `bag`: the recorder's MCAP file.
+
+pub mod bag;
+pub mod bag_read;
+pub mod bridge;
+pub mod cdr;
+pub mod diagnostics;
+pub mod flows;
+pub mod msgs;
+pub mod odom;
+pub mod pump;
+pub mod topics;
+pub mod types;
+pub mod wire;

@@ -1,0 +1,70 @@
+//! The topics the bridge publishes: name, type and quality of service. /tf,
+//! /diagnostics and /rosout are the whole ROS system's and keep their absolute names,
+//! as rviz2, the diagnostic aggregator and rqt_console expect; the robot's own topics
+//! are in the namespace of `[ros2] namespace`.
+
+use super::types::{self, MsgType};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Topic {
+    Diagnostics,
+    Rosout,
+    Tf,
+    JointStates,
+    Odom,
+    Fix,
+    Row,
+    CrossTrack,
+}
+
+impl Topic {
+    pub const ALL: [Topic; 8] = [
+        Topic::Diagnostics,
+        Topic::Rosout,
+        Topic::Tf,
+        Topic::JointStates,
+        Topic::Odom,
+        Topic::Fix,
+        Topic::Row,
+        Topic::CrossTrack,
+    ];
+
+    /// The topic's full name, e.g. /mechweed/odom or /tf.
+    pub fn name(self, namespace: &str) -> String {
+        let own = |name: &str| format!("{}/{name}", namespace.trim_end_matches('/'));
+        match self {
+            Topic::Diagnostics => "/diagnostics".to_string(),
+            Topic::Rosout => "/rosout".to_string(),
+            Topic::Tf => "/tf".to_string(),
+            Topic::JointStates => own("joint_states"),
+            Topic::Odom => own("odom"),
+            Topic::Fix => own("fix"),
+            Topic::Row => own("row"),
+            Topic::CrossTrack => own("cross_track"),
+        }
+    }
+
+    pub fn msg_type(self) -> &'static MsgType {
+        match self {
+            Topic::Diagnostics => &types::DIAGNOSTIC_ARRAY,
+            Topic::Rosout => &types::LOG,
+            Topic::Tf => &types::TF_MESSAGE,
+            Topic::JointStates => &types::JOINT_STATE,
+            Topic::Odom => &types::ODOMETRY,
+            Topic::Fix => &types::NAV_SAT_FIX,
+            Topic::Row => &types::POSE_WITH_COVARIANCE_STAMPED,
+            Topic::CrossTrack => &types::FLOAT64,
+        }
+    }
+
+    /// The publisher's history depth. Every topic is reliable and volatile: a late
+    /// subscriber gets what comes next, as from a sensor.
+    pub fn depth(self) -> u32 {
+        match self {
+            // A burst of faults and notices is kept whole; rcl's own /rosout keeps 1000.
+            Topic::Rosout => 1000,
+            Topic::Tf => 100,
+            _ => 10,
+        }
+    }
+}

@@ -1,0 +1,304 @@
+//! A fused run of the simulated robot seen from the ROS side, as `ros2 node list`,
+//! `ros2 topic list` and `ros2 topic echo` would see it. The keys, tokens and hashes
+//! are written out here by rmw_zenoh's rules, not taken from the program.
+
+use std::collections::HashMap;
+use std::time::{Duration, Instant};
+
+use mechweed::ros2::cdr::decode;
+use mechweed::ros2::msgs::{
+    DiagnosticArray, Float64, JointState, Log, NavSatFix, Odometry, PoseWithCovarianceStamped,
+    TfMessage,
+};
+use mechweed::ros2::wire::read_attachment;
+use zenoh::Wait;
+
+use super::{Bridge, Router, tokens};
+use crate::bus::Robot;
+
+/// (topic, its entity id, its type, its hash, its QoS in a token)
+const TOPICS: [(&str, u32, &str, &str, &str); 8] = [
+    (
+        "/diagnostics",
+        1,
+        "diagnostic_msgs::msg::dds_::DiagnosticArray_",
+        "RIHS01_5a8a36efb05fb25070fa0fb3810290c0e6cd4862b54a8fb975a1ee8dc55a333e",
+        "::,10:,:,:,,",
+    ),
+    (
+        "/rosout",
+        2,
+        "rcl_interfaces::msg::dds_::Log_",
+        "RIHS01_e28ce254ca8abc06abf92773b74602cdbf116ed34fbaf294fb9f81da9f318eac",
+        "::,1000:,:,:,,",
+    ),
+    (
+        "/tf",
+        3,
+        "tf2_msgs::msg::dds_::TFMessage_",
+        "RIHS01_e369d0f05a23ae52508854b66f6aa0437f3449d652e8cbf22d5abe85d020f087",
+        "::,100:,:,:,,",
+    ),
+    (
+        "/mechweed/joint_states",
+        4,
+        "sensor_msgs::msg::dds_::JointState_",
+        "RIHS01_a13ee3a330e346c9d87b5aa18d24e11690752bd33a0350f11c5882bc9179260e",
+        "::,10:,:,:,,",
+    ),
+    (
+        "/mechweed/odom",
+        5,
+        "nav_msgs::msg::dds_::Odometry_",
+        "RIHS01_3cc97dc7fb7502f8714462c526d369e35b603cfc34d946e3f2eda2766dfec6e0",
+        "::,10:,:,:,,",
+    ),
+    (
+        "/mechweed/fix",
+        6,
+        "sensor_msgs::msg::dds_::NavSatFix_",
+        "RIHS01_62223ab3fe210a15976021da7afddc9e200dc9ec75231c1b6a557fc598a65404",
+        "::,10:,:,:,,",
+    ),
+    (
+        "/mechweed/row",
+        7,
+        "geometry_msgs::msg::dds_::PoseWithCovarianceStamped_",
+        "RIHS01_26432f9803e43727d3c8f668d1fdb3c630f548af631e2f4e31382371bfea3b6e",
+        "::,10:,:,:,,",
+    ),
+    (
+        "/mechweed/cross_track",
+        8,
+        "std_msgs::msg::dds_::Float64_",
+        "RIHS01_705ba9c3d1a09df43737eb67095534de36fd426c0587779bda2bc51fe790182a",
+        "::,10:,:,:,,",
+    ),
+];
+
+/// A sample as heard: payload and attachment.
+type Heard = HashMap<&'static str, Vec<(Vec<u8>, Vec<u8>)>>;
+
+fn wall_ns() -> i64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap()
+        .as_nanos() as i64
+}
+
+#[test]
+fn a_ros_client_finds_the_node_and_its_topics_and_decodes_the_run_on_each() {
+    let _machine = crate::shared_machine();
+    let router = Router::start();
+    let robot = Robot::start(&[
+        "--mode",
+        "autonomous",
+        "--duration",
+        "30",
+        "--set",
+        "gnss.port=sim",
+        "--set",
+        "steer.source=fused",
+    ]);
+    let client = router.client();
+    let (tx, rx) = crossbeam_channel::unbounded();
+    let mut subscribers = Vec::new();
+    for (topic, _, dds, hash, _) in TOPICS {
+        let key = format!("0/{}/{dds}/{hash}", topic.trim_start_matches('/'));
+        let tx = tx.clone();
+        subscribers.push(
+            client
+                .declare_subscriber(key)
+                .callback(move |s| {
+                    let payload = s.payload().to_bytes().into_owned();
+                    let attachment = s.attachment().map(|a| a.to_bytes().into_owned());
+                    tx.send((topic, payload, attachment.unwrap_or_default()))
+                        .unwrap();
+                })
+                .wait()
+                .unwrap(),
+        );
+    }
+    let bridge = Bridge::start(&router.endpoint, &robot.endpoint, 14.0);
+
+    // What `ros2 node list` and `ros2 topic list` read: one node token, a publisher's each.
+    let found = tokens(&client, 9);
+    let node = found
+        .iter()
+        .find(|t| t.contains("/NN/"))
+        .expect("a node token");
+    let zid = node.split('/').nth(2).unwrap().to_string();
+    assert_eq!(
+        *node,
+        format!("@ros2_lv/0/{zid}/0/0/NN/%/%mechweed/ros2_bridge")
+    );
+    let mut expected: Vec<String> = TOPICS
+        .iter()
+        .map(|(topic, eid, dds, hash, qos)| {
+            format!(
+                "@ros2_lv/0/{zid}/0/{eid}/MP/%/%mechweed/ros2_bridge/{}/{dds}/{hash}/{qos}",
+                topic.replace('/', "%")
+            )
+        })
+        .collect();
+    expected.push(node.clone());
+    expected.sort();
+    assert_eq!(found, expected);
+
+    // Six seconds of the run, then HALT from the bus: a mode change on /rosout.
+    let mut heard: Heard = HashMap::new();
+    let listen = |seconds: u64, heard: &mut Heard| {
+        let end = Instant::now() + Duration::from_secs(seconds);
+        while let Ok((topic, payload, attachment)) = rx.recv_deadline(end) {
+            heard.entry(topic).or_default().push((payload, attachment));
+        }
+    };
+    listen(6, &mut heard);
+    assert!(robot.bus(&["request", "halt"]).status.success());
+    listen(2, &mut heard);
+    drop(subscribers);
+    let (ok, stdout, stderr) = bridge.finish();
+    assert!(ok, "{stdout}{stderr}");
+    assert!(
+        stdout.contains("ros2: node /mechweed/ros2_bridge publishes /diagnostics, /rosout, /tf"),
+        "{stdout}"
+    );
+
+    // Every sample has rmw_zenoh's attachment: its sequence goes up by one per
+    // publisher, its time is now and its id is XXH3-128 of the publisher's token.
+    for (topic, eid, ..) in TOPICS {
+        let samples = heard
+            .get(topic)
+            .unwrap_or_else(|| panic!("nothing on {topic}"));
+        let token = &expected[expected
+            .iter()
+            .position(|t| t.contains(&format!("/0/{eid}/MP/")))
+            .unwrap()];
+        let gid = twox_hash::xxh3::hash128(token.as_bytes()).to_le_bytes();
+        let mut last = 0;
+        for (_, attachment) in samples {
+            assert_eq!(attachment.len(), 33, "{topic}");
+            let (sequence, time_ns, id) = read_attachment(attachment).unwrap();
+            assert!(sequence > last, "{topic}: {sequence} after {last}");
+            last = sequence;
+            assert!((wall_ns() - time_ns).abs() < 60_000_000_000, "{topic}");
+            assert_eq!(id, gid, "{topic}");
+        }
+    }
+    check_the_run(&heard);
+}
+
+fn all<T: serde::de::DeserializeOwned>(heard: &Heard, topic: &str) -> Vec<T> {
+    heard[topic]
+        .iter()
+        .map(|(p, _)| decode(p).unwrap_or_else(|e| panic!("{topic}: {e}")))
+        .collect()
+}
+
+/// The values match the run: autonomous, driving, RTK fixed, on the row.
+fn check_the_run(heard: &Heard) {
+    let diagnostics: Vec<DiagnosticArray> = all(heard, "/diagnostics");
+    let names: Vec<&str> = diagnostics[0]
+        .status
+        .iter()
+        .map(|s| s.name.as_str())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "mechweed: supervisor",
+            "mechweed: steering",
+            "mechweed: camera link",
+            "mechweed: GNSS",
+            "mechweed: bus"
+        ]
+    );
+    let modes: Vec<&str> = diagnostics
+        .iter()
+        .flat_map(|d| {
+            d.status[0]
+                .values
+                .iter()
+                .filter(|kv| kv.key == "mode")
+                .map(|kv| kv.value.as_str())
+        })
+        .collect();
+    assert!(modes.contains(&"autonomous"), "{modes:?}");
+    assert!(
+        diagnostics
+            .iter()
+            .any(|d| d.status[3].message == "RTK fixed" && d.status[3].level == 0)
+    );
+
+    let odometry: Vec<Odometry> = all(heard, "/mechweed/odom");
+    let joints: Vec<JointState> = all(heard, "/mechweed/joint_states");
+    assert!(
+        odometry.len() > 30 && joints.len() == odometry.len(),
+        "{} {}",
+        odometry.len(),
+        joints.len()
+    );
+    let (first, last) = (
+        &odometry[0].pose.pose.position,
+        &odometry.last().unwrap().pose.pose.position,
+    );
+    assert!(
+        last.x > first.x + 2.0,
+        "the robot went from {first:?} to {last:?}"
+    );
+    for (o, j) in odometry.iter().zip(&joints) {
+        assert_eq!(o.header.frame_id, "odom");
+        assert_eq!(o.child_frame_id, "base_link");
+        assert_eq!(j.name, ["wheel_left", "wheel_right", "steering"]);
+        // Wheel speed in rad/s on a 0.2 m wheel: the robot's speed between the two.
+        let wheels_mps = 0.1 * (j.velocity[0] + j.velocity[1]);
+        assert!(
+            (wheels_mps - o.twist.twist.linear.x).abs() < 0.05,
+            "{wheels_mps} {:?}",
+            o.twist
+        );
+        assert!(j.position[2].abs() < 0.6, "steering {} rad", j.position[2]);
+    }
+    assert!(
+        joints.iter().any(|j| j.velocity[0] > 2.0),
+        "never faster than 0.4 m/s"
+    );
+
+    let tf: Vec<TfMessage> = all(heard, "/tf");
+    let t = &tf.last().unwrap().transforms[0];
+    assert_eq!(
+        (t.header.frame_id.as_str(), t.child_frame_id.as_str()),
+        ("odom", "base_link")
+    );
+    assert_eq!(t.transform.translation, *last);
+
+    let fixes: Vec<NavSatFix> = all(heard, "/mechweed/fix");
+    let fix = fixes.last().unwrap();
+    assert_eq!(
+        fix.status.status, 2,
+        "RTK fixed is ground-based augmentation"
+    );
+    assert!(fix.latitude.abs() <= 90.0 && fix.latitude != 0.0, "{fix:?}");
+    assert_eq!(fix.position_covariance_type, 1);
+    assert!(fix.position_covariance[0] > 0.0 && fix.position_covariance[0] < 0.05 * 0.05);
+
+    let rows: Vec<PoseWithCovarianceStamped> = all(heard, "/mechweed/row");
+    let row = rows.last().unwrap();
+    assert_eq!(row.header.frame_id, "row");
+    assert!(
+        row.pose.pose.position.y.abs() < 0.1 && row.pose.covariance[7] > 0.0,
+        "{row:?}"
+    );
+    let cross_track: Vec<Float64> = all(heard, "/mechweed/cross_track");
+    assert!(
+        cross_track.iter().all(|c| c.data.abs() < 0.15),
+        "{cross_track:?}"
+    );
+
+    let logs: Vec<Log> = all(heard, "/rosout");
+    assert!(
+        logs.iter()
+            .any(|l| l.msg.starts_with("mode: ") && l.msg.contains("halt") && l.level == 20),
+        "{logs:?}"
+    );
+}
