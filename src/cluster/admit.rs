@@ -14,7 +14,7 @@ use crate::config::TlsFiles;
 
 /// The mechweed programs a plan may start: the cluster's own (not, say, `keys` or a
 /// second `cluster launcher`).
-const PROGRAMS: [&str; 4] = ["run", "camsim", "watch", "record"];
+const PROGRAMS: [&str; 5] = ["run", "camsim", "watch", "record", "ros2"];
 
 /// The launcher's own rules for what may run.
 #[derive(Debug, Clone, Default)]
@@ -201,6 +201,12 @@ mod tests {
         assert_eq!(
             watch.args[1..],
             ["--keys", folder.as_str(), "--as", "laptop-2"]
+        );
+        // The ROS 2 bridge reads the flows and asks for nothing: a viewer.
+        let ros2 = keys.admit(launch("mechweed", &["ros2"])).unwrap();
+        assert_eq!(
+            ros2.args[1..],
+            ["--keys", folder.as_str(), "--as", "viewer"]
         );
         let run = keys.admit(launch("mechweed", &["run"])).unwrap();
         let cert = format!("bus.tls_cert={}", keys_dir.join("robot.pem").display());

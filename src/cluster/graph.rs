@@ -256,7 +256,7 @@ fn process(r: &mut Reader, name: &str, machines: &[String], processes: &[String]
             let what = format!("{key} must name SECTION.KEY, for example set.steer.speed_mps");
             r.error_at(&s, &key, what);
         } else if !takes_settings {
-            let what = "only the mechweed programs run and record take settings".to_string();
+            let what = "only the mechweed programs run, record and ros2 take settings".to_string();
             r.error_at(&s, &key, what);
         } else {
             settings.push(format!("{setting}={value}"));

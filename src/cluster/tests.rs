@@ -112,7 +112,7 @@ fn one_robot_per_graph_and_no_process_waits_for_itself() {
     let settings = errors(&format!(
         "{HEAD}[process cam]\nmachine = a\nprogram = camsim\nset.steer.speed_mps = 1\n"
     ));
-    assert!(settings[0].contains("only the mechweed programs run and record take settings"));
+    assert!(settings[0].contains("only the mechweed programs run, record and ros2 take settings"));
     let unknown = errors(&format!("{HEAD}[proces x]\nmachine = a\n"));
     assert!(
         unknown
@@ -226,4 +226,24 @@ fn arguments_split_at_spaces_and_quotes_keep_them() {
     );
     let open = graph("-c \"echo").unwrap_err()[0].to_string();
     assert_eq!(open, "g.ini line 10: [process x] args: a \" is not closed");
+}
+
+#[test]
+fn a_ros2_bridge_takes_the_robots_flows_and_its_settings() {
+    let graph = format!(
+        "{HEAD}[process c]\nmachine = a\nprogram = run\n[process ros]\nmachine = a\nprogram = ros2\n\
+         set.ros2.connect = tcp/127.0.0.1:7448\n[flow s]\nfrom = c.status\nto = ros.status\n"
+    );
+    assert!(errors(&graph).is_empty(), "{:?}", errors(&graph));
+    let wrong_way = errors(&format!("{graph}[flow r]\nfrom = ros.rows\nto = c.rows\n"));
+    assert!(
+        wrong_way[0].contains("ros2 sends out nothing, not rows"),
+        "{wrong_way:?}"
+    );
+    let graph = Graph::parse("g.ini", &graph).unwrap();
+    let plan = for_machine(&graph, "a").unwrap();
+    assert_eq!(
+        plan.processes[1].command_line(),
+        "mechweed ros2 --robot-connect tcp/127.0.0.1:7451 --robot r --set ros2.connect=tcp/127.0.0.1:7448"
+    );
 }

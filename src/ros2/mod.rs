@@ -21,3 +21,12 @@ pub mod pump;
 pub mod topics;
 pub mod types;
 pub mod wire;
+
+#[cfg(test)]
+mod bag_tests;
+#[cfg(test)]
+mod cdr_tests;
+#[cfg(test)]
+mod flows_tests;
+#[cfg(test)]
+mod hash_tests;

@@ -85,7 +85,7 @@ impl Node {
 
     /// The publisher's GID: XXH3-128 of its token, low half first, each little-endian.
     pub fn gid(&self, topic: Topic) -> [u8; 16] {
-        twox_hash::xxh3::hash128(self.publisher_token(topic).as_bytes()).to_le_bytes()
+        xxhash_rust::xxh3::xxh3_128(self.publisher_token(topic).as_bytes()).to_le_bytes()
     }
 }
 
@@ -112,7 +112,7 @@ pub fn attachment(sequence: i64, source_time_ns: i64, gid: &[u8; 16]) -> [u8; 33
     bytes
 }
 
-/// The attachment's parts, or why it is not one (tests and `mechweed ros2 --check`).
+/// The attachment's parts, or why it is not one: what a subscriber reads.
 pub fn read_attachment(bytes: &[u8]) -> Result<(i64, i64, [u8; 16]), String> {
     if bytes.len() != 33 || bytes[16] != 16 {
         return Err(format!(
@@ -128,4 +128,84 @@ pub fn read_attachment(bytes: &[u8]) -> Result<(i64, i64, [u8; 16]), String> {
     let mut gid = [0u8; 16];
     gid.copy_from_slice(&bytes[17..]);
     Ok((i64_at(0), i64_at(8), gid))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn node() -> Node {
+        Node {
+            domain_id: 7,
+            zid: "8b20917502ee955ac4476e0266340d5c".to_string(),
+            namespace: "/farm/mechweed".to_string(),
+            distro: Distro::Jazzy,
+        }
+    }
+
+    #[test]
+    fn keys_and_tokens_mangle_the_names_and_carry_type_hash_and_qos() {
+        let n = node();
+        assert_eq!(
+            n.data_key(Topic::Fix),
+            "7/farm/mechweed/fix/sensor_msgs::msg::dds_::NavSatFix_/RIHS01_62223ab3fe210a15976021da7afddc9e200dc9ec75231c1b6a557fc598a65404"
+        );
+        assert_eq!(
+            n.data_key(Topic::Tf),
+            "7/tf/tf2_msgs::msg::dds_::TFMessage_/RIHS01_e369d0f05a23ae52508854b66f6aa0437f3449d652e8cbf22d5abe85d020f087"
+        );
+        assert_eq!(
+            n.node_token(),
+            "@ros2_lv/7/8b20917502ee955ac4476e0266340d5c/0/0/NN/%/%farm%mechweed/ros2_bridge"
+        );
+        assert_eq!(
+            n.publisher_token(Topic::Rosout),
+            "@ros2_lv/7/8b20917502ee955ac4476e0266340d5c/0/2/MP/%/%farm%mechweed/ros2_bridge/%rosout/rcl_interfaces::msg::dds_::Log_/RIHS01_e28ce254ca8abc06abf92773b74602cdbf116ed34fbaf294fb9f81da9f318eac/::,1000:,:,:,,"
+        );
+        assert_eq!(mangle(""), "%");
+        assert_eq!(mangle("/"), "%");
+    }
+
+    #[test]
+    fn qos_writes_only_what_differs_from_rmw_zenohs_defaults() {
+        // rmw_zenoh's own example: a talker of depth 7.
+        assert_eq!(qos(7), "::,7:,:,:,,");
+        assert_eq!(qos(DEFAULT_DEPTH), "::,:,:,:,,");
+    }
+
+    #[test]
+    fn the_gid_is_xxh3_128_of_the_token_low_half_first() {
+        // XXH3-128 of nothing is 99aa06d3014798d8 6001c324468d497f (the reference
+        // implementation's own check): the low 64 bits come first, little-endian.
+        let empty = xxhash_rust::xxh3::xxh3_128(b"").to_le_bytes();
+        assert_eq!(
+            empty,
+            [
+                0x7f, 0x49, 0x8d, 0x46, 0x24, 0xc3, 0x01, 0x60, 0xd8, 0x98, 0x47, 0x01, 0xd3, 0x06,
+                0xaa, 0x99
+            ]
+        );
+        // The token of /farm/mechweed/odom in domain 7: its XXH3-128 by the reference
+        // implementation (the C library, through Python's xxhash 3) is
+        // 1dbbd06dc20e4a73 613625af83574365.
+        let n = node();
+        assert_eq!(n.publisher_token(Topic::Odom).len(), 215);
+        let reference = u128::from_str_radix("1dbbd06dc20e4a73613625af83574365", 16).unwrap();
+        assert_eq!(n.gid(Topic::Odom), reference.to_le_bytes());
+        assert_ne!(n.gid(Topic::Odom), n.gid(Topic::Tf));
+    }
+
+    #[test]
+    fn the_attachment_is_sequence_time_sixteen_and_the_gid() {
+        let gid: [u8; 16] = std::array::from_fn(|i| i as u8 + 0xa0);
+        let bytes = attachment(0x0102, -2, &gid);
+        let mut expected = vec![0x02, 0x01, 0, 0, 0, 0, 0, 0];
+        expected.extend([0xfe, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff]);
+        expected.push(0x10);
+        expected.extend(gid);
+        assert_eq!(bytes.to_vec(), expected);
+        assert_eq!(read_attachment(&bytes).unwrap(), (0x0102, -2, gid));
+        let why = read_attachment(&bytes[..32]).unwrap_err();
+        assert!(why.contains("32 bytes"), "{why}");
+    }
 }

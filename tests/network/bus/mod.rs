@@ -7,7 +7,7 @@ mod flood;
 mod gnss;
 mod guards;
 mod input;
-mod secured;
+pub mod secured;
 mod sockets;
 mod truth;
 

@@ -49,7 +49,7 @@ impl Keys {
     }
 
     /// `--keys DIR --as NAME`.
-    fn as_(&self, name: &str) -> Vec<String> {
+    pub fn as_(&self, name: &str) -> Vec<String> {
         vec![
             "--keys".into(),
             self.path().display().to_string(),

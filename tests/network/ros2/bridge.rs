@@ -174,7 +174,7 @@ fn a_ros_client_finds_the_node_and_its_topics_and_decodes_the_run_on_each() {
             .iter()
             .position(|t| t.contains(&format!("/0/{eid}/MP/")))
             .unwrap()];
-        let gid = twox_hash::xxh3::hash128(token.as_bytes()).to_le_bytes();
+        let gid = xxhash_rust::xxh3::xxh3_128(token.as_bytes()).to_le_bytes();
         let mut last = 0;
         for (_, attachment) in samples {
             assert_eq!(attachment.len(), 33, "{topic}");

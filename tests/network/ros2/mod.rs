@@ -3,6 +3,7 @@
 //! session that looks at what a ROS 2 tool would see: the liveliness tokens, the exact
 //! data keys, the attachment on each sample, and the messages.
 
+mod bag;
 mod bridge;
 mod router;
 

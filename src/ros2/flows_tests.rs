@@ -1,0 +1,177 @@
+//! The robot's flows made into ROS messages, from the JSON the robot itself writes
+//! (`tick_json`, `status_json`): stamps on the robot's clock, /fix only when the fix
+//! changes, /rosout levels, STALE diagnostics, and bad messages refused with why.
+
+use std::time::{Duration, Instant};
+
+use mechweed_core::record::{TickSample, tick_json};
+
+use super::cdr::decode;
+use super::diagnostics::{ERROR, OK, STALE, WARN};
+use super::flows::Converter;
+use super::msgs::{DiagnosticArray, JointState, Log, NavSatFix, Odometry};
+use super::topics::Topic;
+use crate::bus::payload::status_json;
+use crate::state::modes::Mode;
+
+fn tick(t_s: f64, distance_m: f64) -> Vec<u8> {
+    let mut sample = TickSample::default();
+    sample.status.t_s = t_s;
+    sample.status.mode = Mode::Autonomous;
+    let m = &mut sample.status.measured;
+    (m.v_left_mps, m.v_right_mps, m.speed_mps) = (0.9, 1.1, 1.0);
+    (m.distance_m, m.wheel_angle_rad, m.yaw_rate_rps) = (distance_m, 0.05, 0.0);
+    let mut json = String::new();
+    tick_json(&sample, &mut json);
+    json.into_bytes()
+}
+
+/// A status of the robot at `t_s`, published at `wall_s`, with the GNSS quality `q`.
+fn status(t_s: f64, wall_s: f64, q: u8, lat_deg: f64) -> Vec<u8> {
+    let mut s = TickSample::default();
+    s.status.t_s = t_s;
+    s.steer.row.gnss_quality = q;
+    s.steer.row.gnss_position = (q > 0).then_some((lat_deg, 5.0));
+    s.steer.row.gnss_sd_m = (q > 0).then_some(0.02);
+    let mut json = status_json(&s.status, &s.link, &s.steer, &[Default::default(); 2]);
+    json["wall_s"] = wall_s.into();
+    json["cross_track"] = "estimated".into();
+    json["bus"] =
+        serde_json::json!({"secured": false, "security": "not secured", "identities": ""});
+    json.to_string().into_bytes()
+}
+
+fn topics(out: &[super::flows::Outgoing]) -> Vec<Topic> {
+    out.iter().map(|o| o.topic).collect()
+}
+
+#[test]
+fn ticks_are_stamped_on_the_robots_clock_once_a_status_gives_it() {
+    let mut c = Converter::new("mechweed", 0.2);
+    c.status(&status(10.0, 1_000_010.5, 0, 0.0), Instant::now())
+        .unwrap();
+    // Published later after its tick: the least offset is the robot's clock.
+    c.status(&status(10.1, 1_000_010.9, 0, 0.0), Instant::now())
+        .unwrap();
+    let out = c.tick(&tick(10.25, 3.0)).unwrap();
+    assert_eq!(
+        topics(&out),
+        [
+            Topic::JointStates,
+            Topic::Odom,
+            Topic::Tf,
+            Topic::CrossTrack
+        ]
+    );
+    let stamp = out[0].stamp;
+    assert_eq!(stamp.sec, 1_000_010);
+    assert!(
+        (i64::from(stamp.nanosec) - 750_000_000).abs() < 1000,
+        "{stamp:?}"
+    );
+    let joints: JointState = decode(&out[0].bytes).unwrap();
+    assert_eq!(joints.header.stamp, stamp);
+    // 0.9 and 1.1 m/s on 0.2 m wheels; the wheel angle as it is.
+    assert_eq!(joints.velocity[..2], [4.5, 5.5]);
+    assert_eq!(joints.position[2], 0.05);
+    let later = c.tick(&tick(10.35, 3.1)).unwrap();
+    let odom: Odometry = decode(&later[1].bytes).unwrap();
+    assert!((odom.pose.pose.position.x - 0.1).abs() < 1e-9, "{odom:?}");
+    assert_eq!(odom.twist.twist.linear.x, 1.0);
+}
+
+#[test]
+fn the_fix_is_sent_when_it_changes_and_a_lost_fix_is_said_once() {
+    let mut c = Converter::new("mechweed", 0.2);
+    let now = Instant::now();
+    let fixes = |out: Vec<super::flows::Outgoing>| -> Vec<NavSatFix> {
+        out.iter()
+            .filter(|o| o.topic == Topic::Fix)
+            .map(|o| decode(&o.bytes).unwrap())
+            .collect()
+    };
+    // No receiver yet: nothing on /fix.
+    assert!(fixes(c.status(&status(1.0, 101.0, 0, 0.0), now).unwrap()).is_empty());
+    let first = fixes(c.status(&status(1.1, 101.1, 4, 52.0), now).unwrap());
+    assert_eq!(first.len(), 1);
+    assert_eq!((first[0].status.status, first[0].latitude), (2, 52.0));
+    assert!((first[0].position_covariance[0] - 0.0004).abs() < 1e-12);
+    assert!(first[0].altitude.is_nan() && first[0].position_covariance[8].is_nan());
+    // The same fix again is not news.
+    assert!(fixes(c.status(&status(1.2, 101.2, 4, 52.0), now).unwrap()).is_empty());
+    let lost = fixes(c.status(&status(1.3, 101.3, 0, 0.0), now).unwrap());
+    assert_eq!((lost.len(), lost[0].status.status), (1, -1));
+    assert_eq!(lost[0].position_covariance_type, 0);
+    assert!(fixes(c.status(&status(1.4, 101.4, 0, 0.0), now).unwrap()).is_empty());
+}
+
+#[test]
+fn events_go_to_rosout_at_their_levels() {
+    let mut c = Converter::new("farm/mechweed", 0.2);
+    let level = |c: &mut Converter, kind: &str| -> Log {
+        let event = serde_json::json!({"t_s": 1.0, "tick": 100, "kind": kind, "text": "it"});
+        decode(&c.event(event.to_string().as_bytes()).unwrap()[0].bytes).unwrap()
+    };
+    let fault = level(&mut c, "fault");
+    assert_eq!(
+        (fault.level, fault.msg.as_str(), fault.name.as_str()),
+        (40, "fault: it", "farm.mechweed")
+    );
+    assert_eq!(level(&mut c, "notice").level, 30);
+    assert_eq!(level(&mut c, "dropped").level, 30);
+    assert_eq!(level(&mut c, "mode").level, 20);
+}
+
+#[test]
+fn diagnostics_say_each_part_and_go_stale_without_statuses() {
+    let mut c = Converter::new("mechweed", 0.2);
+    let t0 = Instant::now();
+    let array = |c: &Converter, at: Instant| -> DiagnosticArray {
+        decode(&c.diagnostics(at, "bridge figures").unwrap().bytes).unwrap()
+    };
+    let before = array(&c, t0);
+    assert_eq!(before.status.len(), 5);
+    assert!(
+        before
+            .status
+            .iter()
+            .all(|s| s.level == STALE && s.hardware_id == "mechweed")
+    );
+    c.status(&status(2.0, 102.0, 5, 52.0), t0).unwrap();
+    let now = array(&c, t0 + Duration::from_secs(1));
+    let levels: Vec<u8> = now.status.iter().map(|s| s.level).collect();
+    // Halt, no fault; a camera with no rows; RTK float; the bus.
+    assert_eq!(levels, [OK, OK, ERROR, WARN, OK], "{now:?}");
+    assert_eq!(now.status[3].message, "RTK float");
+    let mode = now.status[0]
+        .values
+        .iter()
+        .find(|kv| kv.key == "mode")
+        .unwrap();
+    assert_eq!(mode.value, "halt");
+    let late = array(&c, t0 + Duration::from_secs(4));
+    assert!(
+        late.status
+            .iter()
+            .all(|s| s.level == STALE && s.message == "no status from the robot for 4 s")
+    );
+}
+
+#[test]
+fn a_message_that_is_not_the_robots_is_refused_with_what_is_wrong() {
+    let mut c = Converter::new("mechweed", 0.2);
+    let why = c.tick(b"{\"t_s\": 1.0}").unwrap_err();
+    assert_eq!(why, "distance_m is missing");
+    let why = c.tick(b"[1, 2]").unwrap_err();
+    assert_eq!(why, "JSON but not an object");
+    let why = c
+        .status(b"{\"t_s\": \"soon\", \"wall_s\": 1}", Instant::now())
+        .unwrap_err();
+    assert!(why.contains("t_s is \"soon\""), "{why}");
+    let why = c
+        .event(b"{\"t_s\": 1, \"kind\": 3, \"text\": \"x\"}")
+        .unwrap_err();
+    assert_eq!(why, "kind is not text");
+    assert!(c.tick(b"\xff").unwrap_err().starts_with("not JSON"));
+    assert_eq!(c.counts.ticks + c.counts.statuses + c.counts.events, 0);
+}
