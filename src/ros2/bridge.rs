@@ -36,9 +36,11 @@ pub struct Options {
 
 /// The ROS side: the node's session, its tokens and a publisher per topic.
 struct RosSide {
-    _session: zenoh::Session,
-    _tokens: Vec<LivelinessToken>,
+    /// Each topic's publisher, its GID and its last sequence number.
     publishers: HashMap<Topic, (Publisher<'static>, [u8; 16], i64)>,
+    _tokens: Vec<LivelinessToken>,
+    /// Last: dropped after what it declared.
+    _session: zenoh::Session,
 }
 
 /// Open the ROS side, trying again every 2 s while the router is not there, until
@@ -100,9 +102,9 @@ fn open_ros(opts: &Options) -> Result<RosSide, String> {
         publishers.insert(topic, (publisher, node.gid(topic), 0));
     }
     Ok(RosSide {
-        _session: session,
-        _tokens: tokens,
         publishers,
+        _tokens: tokens,
+        _session: session,
     })
 }
 

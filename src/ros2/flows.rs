@@ -146,6 +146,15 @@ impl Converter {
             return Err("t_s and wall_s must be numbers".to_string());
         }
         self.counts.statuses += 1;
+        let restarted = self
+            .last_status
+            .as_ref()
+            .and_then(|(s, _)| s["t_s"].as_f64())
+            .is_some_and(|last| t_s < last);
+        if restarted {
+            // The robot program started again: a new run clock, and so a new offset.
+            self.clock_offset_s = None;
+        }
         let offset_s = wall_s - t_s;
         self.clock_offset_s = Some(self.clock_offset_s.map_or(offset_s, |o| o.min(offset_s)));
         let stamp = self.stamp(t_s);

@@ -78,6 +78,11 @@ fn ticks_are_stamped_on_the_robots_clock_once_a_status_gives_it() {
     let odom: Odometry = decode(&later[1].bytes).unwrap();
     assert!((odom.pose.pose.position.x - 0.1).abs() < 1e-9, "{odom:?}");
     assert_eq!(odom.twist.twist.linear.x, 1.0);
+    // The robot program started again a minute later: its run clock is back near 0.
+    c.status(&status(0.5, 1_000_071.0, 0, 0.0), Instant::now())
+        .unwrap();
+    let again = c.tick(&tick(0.6, 0.1)).unwrap();
+    assert_eq!(again[0].stamp.sec, 1_000_071, "{:?}", again[0].stamp);
 }
 
 #[test]

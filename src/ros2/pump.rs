@@ -13,8 +13,8 @@ use zenoh::liveliness::LivelinessToken;
 use zenoh::pubsub::Subscriber;
 
 use super::flows::{Converter, Counts, Outgoing};
+use crate::bus::session::{self, Role};
 use crate::config::TlsFiles;
-use crate::programs::bus::tools::Tool;
 
 /// Messages waiting for the loop; beyond this they are dropped here and counted.
 const QUEUE: usize = 1024;
@@ -32,11 +32,12 @@ enum Flow {
 pub struct Robot {
     /// The robot's name on its bus.
     pub name: String,
-    _tool: Tool,
     rx: crossbeam_channel::Receiver<(Flow, Vec<u8>)>,
     dropped_here: Arc<AtomicU64>,
     _subscribers: Vec<Subscriber<()>>,
     _alive: LivelinessToken,
+    /// Last: dropped after what it declared.
+    _session: zenoh::Session,
 }
 
 /// What a pump did.
@@ -70,19 +71,25 @@ impl Robot {
         tls: Option<&TlsFiles>,
         who: &str,
     ) -> Result<Robot, String> {
-        let tool = Tool::connect(endpoint, name, true, tls)?;
+        // A tool's session: it connects to the robot program and listens on nothing.
+        session::check_robot(tls, name)?;
+        let role = Role::Tool {
+            connect: vec![endpoint.to_string()],
+            wait: true,
+        };
+        let zenoh = session::open(role, tls).map_err(|e| session::plain_words(&e))?;
+        let key = |what: &str| format!("{name}/{what}");
         let (tx, rx) = crossbeam_channel::bounded(QUEUE);
         let dropped_here = Arc::new(AtomicU64::new(0));
         let mut subscribers = Vec::new();
-        for (flow, key) in [
+        for (flow, what) in [
             (Flow::Tick, "tick"),
             (Flow::Status, "status"),
             (Flow::Event, "event"),
         ] {
             let (tx, dropped) = (tx.clone(), dropped_here.clone());
-            let subscriber = tool
-                .session()
-                .declare_subscriber(tool.key(key))
+            let subscriber = zenoh
+                .declare_subscriber(key(what))
                 .callback(move |sample| {
                     let bytes = sample.payload().to_bytes().into_owned();
                     if tx.try_send((flow, bytes)).is_err() {
@@ -93,15 +100,14 @@ impl Robot {
                 .map_err(|e| e.to_string())?;
             subscribers.push(subscriber);
         }
-        let alive = tool
-            .session()
+        let alive = zenoh
             .liveliness()
-            .declare_token(tool.key(&format!("alive/{who}-{}", std::process::id())))
+            .declare_token(key(&format!("alive/{who}-{}", std::process::id())))
             .wait()
             .map_err(|e| e.to_string())?;
         Ok(Robot {
             name: name.to_string(),
-            _tool: tool,
+            _session: zenoh,
             rx,
             dropped_here,
             _subscribers: subscribers,
