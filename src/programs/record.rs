@@ -69,25 +69,10 @@ pub enum RecordCommand {
     },
 }
 
-pub fn record(args: RecordArgs) -> ExitCode {
-    match (args.bus, args.command) {
+pub fn record(mut args: RecordArgs) -> ExitCode {
+    match (args.bus || args.ros2, args.command.take()) {
         (false, Some(command)) => summary(command),
-        (false, None) if args.ros2 => ros2_bag(
-            args.connect,
-            args.robot,
-            args.seconds,
-            args.config,
-            &args.set,
-            args.identity.files(),
-        ),
-        (true, _) => from_bus(
-            args.connect,
-            args.robot,
-            args.seconds,
-            args.config,
-            &args.set,
-            args.identity.files(),
-        ),
+        (true, _) => from_bus(args),
         (false, None) => {
             eprintln!(
                 "say what to do with records: `mechweed record summary FILE`, `mechweed record --bus` to record the robot's flows here, or `mechweed record --ros2` for a ROS 2 bag of them"
@@ -97,29 +82,40 @@ pub fn record(args: RecordArgs) -> ExitCode {
     }
 }
 
-fn from_bus(
-    connect: String,
-    robot: String,
-    seconds: Option<f64>,
-    config: Option<std::path::PathBuf>,
-    set: &[String],
-    tls: Option<crate::config::TlsFiles>,
-) -> ExitCode {
-    let settings = match load_settings(config.as_deref(), set) {
+/// `record --bus` (the run's CSV and MCAP files) or `record --ros2` (a ROS 2 bag): the
+/// robot's flows recorded on this computer.
+fn from_bus(args: RecordArgs) -> ExitCode {
+    let settings = match load_settings(args.config.as_deref(), &args.set) {
         Ok(settings) => settings,
         Err(errors) => {
             print_errors(&errors);
             return ExitCode::FAILURE;
         }
     };
-    let opts = crate::programs::bus::record::Options {
-        connect,
-        robot,
-        seconds,
-        record: settings.record,
-        tls,
+    let tls = args.identity.files();
+    let done = if args.ros2 {
+        let opts = crate::ros2::bag::Options {
+            connect: args.connect,
+            robot: args.robot,
+            seconds: args.seconds,
+            record: settings.record,
+            ros: settings
+                .ros2
+                .unwrap_or_else(crate::config::Ros2Settings::shipped),
+            tls,
+        };
+        crate::ros2::bag::record(&opts, &ctrl_c())
+    } else {
+        let opts = crate::programs::bus::record::Options {
+            connect: args.connect,
+            robot: args.robot,
+            seconds: args.seconds,
+            record: settings.record,
+            tls,
+        };
+        crate::programs::bus::record::record(&opts, &ctrl_c())
     };
-    match crate::programs::bus::record::record(&opts, &ctrl_c()) {
+    match done {
         Ok(summary) => {
             println!("{summary}");
             ExitCode::SUCCESS
@@ -129,35 +125,6 @@ fn from_bus(
             ExitCode::FAILURE
         }
     }
-}
-
-/// `record --ros2`: the robot's flows as a ROS 2 bag.
-fn ros2_bag(
-    connect: String,
-    robot: String,
-    seconds: Option<f64>,
-    config: Option<PathBuf>,
-    set: &[String],
-    tls: Option<crate::config::TlsFiles>,
-) -> ExitCode {
-    let settings = match load_settings(config.as_deref(), set) {
-        Ok(settings) => settings,
-        Err(errors) => {
-            print_errors(&errors);
-            return ExitCode::FAILURE;
-        }
-    };
-    let opts = crate::ros2::bag::Options {
-        connect,
-        robot,
-        seconds,
-        record: settings.record,
-        ros: settings
-            .ros2
-            .unwrap_or_else(crate::config::Ros2Settings::shipped),
-        tls,
-    };
-    crate::programs::said(crate::ros2::bag::record(&opts, &ctrl_c()))
 }
 
 fn summary(command: RecordCommand) -> ExitCode {
