@@ -44,7 +44,8 @@ pub struct RecordArgs {
     /// Override one setting, e.g. --set record.folder=field-records (repeatable).
     #[arg(long = "set", value_name = "SECTION.KEY=VALUE", requires = "from_bus")]
     pub set: Vec<String>,
-    /// With --bus: this program's identity on a secured bus (--keys DIR --as recorder).
+    /// With --bus or --ros2: this program's identity on a secured bus (--keys DIR --as
+    /// recorder, or a viewer).
     #[command(flatten)]
     pub identity: crate::programs::keys::IdentityArgs,
 }

@@ -135,13 +135,21 @@ pub fn summary(path: &Path) -> Result<String, String> {
 
 /// The profile in an MCAP file's header; None when it is not MCAP.
 fn profile(bytes: &[u8]) -> Option<String> {
-    match mcap::read::LinearReader::new(bytes).ok()?.next()? {
+    // The header is the first record: the file's end need not be read for it.
+    let start = mcap::read::Options::IgnoreEndMagic.into();
+    match mcap::read::LinearReader::new_with_options(bytes, start)
+        .ok()?
+        .next()?
+    {
         Ok(mcap::records::Record::Header(header)) => Some(header.profile),
         _ => None,
     }
 }
 
-/// Whether the file at `path` is an MCAP file of the `ros2` profile.
+/// Whether the file at `path` is an MCAP file of the `ros2` profile (its first 4 kB).
 pub fn is_ros2_bag(path: &Path) -> bool {
-    std::fs::read(path).is_ok_and(|bytes| profile(&bytes).as_deref() == Some("ros2"))
+    use std::io::Read;
+    let mut start = Vec::new();
+    let read = std::fs::File::open(path).and_then(|f| f.take(4096).read_to_end(&mut start));
+    read.is_ok() && profile(&start).as_deref() == Some("ros2")
 }

@@ -130,7 +130,6 @@ pub fn run(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
     let end = opts
         .seconds
         .map(|s| Instant::now() + Duration::from_secs_f64(s));
-    let robot = Robot::hear(&opts.connect, &opts.robot, opts.tls.as_ref(), "ros2")?;
     let ros = &opts.ros;
     println!(
         "ros2: the flows of {} at {} to the ROS router at {}: domain {}, namespace {}, {}",
@@ -141,9 +140,12 @@ pub fn run(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
         ros.namespace,
         ros.distro.name()
     );
+    // The router first: the robot's flows are heard only once they can go somewhere,
+    // not queued while it is missing and sent late as if new.
     let Some(mut side) = connect_ros(opts, stop, end) else {
         return Ok("ros2: stopped before the ROS router was reached".to_string());
     };
+    let robot = Robot::hear(&opts.connect, &opts.robot, opts.tls.as_ref(), "ros2")?;
     let names: Vec<String> = Topic::ALL.iter().map(|t| t.name(&ros.namespace)).collect();
     println!(
         "ros2: node {}/{} publishes {}",

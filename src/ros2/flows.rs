@@ -10,6 +10,7 @@ use std::time::Instant;
 use serde_json::{Map, Value};
 
 use super::cdr::{RosMessage, encode};
+use super::clock::RobotClock;
 use super::diagnostics;
 use super::msgs::{
     Float64, Log, NavSatFix, NavSatStatus, Pose, PoseWithCovariance, PoseWithCovarianceStamped,
@@ -46,9 +47,8 @@ pub struct Converter {
     robot: String,
     wheel_radius_m: f64,
     odometer: Odometer,
-    /// The robot's wall clock less its run clock, s: the least seen, since a status's
-    /// delay before publishing only adds to it.
-    clock_offset_s: Option<f64>,
+    clock: RobotClock,
+    /// The last status, and when it arrived.
     last_status: Option<(Value, Instant)>,
     /// The last fix sent on /fix: quality, latitude and longitude.
     last_fix: Option<(u64, Option<f64>, Option<f64>)>,
@@ -87,19 +87,18 @@ impl Converter {
             robot: robot.to_string(),
             wheel_radius_m,
             odometer: Odometer::default(),
-            clock_offset_s: None,
+            clock: RobotClock::default(),
             last_status: None,
             last_fix: None,
             counts: Counts::default(),
         }
     }
 
-    /// The robot's time `t_s` on its wall clock; before any status, this computer's now.
+    /// The robot's time `t_s` on its wall clock; before a status of the run, this
+    /// computer's now.
     fn stamp(&self, t_s: f64) -> Time {
-        Time::from_unix_s(match self.clock_offset_s {
-            Some(offset_s) if t_s.is_finite() => offset_s + t_s,
-            _ => crate::bus::payload::wall_s(),
-        })
+        let wall_s = self.clock.wall_s(t_s);
+        Time::from_unix_s(wall_s.unwrap_or_else(crate::bus::payload::wall_s))
     }
 
     /// A tick: /joint_states, /odom, /tf and /cross_track.
@@ -116,6 +115,7 @@ impl Converter {
         };
         let tool_offset_m = number(&map, "law_tool_offset_m")?;
         self.counts.ticks += 1;
+        self.clock.tick(tick.t_s);
         self.odometer.step(tick, self.wheel_radius_m);
         let stamp = self.stamp(tick.t_s);
         let o = &self.odometer;
@@ -138,25 +138,16 @@ impl Converter {
         Ok(out)
     }
 
-    /// A status: /row when the row filter runs, /fix when the fix changed.
-    pub fn status(&mut self, bytes: &[u8], now: Instant) -> Result<Vec<Outgoing>, String> {
+    /// A status that arrived at `arrived`: /row when the row filter runs, /fix when the
+    /// fix changed.
+    pub fn status(&mut self, bytes: &[u8], arrived: Instant) -> Result<Vec<Outgoing>, String> {
         let map = object(bytes)?;
         let (t_s, wall_s) = (number(&map, "t_s")?, number(&map, "wall_s")?);
         if !(t_s.is_finite() && wall_s.is_finite()) {
             return Err("t_s and wall_s must be numbers".to_string());
         }
         self.counts.statuses += 1;
-        let restarted = self
-            .last_status
-            .as_ref()
-            .and_then(|(s, _)| s["t_s"].as_f64())
-            .is_some_and(|last| t_s < last);
-        if restarted {
-            // The robot program started again: a new run clock, and so a new offset.
-            self.clock_offset_s = None;
-        }
-        let offset_s = wall_s - t_s;
-        self.clock_offset_s = Some(self.clock_offset_s.map_or(offset_s, |o| o.min(offset_s)));
+        self.clock.status(t_s, wall_s);
         let stamp = self.stamp(t_s);
         let status = Value::Object(map);
         let mut out = Vec::new();
@@ -166,7 +157,7 @@ impl Converter {
         if let Some(fix) = self.fix(&status["gnss"], stamp) {
             out.push(message(Topic::Fix, stamp, &fix)?);
         }
-        self.last_status = Some((status, now));
+        self.last_status = Some((status, arrived));
         Ok(out)
     }
 
@@ -225,8 +216,12 @@ impl Converter {
     }
 }
 
-/// The GGA quality as NavSatStatus says it: 0 no fix, 1 GPS, 2 DGPS (SBAS), 4 and 5
-/// RTK (ground-based).
+/// Up's variance when the robot does not know it, m²: so large that nothing trusts it.
+pub const UNKNOWN_VARIANCE_M2: f64 = 1e6;
+
+/// The GGA quality as NavSatStatus says it: 1 GPS and 3 PPS a plain fix, 2 DGPS
+/// satellite-augmented, 4 and 5 RTK ground-augmented; 0, and 6 dead reckoning, 7 manual,
+/// 8 simulation, no fix of the sky.
 fn nav_sat_fix(
     quality: u64,
     lat: Option<f64>,
@@ -235,16 +230,26 @@ fn nav_sat_fix(
     stamp: Time,
 ) -> NavSatFix {
     let status = match quality {
-        0 => -1,
-        1 => 0,
+        1 | 3 => 0,
         2 => 1,
-        _ => 2,
+        4 | 5 => 2,
+        _ => -1,
     };
     // The robot carries the worse of the receiver's east and north s.d. (GST), not the
     // altitude: east and north from it, approximated; up is not known.
     let (covariance, kind) = match sd_m {
         Some(sd) => (
-            [sd * sd, 0.0, 0.0, 0.0, sd * sd, 0.0, 0.0, 0.0, f64::NAN],
+            [
+                sd * sd,
+                0.0,
+                0.0,
+                0.0,
+                sd * sd,
+                0.0,
+                0.0,
+                0.0,
+                UNKNOWN_VARIANCE_M2,
+            ],
             1,
         ),
         None => ([0.0; 9], 0),

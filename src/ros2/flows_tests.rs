@@ -101,13 +101,38 @@ fn the_fix_is_sent_when_it_changes_and_a_lost_fix_is_said_once() {
     assert_eq!(first.len(), 1);
     assert_eq!((first[0].status.status, first[0].latitude), (2, 52.0));
     assert!((first[0].position_covariance[0] - 0.0004).abs() < 1e-12);
-    assert!(first[0].altitude.is_nan() && first[0].position_covariance[8].is_nan());
+    assert!(first[0].altitude.is_nan());
+    assert_eq!(
+        first[0].position_covariance[8],
+        super::flows::UNKNOWN_VARIANCE_M2
+    );
     // The same fix again is not news.
     assert!(fixes(c.status(&status(1.2, 101.2, 4, 52.0), now).unwrap()).is_empty());
     let lost = fixes(c.status(&status(1.3, 101.3, 0, 0.0), now).unwrap());
     assert_eq!((lost.len(), lost[0].status.status), (1, -1));
     assert_eq!(lost[0].position_covariance_type, 0);
     assert!(fixes(c.status(&status(1.4, 101.4, 0, 0.0), now).unwrap()).is_empty());
+}
+
+#[test]
+fn only_rtk_is_ground_augmented_and_a_fix_not_of_the_sky_is_no_fix() {
+    let now = Instant::now();
+    for (quality, status_word) in [
+        (1, 0),
+        (2, 1),
+        (3, 0),
+        (4, 2),
+        (5, 2),
+        (6, -1),
+        (7, -1),
+        (8, -1),
+    ] {
+        let mut c = Converter::new("mechweed", 0.2);
+        let out = c.status(&status(1.0, 101.0, quality, 52.0), now).unwrap();
+        let fix: NavSatFix =
+            decode(&out.iter().find(|o| o.topic == Topic::Fix).unwrap().bytes).unwrap();
+        assert_eq!(fix.status.status, status_word, "GGA quality {quality}");
+    }
 }
 
 #[test]

@@ -5,7 +5,8 @@
 //!
 //! - `msgs`, `types`, `cdr`: the messages, their definitions and type hashes, CDR;
 //! - `wire`: keys, liveliness tokens, the attachment (rmw_zenoh's rules);
-//! - `topics`, `flows`, `odom`, `diagnostics`: which topics, made from which flow;
+//! - `topics`, `flows`, `odom`, `diagnostics`, `clock`: which topics, made from which
+//!   flow, stamped on the robot's clock;
 //! - `pump`: the robot's flows heard and made into messages, for:
 //! - `bridge`: the program; `bag`: the recorder's MCAP file.
 
@@ -13,6 +14,7 @@ pub mod bag;
 pub mod bag_read;
 pub mod bridge;
 pub mod cdr;
+pub mod clock;
 pub mod diagnostics;
 pub mod flows;
 pub mod msgs;

@@ -43,24 +43,36 @@ pub struct Odometer {
 
 impl Odometer {
     /// Move on to `tick`. A tick older than the last (a robot that started again) begins
-    /// the pose from where it is; a gap of dropped ticks is bridged by the distance.
+    /// the pose from where it is; a gap of dropped ticks is bridged by the distance. A
+    /// tick without a time is skipped; a rate the robot could not give (JSON null) adds
+    /// nothing, so that one gap never makes the pose NaN for good.
     pub fn step(&mut self, tick: TickMotion, wheel_radius_m: f64) {
+        if !tick.t_s.is_finite() {
+            return;
+        }
         let Some(last) = self.last.replace(tick) else {
             return;
         };
         let dt_s = tick.t_s - last.t_s;
-        let ds_m = tick.distance_m - last.distance_m;
+        // The robot's distance only grows (it counts reversing too): the step takes its
+        // direction from the speed.
+        let backwards = tick.speed_mps + last.speed_mps < 0.0;
+        let ds_m = (tick.distance_m - last.distance_m).abs() * if backwards { -1.0 } else { 1.0 };
         if dt_s <= 0.0 || !ds_m.is_finite() {
             return;
         }
+        let mean = |a: f64, b: f64| {
+            let m = 0.5 * (a + b);
+            if m.is_finite() { m } else { 0.0 }
+        };
         // The heading turned at about the mean of the two rates; the step is taken
         // along the mean heading.
-        let dyaw_rad = 0.5 * (tick.yaw_rate_rps + last.yaw_rate_rps) * dt_s;
+        let dyaw_rad = mean(tick.yaw_rate_rps, last.yaw_rate_rps) * dt_s;
         let mid_rad = self.yaw_rad + 0.5 * dyaw_rad;
         self.x_m += ds_m * mid_rad.cos();
         self.y_m += ds_m * mid_rad.sin();
         self.yaw_rad = wrap(self.yaw_rad + dyaw_rad);
-        let turned = |v1: f64, v0: f64| 0.5 * (v1 + v0) * dt_s / wheel_radius_m;
+        let turned = |v1: f64, v0: f64| mean(v1, v0) * dt_s / wheel_radius_m;
         self.wheel_left_rad += turned(tick.v_left_mps, last.v_left_mps);
         self.wheel_right_rad += turned(tick.v_right_mps, last.v_right_mps);
         self.steer_rate_rps = (tick.wheel_angle_rad - last.wheel_angle_rad) / dt_s;
@@ -183,6 +195,40 @@ mod tests {
         // 1 m/s for pi s on a 0.2 m wheel.
         let turned = quarter_s / 0.2;
         assert!((odo.wheel_left_rad - turned).abs() < 1e-9);
+    }
+
+    #[test]
+    fn reversing_moves_the_pose_back_and_a_gap_in_a_rate_leaves_it_whole() {
+        let mut odo = Odometer::default();
+        let back = |t_s: f64, distance_m: f64| TickMotion {
+            speed_mps: -0.5,
+            v_left_mps: -0.5,
+            v_right_mps: -0.5,
+            ..tick(t_s, distance_m, 0.0)
+        };
+        odo.step(back(0.0, 0.0), 0.2);
+        // The robot's distance grows while it reverses.
+        odo.step(back(1.0, 0.5), 0.2);
+        assert!((odo.x_m + 0.5).abs() < 1e-12, "{}", odo.x_m);
+        assert!((odo.wheel_left_rad + 2.5).abs() < 1e-12);
+        // A tick whose heading rate and time the robot could not give.
+        odo.step(
+            TickMotion {
+                yaw_rate_rps: f64::NAN,
+                ..back(2.0, 1.0)
+            },
+            0.2,
+        );
+        odo.step(
+            TickMotion {
+                t_s: f64::NAN,
+                ..back(3.0, 1.5)
+            },
+            0.2,
+        );
+        odo.step(back(3.0, 1.5), 0.2);
+        assert!(odo.yaw_rad.is_finite() && odo.wheel_left_rad.is_finite());
+        assert!((odo.x_m + 1.5).abs() < 1e-12, "{}", odo.x_m);
     }
 
     #[test]

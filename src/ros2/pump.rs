@@ -32,7 +32,8 @@ enum Flow {
 pub struct Robot {
     /// The robot's name on its bus.
     pub name: String,
-    rx: crossbeam_channel::Receiver<(Flow, Vec<u8>)>,
+    /// Each flow's message and when it arrived.
+    rx: crossbeam_channel::Receiver<(Flow, Vec<u8>, Instant)>,
     dropped_here: Arc<AtomicU64>,
     _subscribers: Vec<Subscriber<()>>,
     _alive: LivelinessToken,
@@ -92,7 +93,7 @@ impl Robot {
                 .declare_subscriber(key(what))
                 .callback(move |sample| {
                     let bytes = sample.payload().to_bytes().into_owned();
-                    if tx.try_send((flow, bytes)).is_err() {
+                    if tx.try_send((flow, bytes, Instant::now())).is_err() {
                         dropped.fetch_add(1, Ordering::Relaxed);
                     }
                 })
@@ -140,10 +141,10 @@ impl Robot {
                 );
                 made.push(converter.diagnostics(now, &figures).map(|m| vec![m]));
             }
-            if let Ok((flow, bytes)) = self.rx.recv_timeout(Duration::from_millis(50)) {
+            if let Ok((flow, bytes, arrived)) = self.rx.recv_timeout(Duration::from_millis(50)) {
                 made.push(match flow {
                     Flow::Tick => converter.tick(&bytes),
-                    Flow::Status => converter.status(&bytes, Instant::now()),
+                    Flow::Status => converter.status(&bytes, arrived),
                     Flow::Event => converter.event(&bytes),
                 });
                 if !heard {

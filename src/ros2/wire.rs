@@ -55,7 +55,8 @@ impl Node {
         )
     }
 
-    /// `@ros2_lv/DOMAIN/ZID/NID/EID/KIND/ENCLAVE/NAMESPACE/NODE`: the enclave is empty.
+    /// `@ros2_lv/DOMAIN/ZID/NID/EID/KIND/ENCLAVE/NAMESPACE/NODE`: the enclave is rcl's
+    /// default, `/` (an empty part would cut the token short where rmw_zenoh reads it).
     fn entity(&self, eid: u32, kind: &str) -> String {
         format!(
             "@ros2_lv/{}/{}/0/{eid}/{kind}/%/{}/{NODE_NAME}",

@@ -117,17 +117,28 @@ fn measure(args: &Ros2BenchArgs) -> Result<String, String> {
             .args(["--set", &format!("bus.tick_every_n={}", args.tick_every_n)])
             .args(["--set", &format!("record.folder={}", folder.display())]),
     )?;
-    let bridge = quiet(
-        Command::new(&exe)
-            .args([
-                "ros2",
-                "--connect",
-                &router_at,
-                "--robot-connect",
-                &robot_at,
-            ])
-            .args(["--seconds", &total_s.to_string()]),
-    )?;
+    // The shipped domain and namespace, whatever robot.ini here says: the client below
+    // listens there. What the bridge says goes to a file, for when it does not run.
+    let shipped = crate::config::Ros2Settings::shipped();
+    let said_path = folder.join("bridge.txt");
+    std::fs::create_dir_all(&folder).map_err(|e| e.to_string())?;
+    let said = std::fs::File::create(&said_path).map_err(|e| e.to_string())?;
+    let bridge = Command::new(&exe)
+        .args([
+            "ros2",
+            "--connect",
+            &router_at,
+            "--robot-connect",
+            &robot_at,
+        ])
+        .args(["--domain-id", &shipped.domain_id.to_string()])
+        .args(["--namespace", &shipped.namespace])
+        .args(["--seconds", &total_s.to_string()])
+        .stdout(Stdio::null())
+        .stderr(said)
+        .spawn()
+        .map(Running)
+        .map_err(|e| e.to_string())?;
     let client = zenoh::open(zenoh_config(
         "client",
         &[],
@@ -135,7 +146,6 @@ fn measure(args: &Ros2BenchArgs) -> Result<String, String> {
     )?)
     .wait()
     .map_err(|e| format!("cannot reach the router: {e}"))?;
-    let shipped = crate::config::Ros2Settings::shipped();
     let node = Node {
         domain_id: shipped.domain_id,
         zid: String::new(),
@@ -171,9 +181,13 @@ fn measure(args: &Ros2BenchArgs) -> Result<String, String> {
     let bridge_cpu = (cpu_s(bridge.0.id())? - bridge_cpu0) / wall_s;
     let robot_cpu = (cpu_s(robot.0.id())? - robot_cpu0) / wall_s;
     drop((bridge, robot, client, router));
+    let bridge_said = std::fs::read_to_string(&said_path).unwrap_or_default();
     let _ = std::fs::remove_dir_all(&folder);
     if latency_ms.is_empty() {
-        return Err("no /mechweed/joint_states arrived: the bridge did not run".to_string());
+        return Err(format!(
+            "no /mechweed/joint_states arrived; the bridge said: {}",
+            bridge_said.trim()
+        ));
     }
     latency_ms.sort_by(f64::total_cmp);
     Ok(format!(
