@@ -12,12 +12,13 @@ use crate::bus::{Robot, free_port};
 #[test]
 fn a_missing_router_is_said_and_tried_again_until_it_comes() {
     let _machine = crate::shared_machine();
-    let robot = Robot::start(&["--duration", "22"]);
+    let robot = Robot::start(&["--duration", "24"]);
     let port = free_port();
     let router_at = format!("tcp/127.0.0.1:{port}");
-    let bridge = Bridge::start(&router_at, &robot.endpoint, 14.0);
-    // Two tries of 3 s and a pause of 2 s between them, then the router comes.
-    std::thread::sleep(Duration::from_secs(9));
+    let bridge = Bridge::start(&router_at, &robot.endpoint, 16.0);
+    // Two tries of 3 s and a pause of 2 s between them (8 s), then the router comes,
+    // with time to spare for a slow start on a busy machine.
+    std::thread::sleep(Duration::from_secs(10));
     let router = Router::at(port);
     let client = router.client();
     let found = tokens(&client, 9);
@@ -43,7 +44,7 @@ fn a_missing_router_is_said_and_tried_again_until_it_comes() {
 #[test]
 fn a_router_that_speaks_something_else_is_said_and_tried_again() {
     let _machine = crate::shared_machine();
-    let robot = Robot::start(&["--duration", "12"]);
+    let robot = Robot::start(&["--duration", "15"]);
     // A web server, say, on the router's port: it answers every connection with text.
     let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
     let port = listener.local_addr().unwrap().port();
@@ -57,7 +58,7 @@ fn a_router_that_speaks_something_else_is_said_and_tried_again() {
     });
     let router_at = format!("tcp/127.0.0.1:{port}");
     let (ok, stdout, stderr) = {
-        let bridge = Bridge::start(&router_at, &robot.endpoint, 7.0);
+        let bridge = Bridge::start(&router_at, &robot.endpoint, 10.0);
         bridge.finish()
     };
     assert!(ok, "{stdout}{stderr}");
