@@ -59,10 +59,7 @@ pub(crate) struct HaltKey {
 impl HaltKey {
     fn of(mut ms: Vec<f64>) -> HaltKey {
         ms.sort_by(f64::total_cmp);
-        let rank = |p: f64| {
-            let k = ((p * ms.len() as f64).ceil() as usize).clamp(1, ms.len().max(1));
-            ms.get(k - 1).copied().unwrap_or(f64::NAN)
-        };
+        let rank = |p: f64| super::nearest_rank(&ms, p);
         HaltKey {
             presses: ms.len(),
             p50_ms: rank(0.5),

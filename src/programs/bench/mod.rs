@@ -24,6 +24,12 @@ pub enum BenchCommand {
     Ros2(ros2::Ros2BenchArgs),
 }
 
+/// The nearest-rank `p` percentile (0..1) of `sorted`, ascending; NaN when empty.
+pub(crate) fn nearest_rank(sorted: &[f64], p: f64) -> f64 {
+    let k = ((p * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len().max(1));
+    sorted.get(k - 1).copied().unwrap_or(f64::NAN)
+}
+
 /// Runs the benchmark asked for.
 pub fn bench(command: BenchCommand) -> ExitCode {
     match command {

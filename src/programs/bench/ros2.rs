@@ -6,7 +6,8 @@
 //!
 //! - latency: from the robot's tick (its stamp, the supervisor's time on the robot's
 //!   wall clock) to the sample's arrival at the ROS client, through the robot's bus
-//!   thread, the bridge and the router; median, 99th percentile and worst;
+//!   thread, the bridge and the router; median, 99th percentile (nearest rank, as
+//!   `bench loop` takes them) and worst;
 //! - the bridge's CPU: its user and system time over the same time, as a share of one
 //!   core (from /proc), beside the robot program's.
 
@@ -62,11 +63,6 @@ fn cpu_s(pid: u32) -> Result<f64, String> {
     // SAFETY: sysconf reads a constant of the system and touches no memory of ours.
     let per_s = unsafe { libc::sysconf(libc::_SC_CLK_TCK) } as f64;
     Ok((ticks(11) + ticks(12)) / per_s)
-}
-
-fn percentile(sorted: &[f64], p: f64) -> f64 {
-    let i = ((sorted.len() as f64 - 1.0) * p).round() as usize;
-    sorted.get(i).copied().unwrap_or(f64::NAN)
 }
 
 fn zenoh_config(
@@ -193,8 +189,8 @@ fn measure(args: &Ros2BenchArgs) -> Result<String, String> {
     Ok(format!(
         "bench ros2: {} samples of /mechweed/joint_states in {wall_s:.1} s; latency from the robot's tick to the ROS client: median {:.2} ms, p99 {:.2} ms, worst {:.2} ms; CPU of one core: bridge {:.1} %, robot program {:.1} %",
         latency_ms.len(),
-        percentile(&latency_ms, 0.5),
-        percentile(&latency_ms, 0.99),
+        super::nearest_rank(&latency_ms, 0.5),
+        super::nearest_rank(&latency_ms, 0.99),
         latency_ms.last().copied().unwrap_or(f64::NAN),
         100.0 * bridge_cpu,
         100.0 * robot_cpu,
