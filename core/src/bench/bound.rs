@@ -33,14 +33,12 @@
 use mechweed_hw::sim::SimParams;
 use nalgebra::{SMatrix, SVector};
 
-use crate::bench::floor::{
-    DOUBLINGS, Geometry, sensor_variances, steady_filter, within_stretch_variance,
-};
+use crate::bench::floor::{Geometry, sensor_variances, steady_filter, within_stretch_variance};
 use crate::config::{PdSettings, SteerSource};
 
 use crate::steer::lqr::{
-    CAMERA_BIAS, CRAB_RATE, Column, HEADING, MAP_BIAS, Matrix, N, SteeringModel, WHEEL, WHEEL_RATE,
-    Y, continuous, discrete as held, forget_per_s, optimal_gain,
+    CAMERA_BIAS, CRAB_RATE, Column, DOUBLINGS, HEADING, MAP_BIAS, Matrix, N, SteeringModel, WHEEL,
+    WHEEL_RATE, Y, continuous, discrete as held, forget_per_s, optimal_gain,
 };
 
 /// The closed loop: the state and the filter's error.

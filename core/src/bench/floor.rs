@@ -34,9 +34,7 @@ const CAMERA_BIAS: usize = 3;
 const MAP_BIAS: usize = 4;
 type Matrix = SMatrix<f64, N, N>;
 
-// Rounds of doubling for a Riccati equation: 2⁴⁰ frames, far beyond the thousands the
-// longest correlation length needs (the map's 20 m is 200 frames at 1 m/s).
-pub(crate) use crate::steer::lqr::{DOUBLINGS, riccati};
+use crate::steer::lqr::riccati;
 
 /// Where the robot's sensors and tool are, ahead of the rear axle, m.
 #[derive(Debug, Clone, Copy)]

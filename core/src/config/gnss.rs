@@ -80,7 +80,10 @@ pub struct SourceSettings {
     pub source: SteerSource,
     /// Fused: no trusted fix for this long steers by the camera alone, s.
     pub gnss_fallback_s: f64,
-    /// Fused: the camera seeing no row for this long steers by GNSS alone, s.
+    /// Fused: the camera seeing no row for this long steers by GNSS alone, s. The camera
+    /// alone, begun with no row in sight, stands this long before it searches ([camera]
+    /// first_row_m): keep it below [camera] link_timeout_s, or the camera's fault comes
+    /// first.
     pub camera_fallback_s: f64,
     /// ... at this speed at most, m/s.
     pub gnss_only_speed_mps: f64,

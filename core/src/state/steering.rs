@@ -5,7 +5,7 @@
 /// Which sensors steer now.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Steering {
-    /// The camera's estimate, straight to the law ([steer] source = camera).
+    /// The camera alone ([steer] source = camera), through the row filter.
     #[default]
     Camera,
     /// The row filter, fed by the camera and GNSS.

@@ -1,4 +1,5 @@
-//! The steering law: from the camera's row angle and offset to a front wheel angle.
+//! The steering law (pure pursuit): from a row line's angle and offset at the camera's
+//! point (the row filter's) to a front wheel angle.
 //!
 //! 1. Latency. Each estimate describes an image taken about `latency_s` before it
 //!    arrived, and it ages further until the next one. By the robot's motion since
@@ -8,9 +9,8 @@
 //!    y left): y(x) = y0 + tan(angle) (x - x0) + curvature/2 (x - x0)^2, through the
 //!    camera's point (x0, y0). The curvature is the robot's own path curvature smoothed
 //!    over `curvature_filter_m` of travel: following a row, the robot turns as the row does.
-//!    Not while the camera repeats an old image (a gap in the row): the robot then turns
-//!    to reach the row line it saw, and learning that turn as the row's would have it
-//!    turn ever further.
+//!    (A gap in the row does not reach the law: the row filter carries the row through
+//!    it by odometry, sources.rs.)
 //! 3. Pure pursuit. Steer along the circle that passes through the row point
 //!    `lookahead_m` ahead of the rear axle: curvature = 2 y / d^2 (d the distance to the
 //!    point). Linearised, the lateral error then behaves as a second-order system with
@@ -56,16 +56,9 @@ pub(crate) struct RowFollower {
     camera_x_m: f64,
     tool_x_m: f64,
     row_curvature_per_m: f64,
-    /// The same over HELD_CURVATURE_SPAN times the distance: steered by in a gap.
-    long_curvature_per_m: f64,
     integral_per_m: f64,
     last_t_s: Option<f64>,
 }
-
-/// In a gap the row line is the old image's for metres, bent by this curvature: smoothed
-/// over this many times `curvature_filter_m`, so that the robot's last correction is not
-/// taken for the row's bend.
-const HELD_CURVATURE_SPAN: f64 = 5.0;
 
 impl RowFollower {
     pub fn new(s: &SteerSettings, robot: &RobotSettings) -> RowFollower {
@@ -76,7 +69,6 @@ impl RowFollower {
             camera_x_m: robot.camera_lookahead_m,
             tool_x_m: robot.tool_offset_m,
             row_curvature_per_m: 0.0,
-            long_curvature_per_m: 0.0,
             integral_per_m: 0.0,
             last_t_s: None,
         }
@@ -85,19 +77,16 @@ impl RowFollower {
     /// Start afresh (entering autonomous mode).
     pub fn reset(&mut self) {
         self.row_curvature_per_m = 0.0;
-        self.long_curvature_per_m = 0.0;
         self.integral_per_m = 0.0;
         self.last_t_s = None;
     }
 
     /// The wheel angle for `estimate` of an image taken where the robot stood before it
-    /// drove and turned `since`, at time `now_s`; `repeated`: the camera sent that
-    /// image's estimate again (a gap in the row).
+    /// drove and turned `since`, at time `now_s`.
     pub(crate) fn update_moved(
         &mut self,
         estimate: &RowEstimate,
         since: Travel,
-        repeated: bool,
         now_s: f64,
         motion: &Motion,
     ) -> LawOutput {
@@ -107,16 +96,8 @@ impl RowFollower {
 
         // 2. The row turns as the robot does when the robot follows it.
         let robot_curvature = motion.wheel_angle_rad.tan() / self.wheelbase_m;
-        if !repeated {
-            let blend = |m: f64| (travelled_m / m).min(1.0);
-            let (short, long) = (
-                &mut self.row_curvature_per_m,
-                &mut self.long_curvature_per_m,
-            );
-            *short += (robot_curvature - *short) * blend(self.s.curvature_filter_m);
-            *long +=
-                (robot_curvature - *long) * blend(self.s.curvature_filter_m * HELD_CURVATURE_SPAN);
-        }
+        let blend = (travelled_m / self.s.curvature_filter_m).min(1.0);
+        self.row_curvature_per_m += (robot_curvature - self.row_curvature_per_m) * blend;
 
         // 1. Move the row line seen in the image into the robot's frame now.
         let (moved_m, turned_rad) = (since.travelled_m, since.turned_rad);
@@ -129,10 +110,7 @@ impl RowFollower {
         let point_x = dx * cos + dy * sin;
         let point_y = -dx * sin + dy * cos;
         let slope = (estimate.angle_rad - turned_rad).tan();
-        let curvature = match repeated {
-            true => self.long_curvature_per_m,
-            false => self.row_curvature_per_m,
-        };
+        let curvature = self.row_curvature_per_m;
         let row_y_at =
             |x: f64| point_y + slope * (x - point_x) + 0.5 * curvature * (x - point_x).powi(2);
 

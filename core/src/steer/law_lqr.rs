@@ -86,6 +86,16 @@ impl LqrLaw {
         }
     }
 
+    /// New [steer] settings taken in Halt: the look-ahead and the integral change; the
+    /// gains do not (they come from the robot's model and the thread's rate, which no
+    /// request changes), so nothing is solved in the steer thread.
+    pub fn retune(&mut self, s: &Settings) {
+        self.lookahead_m = s.steer.lookahead_m;
+        self.ki_per_m2 = s.steer.ki_per_m2;
+        self.integral_max_per_m = s.steer.integral_max_deg.to_radians().tan() / s.robot.wheelbase_m;
+        self.reset();
+    }
+
     /// Start afresh (entering autonomous mode).
     pub fn reset(&mut self) {
         self.last_t_s = None;
@@ -105,11 +115,13 @@ impl LqrLaw {
         let wheel_rad = motion.wheel_angle_rad;
         let dt_s = self.last_t_s.map_or(0.0, |t_s| (now_s - t_s).max(0.0));
         self.last_t_s = Some(now_s);
-        let at =
-            |x_m: f64| row.offset_m + row.heading_rad * x_m + row.curvature_per_m * x_m * x_m / 2.0;
+        // The row's offset `x_m` ahead of the rear axle, on a row of `curvature_per_m`.
+        let at = |x_m: f64, curvature_per_m: f64| {
+            row.offset_m + row.heading_rad * x_m + curvature_per_m * x_m * x_m / 2.0
+        };
         // 5. What the model leaves on an arc or a slope, the tool's mean offset, goes by
         //    an integral over distance, as pure pursuit's does.
-        let tool_offset_m = at(self.tool_x_m);
+        let tool_offset_m = at(self.tool_x_m, row.curvature_per_m);
         // Only near the row: an offset still being steered away is the regulator's, and
         // integrated it would carry the robot past the row.
         let near = tool_offset_m.abs() < INTEGRATE_WITHIN_M;
@@ -131,12 +143,10 @@ impl LqrLaw {
             ];
             -x.iter().map(|&(i, value)| k[i] * value).sum::<f64>()
         });
-        let at =
-            |x_m: f64| row.offset_m + row.heading_rad * x_m + curvature_per_m * x_m * x_m / 2.0;
         LawOutput {
             wheel_angle_rad: (held_rad + correction_rad)
                 .clamp(-self.max_wheel_angle_rad, self.max_wheel_angle_rad),
-            lookahead_offset_m: at(self.lookahead_m),
+            lookahead_offset_m: at(self.lookahead_m, curvature_per_m),
             tool_offset_m,
             row_curvature_per_m: row.curvature_per_m,
             integral_per_m: self.integral_per_m,

@@ -16,7 +16,7 @@ impl RowFollower {
     ) -> LawOutput {
         let age_s = self.s.latency_s + (now_s - arrived_s).max(0.0);
         let since = Travel::at_rates(motion.speed_mps, motion.yaw_rate_rps, age_s);
-        self.update_moved(estimate, since, false, now_s, motion)
+        self.update_moved(estimate, since, now_s, motion)
     }
 }
 
@@ -102,7 +102,7 @@ fn after_a_steady_turn() -> RowFollower {
     let still = Travel::default();
     for k in 0..100 {
         let t = k as f64 * 0.1;
-        law.update_moved(&estimate(0.0, 0.02), still, false, t, &turning);
+        law.update_moved(&estimate(0.0, 0.02), still, t, &turning);
     }
     law
 }
@@ -129,55 +129,9 @@ fn entering_autonomous_forgets_the_last_rows_bend_and_integral() {
     assert!(law.integral_per_m > 0.0 && law.row_curvature_per_m > 0.0);
     law.reset();
     let standing = Motion::default();
-    let out = law.update_moved(
-        &estimate(0.0, 0.0),
-        Travel::default(),
-        false,
-        60.0,
-        &standing,
-    );
+    let out = law.update_moved(&estimate(0.0, 0.0), Travel::default(), 60.0, &standing);
     assert_eq!(out.wheel_angle_rad, 0.0, "{out:?}");
     assert_eq!((out.integral_per_m, out.row_curvature_per_m), (0.0, 0.0));
-}
-
-#[test]
-fn a_repeated_image_neither_learns_nor_takes_the_robots_last_turn_as_the_rows() {
-    // 5 m straight along a straight row, then 0.3 m of a hard left turn (a correction,
-    // not the row's bend), then one more tick: (repeated while turning, at the end).
-    let run = |turning_repeated: bool, last_repeated: bool| {
-        let straight = Motion {
-            speed_mps: 1.0,
-            ..Motion::default()
-        };
-        let turning = Motion {
-            wheel_angle_rad: 0.1,
-            yaw_rate_rps: 0.1f64.tan(),
-            ..straight
-        };
-        let (mut law, row, still) = (follower(), estimate(0.0, 0.0), Travel::default());
-        for k in 0..50 {
-            law.update_moved(&row, still, false, k as f64 * 0.1, &straight);
-        }
-        for k in 50..53 {
-            law.update_moved(&row, still, turning_repeated, k as f64 * 0.1, &turning);
-        }
-        law.update_moved(&row, still, last_repeated, 5.3, &straight)
-            .row_curvature_per_m
-    };
-    // 0.3 m of a filter over curvature_filter_m = 1 m takes in 27 % of the turn.
-    let path_per_m = 0.1f64.tan() / follower().wheelbase_m;
-    let taught = run(false, false);
-    assert!(
-        taught > 0.2 * path_per_m,
-        "a fresh image: the turn is the row's, {taught}"
-    );
-    let held = run(false, true);
-    assert!(
-        held < taught / 3.0,
-        "held: smoothed over 5 m, {held} of {taught}"
-    );
-    let not_taught = run(true, true);
-    assert!(not_taught.abs() < 1e-12, "turning in a gap: {not_taught}");
 }
 
 #[test]
@@ -195,7 +149,7 @@ fn the_row_seen_before_an_arc_is_moved_into_the_robots_frame_as_the_arc_moved_it
         turned_rad,
     };
     let standing = Motion::default();
-    let out = law.update_moved(&estimate(angle_rad, offset_m), since, false, 0.0, &standing);
+    let out = law.update_moved(&estimate(angle_rad, offset_m), since, 0.0, &standing);
 
     // Where the arc took the robot, in the image's frame, and the camera's row point
     // seen from there.
@@ -213,35 +167,6 @@ fn the_row_seen_before_an_arc_is_moved_into_the_robots_frame_as_the_arc_moved_it
 }
 
 #[test]
-fn in_a_gap_the_row_bends_as_the_path_did_over_five_filter_lengths() {
-    // The held curvature is the path's smoothed over HELD_CURVATURE_SPAN times
-    // curvature_filter_m of travel: after that much of a new steady turn it has taken
-    // 1 - 1/e of the turn. Held too short, a gap takes the last correction for the
-    // row's bend; held too long, or not learnt, the robot leaves an arc in every gap.
-    let mut law = follower();
-    let span_m = HELD_CURVATURE_SPAN * law.s.curvature_filter_m;
-    let wheel_angle_rad: f64 = 0.1;
-    let turning = Motion {
-        speed_mps: 1.0,
-        wheel_angle_rad,
-        yaw_rate_rps: wheel_angle_rad.tan() / law.wheelbase_m,
-    };
-    let (row, still) = (estimate(0.0, 0.0), Travel::default());
-    // 0.1 m per update; the first one has no interval behind it.
-    let steps = (span_m / 0.1).round() as usize + 1;
-    for k in 0..steps {
-        law.update_moved(&row, still, false, k as f64 * 0.1, &turning);
-    }
-    let held = law.update_moved(&row, still, true, steps as f64 * 0.1, &turning);
-    let share = held.row_curvature_per_m / (wheel_angle_rad.tan() / law.wheelbase_m);
-    let expected = 1.0 - (-1.0f64).exp();
-    assert!(
-        (share - expected).abs() < 0.02,
-        "held {share:.3} of the turn, expected {expected:.3}"
-    );
-}
-
-#[test]
 fn pure_pursuit_steers_along_the_circle_through_the_look_ahead_point() {
     // A straight row, parallel, 10 cm to the left: the circle from the rear axle through
     // the row point at the look-ahead distance has curvature 2 y / (x^2 + y^2), and a
@@ -251,7 +176,6 @@ fn pure_pursuit_steers_along_the_circle_through_the_look_ahead_point() {
     let out = law.update_moved(
         &estimate(0.0, offset_m),
         Travel::default(),
-        false,
         0.0,
         &Motion::default(),
     );
@@ -283,7 +207,6 @@ fn the_integral_adds_no_more_than_its_limit_of_wheel_angle() {
         law.update_moved(
             &estimate(0.0, 0.02),
             Travel::default(),
-            false,
             k as f64 * 0.1,
             &driving,
         );

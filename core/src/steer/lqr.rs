@@ -44,7 +44,7 @@ pub(crate) type Gain = SMatrix<f64, 1, N>;
 pub(crate) const ANGLE_PRICE: f64 = 1e-5;
 /// The crab's own drift back to level, in slope lengths: slow, only so that the model
 /// has a steady state.
-pub(crate) const CRAB_RETURN_LENGTHS: f64 = 20.0;
+const CRAB_RETURN_LENGTHS: f64 = 20.0;
 /// Rounds of the doubling algorithm: 2⁴⁰ steps, far past the slowest error's settling.
 pub(crate) const DOUBLINGS: usize = 40;
 

@@ -93,7 +93,7 @@ impl SteerCore {
             ..*new
         };
         self.law = RowFollower::new(s, &self.settings.robot);
-        self.lqr = LqrLaw::new(&self.settings);
+        self.lqr.retune(&self.settings);
     }
 
     /// The steering-law parameters in use.
@@ -201,13 +201,9 @@ impl SteerCore {
                 };
                 let law = match self.settings.steer.law {
                     SteerLaw::Lqr => (self.lqr).update(&self.rows.filter().state(), now_s, &motion),
-                    _ => (self.law).update_moved(
-                        &row.estimate,
-                        row.since,
-                        row.repeated,
-                        now_s,
-                        &motion,
-                    ),
+                    SteerLaw::Pursuit => {
+                        (self.law).update_moved(&row.estimate, row.since, now_s, &motion)
+                    }
                 };
                 ((row.speed_mps, law.wheel_angle_rad), law)
             }

@@ -1,10 +1,9 @@
 //! Which sensors steer in autonomous mode, and the row filter that fuses them.
 //!
-//! [steer] source = camera: the camera's estimate goes to the steering law as it always
-//! did (the law moves it through the camera's latency). gnss or fused: the row filter
-//! (filter.rs) runs at every steer tick, predicted by the robot's odometry, updated by
-//! each new camera estimate at the pose where its image was taken and by each new
-//! trusted GNSS fix against the row map at the pose where the receiver measured it
+//! The row filter (filter.rs) runs at every steer tick, whatever the source: predicted by
+//! the robot's odometry, updated by each new camera estimate at the pose where its image
+//! was taken (through the filter's gate) and, for gnss or fused, by each new trusted
+//! GNSS fix against the row map at the pose where the receiver measured it
 //! (sources_fuse.rs); the law steers by the filter's row now.
 //!
 //! Fused falls back as a controller manager's fallback controllers do:
@@ -16,8 +15,9 @@
 //!
 //! The same file decides for source = gnss: GNSS alone, or nothing.
 //!
-//! A camera that repeats its last estimate (a gap in the row) is steered by as the row
-//! line it last saw, for at most [camera] gap_hold_m (camera_hold.rs).
+//! A camera that repeats its last estimate (a gap in the row) updates nothing: odometry
+//! carries the filter's row, at [camera] gap_speed_mps at most, for at most [camera]
+//! gap_hold_m (camera_hold.rs).
 
 use mechweed_hw::camproto::RowEstimate;
 
@@ -57,7 +57,9 @@ pub struct SourceHealth {
     /// Autonomous by the camera alone, begun with no row in sight: the robot drives
     /// straight ahead to find its first plants, for at most [camera] first_row_m.
     pub searching: bool,
-    /// The row filter's row offset at the rear axle, m (0 when the camera steers alone).
+    /// The row filter's row offset at the rear axle, m. The off-the-row fault reads it
+    /// only when GNSS steers: steering by the camera alone, losing the row is the
+    /// camera's own fault (it sees no row).
     pub row_offset_m: f64,
     /// Why a sensor is not steering now (the camera's or GNSS's trouble), for the
     /// notice of each change; None where the chosen sensors are all there are.
@@ -75,7 +77,8 @@ pub struct RowFigures {
     pub gnss_sd_m: Option<f64>,
     /// The antenna's latitude and longitude in that fix, degrees.
     pub gnss_position: Option<(f64, f64)>,
-    /// The row filter (None when the camera steers alone).
+    /// The row filter (None when the camera steers alone: its figures are then the
+    /// camera's own, and the record keeps those).
     pub filter: Option<FilterFigures>,
 }
 
@@ -98,8 +101,6 @@ pub struct RowChoice {
     pub estimate: RowEstimate,
     /// The robot's motion since the estimate's image was taken, as the law takes it.
     pub since: Travel,
-    /// The camera repeats an estimate it sent before (a gap in the row).
-    pub repeated: bool,
     pub speed_mps: f64,
 }
 
@@ -188,10 +189,7 @@ impl RowSources {
             camera_good_s: self.camera_good_s,
             gnss_good_s: self.gnss_good_s,
             searching: self.searching,
-            row_offset_m: match self.s.source {
-                SteerSource::Camera => 0.0,
-                _ => self.filter.state().offset_m,
-            },
+            row_offset_m: self.filter.state().offset_m,
             why: match (self.steering, self.s.source) {
                 (Steering::FilterGnss, SteerSource::Fused) => Some(self.camera_trouble),
                 (Steering::FilterCamera, _) => Some(self.fix_checks.trouble),
@@ -350,7 +348,6 @@ impl RowSources {
                 quality: 100,
             },
             since: Travel::at_rates(m.speed_mps, m.yaw_rate_rps, self.law_age_s),
-            repeated: false,
             speed_mps,
         })
     }

@@ -322,9 +322,9 @@ impl Supervisor {
         }
     }
 
-    /// Publish a notice for the operator and keep it for the report.
-    /// Each change of the sensors that steer, while autonomous by GNSS or the fused row,
-    /// is a notice (the console's line, the GUI's, the record's event).
+    /// Each change of the sensors that steer, or of why, while autonomous is a notice
+    /// (the console's line, the GUI's, the record's event): GNSS's fall-backs, and the
+    /// camera alone's gaps and search for its first plants.
     fn say_steering(&mut self, steer: &SteerCommand, now_s: f64) {
         let autonomous = self.status.mode == Mode::Autonomous && steer.mode == Mode::Autonomous;
         // The camera alone says only what it lacks: a gap, the first plants not seen yet.
@@ -344,6 +344,7 @@ impl Supervisor {
         }
     }
 
+    /// Publish a notice for the operator and keep it for the report.
     fn say(&mut self, notice: Notice) {
         self.status.notice = Some(notice);
         if self.notice_log.len() < LOG_CAPACITY {

@@ -1,6 +1,7 @@
 //! The camera alone through a gap in the row: the row filter carries the row by the
 //! robot's own motion, and the robot slows while it does.
 
+use crate::gnss_safety::said;
 use crate::row_following::gappy_row;
 use mechweed_core::state::modes::Mode;
 use mechweed_core::threads::lockstep::Lockstep;
@@ -41,10 +42,9 @@ fn through_a_gap_the_camera_alone_slows_to_its_gap_speed_and_says_so() {
         late_in_a_gap_mps < gap_speed_mps + 0.05,
         "{late_in_a_gap_mps} m/s late in a gap, gap speed {gap_speed_mps}"
     );
-    let said = sim
-        .supervisor
-        .notices()
-        .iter()
-        .any(|n| n.to_string().contains("a gap in the row"));
-    assert!(said, "{:?}", sim.supervisor.notices());
+    assert!(
+        said(&sim, "a gap in the row"),
+        "{:?}",
+        sim.supervisor.notices()
+    );
 }

@@ -28,7 +28,6 @@ fn driving_by_joystick(s: &Settings) -> Lockstep {
     sim
 }
 
-/// The time of the tick at `k` steps of 10 ms after `t0_s`.
 /// The run's one fault is `cause`, latched after `allowed_s` from the switch closing at
 /// `hit_s` (`None`: it never closed) and within the tick after.
 fn the_only_fault_in_its_time(
@@ -48,6 +47,7 @@ fn the_only_fault_in_its_time(
     );
 }
 
+/// The time of the tick at `k` steps of 10 ms after `t0_s`.
 fn tick_time(t0_s: f64, k: usize) -> f64 {
     t0_s + k as f64 * 0.01
 }

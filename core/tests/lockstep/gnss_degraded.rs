@@ -2,10 +2,9 @@
 //! decimetres, and fixes the row filter's gate rejects. Each starts from what drove the
 //! robot off its row: the degraded fixes steering at full speed with no fault.
 
-use crate::gnss_safety::{give_map, gnss_alone, stopped_with_no_row};
+use crate::gnss_safety::{give_map, gnss_alone, said, stopped_with_no_row};
 use mechweed_core::config::SteerSource;
 use mechweed_core::state::modes::Mode;
-use mechweed_core::state::status::Notice;
 use mechweed_core::threads::lockstep::Lockstep;
 use mechweed_hw::geo::Geodetic;
 
@@ -24,13 +23,6 @@ fn run_past(sim: &mut Lockstep, from_s: f64, settle_s: f64, until_s: f64) -> (f6
         driven_m = driven_m.max(truth.distance_m);
     }
     (at_m, top_mps, driven_m)
-}
-
-fn said(sim: &Lockstep, words: &str) -> bool {
-    sim.supervisor
-        .notices()
-        .iter()
-        .any(|n| matches!(n, Notice::Steering { .. }) && n.to_string().contains(words))
 }
 
 #[test]

@@ -9,10 +9,19 @@ use common::settings_with;
 use mechweed_core::config::{CameraPort, GnssPort, Settings, SteerSource};
 use mechweed_core::gnss::place::RowPlace;
 use mechweed_core::state::modes::Mode;
+use mechweed_core::state::status::Notice;
 use mechweed_core::steer::SteerCore;
 use mechweed_core::threads::lockstep::Lockstep;
 use mechweed_hw::geo::Geodetic;
 use mechweed_hw::sim::{RowShape, SimParams, parse_events};
+
+/// Whether the supervisor gave a steering notice with `words` in it.
+pub(crate) fn said(sim: &Lockstep, words: &str) -> bool {
+    sim.supervisor
+        .notices()
+        .iter()
+        .any(|n| matches!(n, Notice::Steering { .. }) && n.to_string().contains(words))
+}
 
 pub(crate) fn gnss_alone(events: &str) -> Settings {
     let mut s = settings_with("", &[]);

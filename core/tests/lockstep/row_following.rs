@@ -7,6 +7,7 @@
 
 use crate::common;
 
+use crate::gnss_safety::said;
 use common::settings_with;
 use mechweed_core::bench::rows::run_row;
 use mechweed_core::config::{Settings, SteerSource};
@@ -376,11 +377,10 @@ fn started_again_in_a_gap_the_robot_looks_for_plants_straight_ahead_slowly_then_
         searched_m > s.camera.first_row_m - 0.1,
         "drove {searched_m} m"
     );
-    let said = sim
-        .supervisor
-        .notices()
-        .iter()
-        .any(|n| n.to_string().contains("no row in sight yet"));
-    assert!(said, "{:?}", sim.supervisor.notices());
+    assert!(
+        said(&sim, "no row in sight yet"),
+        "{:?}",
+        sim.supervisor.notices()
+    );
     assert_the_camera_sees_no_row(&sim);
 }
