@@ -87,8 +87,8 @@ impl LqrLaw {
     }
 
     /// New [steer] settings taken in Halt: the look-ahead and the integral change; the
-    /// gains do not (they come from the robot's model and the thread's rate, which no
-    /// request changes), so nothing is solved in the steer thread.
+    /// gains do not (they come from the model this thread keeps from its start, and its
+    /// rate), so nothing is solved in the steer thread.
     pub fn retune(&mut self, s: &Settings) {
         self.lookahead_m = s.steer.lookahead_m;
         self.ki_per_m2 = s.steer.ki_per_m2;
