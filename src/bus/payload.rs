@@ -34,6 +34,8 @@ pub(crate) fn status_json(
         "mode": status.mode.name(),
         "power": power,
         "fault": status.fault.map(|f| f.cause.to_string()),
+        "fault_check": status.fault.map(|f| f.cause.what_to_check()),
+        "fault_came_back_after_s": status.fault.and_then(|f| f.came_back_after_s),
         "notice": status.notice.map(|n| n.to_string()),
         "speed_mps": status.measured.speed_mps,
         "wheel_angle_rad": status.measured.wheel_angle_rad,

@@ -272,8 +272,8 @@ mod tests {
         );
         // " at " in ordinary words stays.
         assert_eq!(
-            super::plain_words(&"nothing at port 7447"),
-            "nothing at port 7447"
+            super::plain_words(&"nothing at port 7510"),
+            "nothing at port 7510"
         );
     }
 }

@@ -9,7 +9,7 @@
 //! master = tcp/192.168.1.20:7450
 //! master_lost = run_on
 //! [machine robot-pc]
-//! endpoint = tcp/192.168.1.10:7447
+//! endpoint = tcp/192.168.1.10:7510
 //! [process controller]
 //! machine = robot-pc
 //! program = run
@@ -41,7 +41,7 @@ pub(crate) struct Machine {
     pub name: String,
     /// Where the programs of other machines reach this one's (the controller's bus).
     pub endpoint: String,
-    /// Where this machine's controller listens (default: `endpoint`; e.g. tcp/0.0.0.0:7447).
+    /// Where this machine's controller listens (default: `endpoint`; e.g. tcp/0.0.0.0:7510).
     pub listen: String,
 }
 

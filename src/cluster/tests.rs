@@ -25,7 +25,7 @@ fn the_shipped_graphs_are_read_whole() {
     assert_eq!(field.flows.len(), 5);
     assert_eq!(field.master_lost, MasterLost::RunOn);
     assert_eq!(field.controller().unwrap().name, "controller");
-    assert_eq!(field.controller_endpoint(), Some("tls/192.168.1.10:7447"));
+    assert_eq!(field.controller_endpoint(), Some("tls/192.168.1.10:7510"));
     assert!(field.tls.is_some(), "the field's cluster is secured");
     let local = Graph::parse("config/cluster-local.ini", LOCAL).unwrap();
     let names = |g: &Graph| {
@@ -42,6 +42,26 @@ fn the_shipped_graphs_are_read_whole() {
             machine.endpoint.starts_with("tcp/127.0.0.1:"),
             "{machine:?}"
         );
+    }
+}
+
+#[test]
+fn no_shipped_graph_listens_on_a_zenoh_routers_port() {
+    // 7447 is the TCP port of zenohd and of rmw_zenohd (ROS 2's router), 7446 Zenoh's
+    // UDP scouting port: a controller or master there does not start beside them.
+    for (file, text) in [
+        ("config/cluster.ini", FIELD),
+        ("config/cluster-local.ini", LOCAL),
+    ] {
+        let graph = Graph::parse(file, text).unwrap();
+        let mut endpoints = vec![graph.master.clone()];
+        for m in &graph.machines {
+            endpoints.extend([m.endpoint.clone(), m.listen.clone()]);
+        }
+        for endpoint in endpoints {
+            let port: u16 = endpoint.rsplit_once(':').unwrap().1.parse().unwrap();
+            assert!(![7447, 7446].contains(&port), "{file}: {endpoint}");
+        }
     }
 }
 

@@ -78,7 +78,7 @@ pub(crate) fn operate(
             && faults_seen != Some(fault.tick_seen)
         {
             faults_seen = Some(fault.tick_seen);
-            crate::say!("{:7.2} s  FAULT: {}", fault.t_s, fault.cause);
+            crate::say!("{}", log_style::fault_line(&fault));
         }
         if status.mode != mode_seen {
             crate::say!("{now_s:7.2} s  mode: {mode_seen} -> {}", status.mode);
@@ -165,14 +165,13 @@ impl StatusLine<'_> {
         let [supervisor_loop, steer_loop] = handles.loops.each_ref().map(Reader::snapshot);
         let check = liu_layland(&[supervisor_loop, steer_loop]);
         crate::say!(
-            "           supervisor late p99 {} us, max {} us, exec max {} us, {} overruns; steer exec max {} us; Liu-Layland load {:.3} of {:.3}",
+            "           supervisor late p99 {} us, max {} us, exec max {} us, {} overruns; steer exec max {} us; Liu-Layland {}",
             supervisor_loop.late_us.p99,
             supervisor_loop.late_us.max,
             supervisor_loop.exec_us.max,
             supervisor_loop.overruns,
             steer_loop.exec_us.max,
-            check.utilisation,
-            check.bound,
+            check.words(),
         );
         if let Some(warning) = &handles.not_realtime {
             crate::say!("           {warning}");

@@ -7,13 +7,19 @@ use serde::Serialize;
 use crate::bus::BusFigures;
 
 use crate::record::RecordOutcome;
+use crate::record::summary::cross_track_words;
 use crate::rt::{LiuLayland, LoopSummary, liu_layland};
 use crate::run::RunOutcome;
+use crate::state::modes::Mode;
 
 #[derive(Debug, Serialize)]
 pub(crate) struct FaultEntry {
     pub t_s: f64,
     pub cause: String,
+    pub what_to_check: &'static str,
+    /// The same kind of cause came back this long after the power-up that cleared it,
+    /// s; null: it did not.
+    pub came_back_after_s: Option<f64>,
     /// Supervisor ticks from the first tick that saw the cause to the one that wrote
     /// safe outputs.
     pub safe_after_ticks: u64,
@@ -78,9 +84,15 @@ impl CrossTrackReport {
     }
 }
 
+/// The exit status of a run that ended in Fault (docs/commands.md), so that a script or
+/// the service manager sees it; 1 is a run that could not start, 2 a wrong command line.
+pub const EXIT_FAULT: u8 = 3;
+
 #[derive(Debug, Serialize)]
 pub(crate) struct Report {
     pub mode_final: String,
+    /// The program's exit status for this run: 0, or EXIT_FAULT when it ended in Fault.
+    pub exit_code: u8,
     pub faults: Vec<FaultEntry>,
     pub notices: Vec<NoticeEntry>,
     pub distance_m: f64,
@@ -159,12 +171,19 @@ impl Report {
     pub(crate) fn from_run(run: &RunOutcome) -> Report {
         Report {
             mode_final: run.final_status.mode.name().to_string(),
+            exit_code: match run.final_status.mode {
+                _ if run.supervisor_panicked => EXIT_FAULT,
+                Mode::Fault => EXIT_FAULT,
+                _ => 0,
+            },
             faults: run
                 .faults
                 .iter()
                 .map(|f| FaultEntry {
                     t_s: f.t_s,
                     cause: f.cause.to_string(),
+                    what_to_check: f.cause.what_to_check(),
+                    came_back_after_s: f.came_back_after_s,
                     safe_after_ticks: f.tick_safe - f.tick_seen,
                 })
                 .collect(),
@@ -216,9 +235,12 @@ impl Report {
     pub(crate) fn human(&self) -> String {
         let mut out = String::new();
         out += &format!(
-            "final mode: {}, distance {:.1} m\n",
+            "final mode: {}, distance {:.2} m\n",
             self.mode_final, self.distance_m
         );
+        if self.exit_code == EXIT_FAULT {
+            out += &format!("the run ended in fault: mechweed exits with status {EXIT_FAULT}\n");
+        }
         if self.faults.is_empty() {
             out += "faults: none\n";
         }
@@ -227,6 +249,10 @@ impl Report {
                 "fault at {:.2} s: {} (safe outputs after {} ticks)\n",
                 f.t_s, f.cause, f.safe_after_ticks
             );
+            if let Some(after_s) = f.came_back_after_s {
+                out += &format!("  {}\n", crate::state::fault_advice::CameBack { after_s });
+            }
+            out += &format!("  what to check: {}\n", f.what_to_check);
         }
         for n in &self.notices {
             out += &format!("at {:.2} s: {}\n", n.t_s, n.what);
@@ -239,17 +265,7 @@ impl Report {
             out += &loop_line(name, l);
             out += "\n";
         }
-        let ll = &self.loops.liu_layland;
-        out += &format!(
-            "Liu-Layland: worst-case load {:.3} of bound {:.3}: {}\n",
-            ll.utilisation,
-            ll.bound,
-            if ll.schedulable {
-                "schedulable"
-            } else {
-                "NOT guaranteed schedulable"
-            }
-        );
+        out += &format!("Liu-Layland: {}\n", self.loops.liu_layland.words());
         for warning in &self.rt_warnings {
             out += &format!("real-time: {warning}\n");
         }
@@ -315,11 +331,25 @@ impl Report {
             c.max_cm,
             c.share_over_2cm,
         ) {
-            (Some(mean), Some(sd), Some(rms), Some(p95), Some(max), Some(share)) => format!(
-                "tool cross-track (after the first {from_m} m, over {:.1} m): mean {mean:.2} cm, s.d. {sd:.2} cm, RMS {rms:.2} cm, p95 {p95:.2} cm, max {max:.2} cm, {:.1} % of distance over 2 cm\n",
-                c.distance_m,
-                share * 100.0
-            ),
+            (
+                Some(mean_cm),
+                Some(sd_cm),
+                Some(rms_cm),
+                Some(p95_cm),
+                Some(max_cm),
+                Some(share_over_2cm),
+            ) => {
+                let figures = CrossTrackSummary {
+                    mean_cm,
+                    sd_cm,
+                    rms_cm,
+                    p95_cm,
+                    max_cm,
+                    share_over_2cm,
+                    distance_m: c.distance_m,
+                };
+                format!("{}\n", cross_track_words(&figures, from_m))
+            }
             _ if self.outside_camera => format!("{OUTSIDE_CAMERA}\n"),
             _ if !self.simulated => {
                 "tool cross-track: none (only the simulated robot knows where the row is)\n".into()
@@ -333,6 +363,11 @@ impl Report {
             ),
         }
     }
+}
+
+/// The summary a run prints as it ends (`mechweed run`), from its outcome.
+pub fn closing_summary(run: &RunOutcome) -> String {
+    Report::from_run(run).human()
 }
 
 /// Where a run's record went, and how whole it is (`run` and `bench loop`).

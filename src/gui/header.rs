@@ -1,12 +1,14 @@
-//! Always visible: the mode, the HALT button (also the Space key), the active fault in
-//! a field technician's words and how long ago it happened, and the supervisor's last
-//! answer to the operator.
+//! Always visible: the mode, the HALT button (also the Space key), a pressed e-stop,
+//! the active fault in a field technician's words, how long ago it happened, what to
+//! check and whether it came back after a power-up, and the supervisor's last answer
+//! to the operator.
 
 use eframe::egui::{self, Color32, RichText};
 
 use super::requests::Requests;
 use super::theme;
 use super::view::{RemoteLink, View};
+use crate::state::fault_advice::CameBack;
 use crate::state::modes::{Mode, Request};
 
 /// If the supervisor has not published for this long, it has stopped, s.
@@ -138,16 +140,42 @@ fn fault_line(ui: &mut egui::Ui, view: &View) {
     if view.remote.as_ref().is_some_and(RemoteLink::stale) {
         ui.disable();
     }
-    let remote_fault = view.remote.as_ref().and_then(|link| link.fault.as_ref());
-    let text = match (view.status.fault, remote_fault) {
+    // Whatever fault is latched: a pressed e-stop is what a person at the robot must
+    // know first, and a latched fault of another cause would hide it.
+    if let Some(pressed) = estop_words(view) {
+        ui.label(
+            RichText::new(pressed)
+                .size(18.0)
+                .strong()
+                .color(theme::fault(ui)),
+        );
+    }
+    let remote = view.remote.as_ref();
+    let (text, check, came_back_after_s) = match (view.status.fault, remote) {
         // Over the bus the fault comes in words.
-        (None, Some(fault)) => format!("FAULT: {fault}"),
-        (Some(fault), _) => format!(
-            "FAULT: {}  ({:.1} s ago)",
-            fault.cause,
-            (view.now_s - fault.t_s).max(0.0)
+        (
+            None,
+            Some(RemoteLink {
+                fault: Some(fault),
+                fault_check,
+                fault_came_back_after_s,
+                ..
+            }),
+        ) => (
+            format!("FAULT: {fault}"),
+            fault_check.as_deref(),
+            *fault_came_back_after_s,
         ),
-        (None, None) => {
+        (Some(fault), _) => (
+            format!(
+                "FAULT: {}  ({:.1} s ago)",
+                fault.cause,
+                (view.now_s - fault.t_s).max(0.0)
+            ),
+            Some(fault.cause.what_to_check()),
+            fault.came_back_after_s,
+        ),
+        (None, _) => {
             ui.label(RichText::new("no fault").size(18.0));
             return;
         }
@@ -158,6 +186,34 @@ fn fault_line(ui: &mut egui::Ui, view: &View) {
             .strong()
             .color(theme::fault(ui)),
     );
+    if let Some(after_s) = came_back_after_s {
+        let words = CameBack { after_s }.to_string();
+        ui.label(
+            RichText::new(words)
+                .size(16.0)
+                .strong()
+                .color(theme::fault(ui)),
+        );
+    }
+    if let Some(check) = check {
+        ui.label(RichText::new(format!("what to check: {check}")).size(16.0));
+    }
+}
+
+/// "E-STOP FRONT PRESSED" (or back, or both) while one is, once the inputs are known:
+/// here from the first tick, over the bus from the first tick flow.
+fn estop_words(view: &View) -> Option<&'static str> {
+    let known = match &view.remote {
+        Some(link) => link.inputs_seen,
+        None => view.status.tick > 0,
+    };
+    let i = &view.status.inputs;
+    match (known, i.estop_front_released, i.estop_back_released) {
+        (false, _, _) | (true, true, true) => None,
+        (true, false, true) => Some("E-STOP FRONT PRESSED"),
+        (true, true, false) => Some("E-STOP BACK PRESSED"),
+        (true, false, false) => Some("E-STOP FRONT AND BACK PRESSED"),
+    }
 }
 
 /// Which robot this window watches over the bus, and how old its newest status is.

@@ -203,6 +203,7 @@ impl RemoteView {
                 Flow::Tick => parse_tick(&bytes).map(|tick| {
                     let json = serde_json::from_str(&tick.json).unwrap_or_default();
                     fill_from_tick(&mut self.view, &json);
+                    self.view.remote.get_or_insert_default().inputs_seen = true;
                 }),
             };
             if let Err(why) = read {
@@ -236,6 +237,9 @@ impl RemoteView {
         if let Some(link) = &mut self.view.remote {
             link.fault = json["fault"].as_str().map(str::to_string);
             link.notice = json["notice"].as_str().map(str::to_string);
+            // A robot of before these fields has none: nothing more is said then.
+            link.fault_check = json["fault_check"].as_str().map(str::to_string);
+            link.fault_came_back_after_s = json["fault_came_back_after_s"].as_f64();
         }
         Ok(())
     }

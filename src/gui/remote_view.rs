@@ -181,6 +181,8 @@ fn fill_steer(steer: &mut SteerCommand, tick: &Value, tick_t_s: f64) {
         gnss_quality: int(tick, "gnss_quality").clamp(0, 255) as u8,
         gnss_satellites: int(tick, "gnss_satellites").clamp(0, 255) as u8,
         gnss_sd_m: tick["gnss_sd_m"].as_f64(),
+        // Not in the tick: the robot's supervisor judges its receiver by it.
+        gnss_heard_s: None,
         gnss_position: tick["gnss_lat_deg"]
             .as_f64()
             .zip(tick["gnss_lon_deg"].as_f64()),

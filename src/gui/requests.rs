@@ -78,6 +78,7 @@ impl Default for Requests {
 fn refused_text(request: &Request, why: &str) -> String {
     match request {
         Request::TestOutputs(_) => format!("test outputs refused: {why}"),
+        Request::TestHold(_) => format!("hold to run refused: {why}"),
         _ => format!("refused: {why}"),
     }
 }

@@ -8,6 +8,7 @@ use super::requests::Requests;
 use super::theme;
 use super::view::{GamepadView, View};
 use crate::rt::liu_layland;
+use crate::state::fault_cause::FaultCause;
 
 fn on_off(on: bool) -> &'static str {
     if on { "on" } else { "off" }
@@ -199,9 +200,21 @@ fn loops_grid(ui: &mut egui::Ui, view: &View) {
             ui.label(RichText::new(text).strong());
         }
         ui.end_row();
-        for (name, l) in [("supervisor", view.loops[0]), ("steer", view.loops[1])] {
-            ui.label(name);
-            ui.monospace(format!("{:.0} Hz", l.rate_hz));
+        for (k, (name, l)) in [("supervisor", view.loops[0]), ("steer", view.loops[1])]
+            .into_iter()
+            .enumerate()
+        {
+            let colour = match loop_tone(view, k) {
+                Tone::Fault => Some(theme::fault(ui)),
+                Tone::Warning => Some(theme::warning(ui)),
+                Tone::Plain => None,
+            };
+            let cell = |ui: &mut egui::Ui, text: String| match colour {
+                Some(c) => ui.label(RichText::new(text).monospace().strong().color(c)),
+                None => ui.monospace(text),
+            };
+            cell(ui, name.to_string());
+            cell(ui, format!("{:.0} Hz", l.rate_hz));
             for us in [
                 l.late_us.p50,
                 l.late_us.p99,
@@ -209,27 +222,43 @@ fn loops_grid(ui: &mut egui::Ui, view: &View) {
                 l.exec_us.p99,
                 l.exec_us.max,
             ] {
-                ui.monospace(format!("{us} us"));
+                cell(ui, format!("{us} us"));
             }
-            ui.monospace(l.overruns.to_string());
+            cell(ui, l.overruns.to_string());
             ui.end_row();
         }
     });
+    // The run summary's check on the same figures, in its words (rt/liu_layland.rs).
     let check = liu_layland(&view.loops);
-    let text = format!(
-        "Liu-Layland: load from measured worst execution times {:.4}, bound {:.3}: {}",
-        check.utilisation,
-        check.bound,
-        if check.schedulable {
-            "schedulable"
-        } else {
-            "NOT guaranteed"
-        }
-    );
+    let text = format!("Liu-Layland: {}", check.words());
     if check.schedulable {
         ui.label(text);
     } else {
         ui.label(RichText::new(text).strong().color(theme::fault(ui)));
+    }
+}
+
+#[derive(Debug, PartialEq)]
+enum Tone {
+    Plain,
+    Warning,
+    Fault,
+}
+
+/// How loop `k`'s row looks (0: the supervisor, 1: the steer thread): a stall or a burst
+/// of overruns that faulted the robot in the fault's colour, overruns that did not in
+/// the warning's, so that a busy computer shows where its figures are.
+fn loop_tone(view: &View, k: usize) -> Tone {
+    let timing_fault = view.status.fault.is_some_and(|f| {
+        matches!(
+            f.cause,
+            FaultCause::LateTick { .. } | FaultCause::Overruns { .. }
+        )
+    });
+    match (k, view.loops[k].overruns) {
+        (0, _) if timing_fault => Tone::Fault,
+        (_, 0) => Tone::Plain,
+        _ => Tone::Warning,
     }
 }
 
@@ -313,5 +342,32 @@ pub fn show(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
                 ui.label(&view.bus_endpoints);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::state::status::FaultRecord;
+
+    #[test]
+    fn overruns_are_a_warning_and_a_stall_that_faulted_is_the_faults_colour() {
+        let mut view = View::default();
+        assert_eq!(loop_tone(&view, 0), Tone::Plain);
+        view.loops[0].overruns = 12;
+        assert_eq!(loop_tone(&view, 0), Tone::Warning);
+        assert_eq!(loop_tone(&view, 1), Tone::Plain, "the steer loop had none");
+        view.status.fault = Some(FaultRecord {
+            cause: FaultCause::LateTick {
+                late_ms: 97.0,
+                limit_ms: 50.0,
+                load: None,
+            },
+            t_s: 3.0,
+            tick_seen: 300,
+            tick_safe: 300,
+            came_back_after_s: None,
+        });
+        assert_eq!(loop_tone(&view, 0), Tone::Fault);
     }
 }

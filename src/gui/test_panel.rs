@@ -10,6 +10,12 @@
 //! (HALT) or any fault writes the safe outputs in that same tick; e-stops and every fault check keep working.
 //! If the GUI stops, its heartbeat fault does the same. When the mode is not Test the
 //! panel forgets its switches, so re-entering Test starts from safe outputs.
+//!
+//! Hold to run: the amplifiers get the panel's volts only while a person holds the
+//! panel's Hold to run (the pointer pressed on it, or the H key held) or the joystick's
+//! dead-man. The panel tells the supervisor each frame a hold goes on (renewed every
+//! HOLD_RENEW_S) and at once when it ends; the supervisor lets a hold that is not
+//! renewed lapse by itself, so a GUI that stops with the button down stops the wheels.
 
 use eframe::egui::{self, RichText};
 use mechweed_hw::Outputs;
@@ -22,6 +28,13 @@ use crate::supervisor::rules::why_not;
 
 /// A step waits this long at 0 V before jumping, so the plot shows the jump, s.
 const STEP_DELAY_S: f64 = 1.0;
+
+/// A hold is renewed this often, s: well inside the supervisor's lapse time
+/// (supervisor::test_mode::PANEL_HOLD_S, 0.25 s).
+pub(crate) const HOLD_RENEW_S: f64 = 0.1;
+
+/// The key that holds like the button, while no text field has the keyboard.
+const HOLD_KEY: egui::Key = egui::Key::H;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Wave {
@@ -78,6 +91,10 @@ pub struct TestPanel {
     /// No amplifier gets more than this, V.
     pub max_v: f64,
     last_sent: Option<Outputs>,
+    /// The last frame drawn saw Hold to run held.
+    holding: bool,
+    /// When the hold now going on was last sent (None: no hold sent), s.
+    hold_sent_s: Option<f64>,
 }
 
 impl Default for TestPanel {
@@ -87,18 +104,22 @@ impl Default for TestPanel {
             amps: [AmpTest::default(); 3],
             max_v: 3.0,
             last_sent: None,
+            holding: false,
+            hold_sent_s: None,
         }
     }
 }
 
 impl TestPanel {
-    /// A ramp or a step is under way: the voltage asked for changes with time.
+    /// A ramp or a step is under way, or a hold that must be renewed: the GUI must keep
+    /// passing.
     pub(crate) fn changing(&self, now_s: f64) -> bool {
-        self.last_sent.is_some()
-            && self
-                .amps
-                .iter()
-                .any(|a| a.volts(now_s, self.max_v) != a.volts(f64::INFINITY, self.max_v))
+        self.hold_sent_s.is_some()
+            || self.last_sent.is_some()
+                && self
+                    .amps
+                    .iter()
+                    .any(|a| a.volts(now_s, self.max_v) != a.volts(f64::INFINITY, self.max_v))
     }
 
     /// The outputs the panel asks for now.
@@ -130,12 +151,31 @@ impl TestPanel {
             // supervisor has it, so entering Test after Power up leaves power on.
             self.outputs.main_power_on = view.status.outputs.main_power_on;
         }
+        self.keep_holding(view.now_s, requests);
         let wanted = self.wanted(view.now_s);
         if self.last_sent == Some(wanted) {
             return;
         }
         self.last_sent = Some(wanted);
         requests.ask_quietly(Request::TestOutputs(wanted));
+    }
+
+    /// The hold as the last frame saw it: renewed while held, ended when let go. A pass
+    /// with no frame drawn (the tab not shown, the window minimised) is no hold.
+    fn keep_holding(&mut self, now_s: f64, requests: &mut Requests) {
+        let held = std::mem::take(&mut self.holding);
+        match (held, self.hold_sent_s) {
+            (true, Some(sent_s)) if now_s - sent_s < HOLD_RENEW_S => {}
+            (true, _) => {
+                requests.ask_quietly(Request::TestHold(true));
+                self.hold_sent_s = Some(now_s);
+            }
+            (false, Some(_)) => {
+                requests.ask_quietly(Request::TestHold(false));
+                self.hold_sent_s = None;
+            }
+            (false, None) => {}
+        }
     }
 
     pub fn show(&mut self, ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
@@ -165,7 +205,17 @@ impl TestPanel {
                 ui.label(RichText::new(why).weak());
             }
         });
+        if in_test {
+            ui.label(
+                RichText::new(
+                    "The robot must be on its stand with the drive wheels off the ground.",
+                )
+                .strong()
+                .color(super::theme::warning(ui)),
+            );
+        }
         ui.add_enabled_ui(in_test, |ui| {
+            self.hold_button(ui, view);
             ui.heading("Digital outputs");
             ui.horizontal(|ui| {
                 let o = &mut self.outputs;
@@ -194,6 +244,21 @@ impl TestPanel {
         ui.separator();
         ui.heading("Inputs");
         inputs_grid(ui, view);
+    }
+
+    /// Hold to run, and whether something holds now.
+    fn hold_button(&mut self, ui: &mut egui::Ui, view: &View) {
+        ui.horizontal(|ui| {
+            let button = ui.add(egui::Button::new(RichText::new("Hold to run").strong()));
+            let key = ui.input(|i| i.key_down(HOLD_KEY)) && !ui.ctx().text_edit_focused();
+            self.holding = button.is_pointer_button_down_on() || key;
+            let deadman = view.status.inputs.joystick_enable;
+            ui.label(if self.holding || deadman {
+                "held: the amplifiers get the panel's volts"
+            } else {
+                "not held: every amplifier 0 V (hold this button, the H key, or the dead-man)"
+            });
+        });
     }
 
     /// One row per amplifier: its level, its ramp, its wave, and the volts it gives now.

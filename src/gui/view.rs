@@ -81,6 +81,12 @@ pub struct RemoteLink {
     /// The robot's fault and notice, in its words (the flows carry words, not causes).
     pub fault: Option<String>,
     pub notice: Option<String>,
+    /// What to check for that fault, and how long after the power-up that cleared the
+    /// same cause it came back, s (None from a robot that does not say).
+    pub fault_check: Option<String>,
+    pub fault_came_back_after_s: Option<f64>,
+    /// A tick has come: the inputs (the e-stops) are the robot's, not the defaults.
+    pub inputs_seen: bool,
     /// Messages on the flows that could not be read (the first few are logged).
     pub refused: u64,
 }

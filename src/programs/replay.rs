@@ -4,7 +4,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use crate::replay::{
-    ANGLE_TOLERANCE_DEG, Fault, Outcome, ReplayOptions, SPEED_TOLERANCE_MPS, replay as run_replay,
+    ANGLE_TOLERANCE_DEG, Fault, Outcome, ReplayOptions, SPEED_TOLERANCE_MPS, SteerFigures,
+    replay as run_replay,
 };
 use clap::Args;
 
@@ -107,7 +108,17 @@ pub fn words(o: &Outcome, whatif: bool) -> String {
         format!(" ({} compared)", o.compared)
     };
     match (&o.first_difference, whatif) {
-        (None, false) => out += &format!("{} ticks{window}, outputs identical\n", o.ticks),
+        (None, false) => {
+            let answers = match o.requests {
+                0 => "",
+                _ if o.compared < o.ticks => ", and the answers to the requests among them",
+                _ => ", and the answers to the operator's requests",
+            };
+            out += &format!(
+                "{} ticks{window}, outputs identical to the record: the mode, the amplifiers (to the bit), the main power relay, the brakes and the tool{answers}\n",
+                o.ticks
+            )
+        }
         (None, true) => {
             out += &format!(
                 "{} ticks{window}: the what-if's outputs are the run's\n",
@@ -146,29 +157,52 @@ pub fn words(o: &Outcome, whatif: bool) -> String {
             }
         }
     }
-    let st = &o.steer;
-    if whatif {
-        out += &format!(
-            "steering law: {} commands of the what-if's law on the run's estimates, up to {:.3} deg and {:.4} m/s from the run's\n",
-            st.commands, st.max_angle_diff_deg, st.max_speed_diff_mps
-        );
-    } else {
-        out += &format!(
-            "steering law: {} commands made again from the recorded estimates, within {:.3} deg and {:.4} m/s of the recorded (tolerance {ANGLE_TOLERANCE_DEG} deg, {SPEED_TOLERANCE_MPS} m/s: the record keeps the last steer command of each supervisor tick, not every one)\n",
-            st.commands, st.max_angle_diff_deg, st.max_speed_diff_mps
-        );
-    }
-    if let Some((t_s, recorded, again)) = st.first_beyond {
-        out += &format!(
-            "steering law: {} commands beyond {ANGLE_TOLERANCE_DEG} deg or {SPEED_TOLERANCE_MPS} m/s, the first at {t_s:.3} s: {} {recorded:.3} deg, {} {again:.3} deg\n",
-            st.beyond,
-            if whatif { "the run" } else { "recorded" },
-            if whatif { "the what-if" } else { "made again" },
-        );
-    }
+    out += &steer_words(&o.steer, whatif);
     if !o.written.is_empty() {
         out += &format!("the what-if's record: {}\n", o.written.join(", "));
     }
+    out
+}
+
+/// The steer commands made again beside the supervisor, and how far they are from the
+/// recorded: said apart from the outputs, since the supervisor was given the recorded
+/// commands and its outputs do not depend on these (replay/steer.rs says why they differ).
+fn steer_words(st: &SteerFigures, whatif: bool) -> String {
+    let tolerance = format!("{ANGLE_TOLERANCE_DEG} deg and {SPEED_TOLERANCE_MPS} m/s");
+    let apart = format!(
+        "{:.3} deg and {:.4} m/s",
+        st.max_angle_diff_deg, st.max_speed_diff_mps
+    );
+    let first = |run: &str, again: &str| {
+        st.first_beyond
+            .map_or(String::new(), |(t_s, recorded, made)| {
+                format!(
+                    ", the first at {t_s:.3} s ({run} {recorded:.3} deg, {again} {made:.3} deg)"
+                )
+            })
+    };
+    if whatif {
+        return format!(
+            "steer commands: {} made by the what-if's steering law from the run's estimates, at most {apart} from the run's; {} of them beyond {tolerance}{}\n",
+            st.commands,
+            st.beyond,
+            first("the run", "the what-if")
+        );
+    }
+    let made = format!(
+        "steer commands: {} made again by the steering law from the recorded estimates",
+        st.commands
+    );
+    if st.beyond == 0 {
+        return format!("{made}, all within {tolerance} of the recorded (at most {apart})\n");
+    }
+    let mut out = format!(
+        "{made}: {} within {tolerance} of the recorded, {} differ from it by at most {apart}{}\n",
+        st.commands - st.beyond,
+        st.beyond,
+        first("recorded", "made again")
+    );
+    out += "steer commands: such differences are expected and do not touch the outputs above, which the supervisor made from the recorded commands: the record keeps the last steer command of each supervisor tick, not every one, nor which status the steer thread had copied, so the law made again can miss a step that moved its filters\n";
     out
 }
 

@@ -73,10 +73,12 @@ impl Ros2Args {
 
 /// The ROS router and the robot's bus at one endpoint would be one Zenoh network, the
 /// robot's flows and ROS's mixed, and no ROS machine would hear the topics: refused.
+/// The shipped ends are apart (7447 and 7510); a robot.ini that still listens on 7447,
+/// or a flag, can put them together.
 fn check_apart(router: &str, robot: &str) -> Result<(), String> {
     if router == robot {
         return Err(format!(
-            "the ROS router and the robot's bus are both at {router}: rmw_zenohd and the robot program both listen on port 7447 when nothing else is said. Start rmw_zenohd on the ROS machine and name it with --connect, or move one: [bus] listen on the robot, --robot-connect here"
+            "the ROS router and the robot's bus are both at {router}: one Zenoh network, where no ROS machine would hear the robot's topics. rmw_zenohd listens on port 7447, the robot program on 7510 unless its [bus] listen says otherwise. Start rmw_zenohd on the ROS machine and name it with --connect, or move one: [bus] listen on the robot, --robot-connect here"
         ));
     }
     Ok(())
@@ -99,4 +101,22 @@ pub fn run(args: Ros2Args) -> ExitCode {
         seconds: args.seconds,
     };
     crate::programs::said(crate::ros2::bridge::run(&opts, &ctrl_c()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::check_apart;
+    use crate::config::Settings;
+    use crate::programs::bus::tools::DEFAULT_ENDPOINT;
+
+    #[test]
+    fn the_shipped_router_and_robot_are_apart_and_one_endpoint_is_refused() {
+        let router = Settings::shipped()
+            .ros2
+            .expect("robot.ini has [ros2]")
+            .connect;
+        assert_eq!(check_apart(&router, DEFAULT_ENDPOINT), Ok(()));
+        let why = check_apart(&router, &router).unwrap_err();
+        assert!(why.contains(&format!("both at {router}")), "{why}");
+    }
 }

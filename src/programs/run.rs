@@ -187,7 +187,8 @@ fn report(report: &Report, path: Option<PathBuf>) -> ExitCode {
             return ExitCode::FAILURE;
         }
     }
-    ExitCode::SUCCESS
+    // A run that ended in Fault is not a success, whoever stopped it after.
+    ExitCode::from(report.exit_code)
 }
 
 /// Can `path` be written? Opens it as the report will be written, without changing an

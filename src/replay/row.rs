@@ -14,7 +14,7 @@ use crate::rt::health::{ThreadHealth, ThreadName};
 use crate::state::modes::Mode;
 use crate::state::steering::Steering;
 use crate::steer::law::LawOutput;
-use crate::steer::{EndSwitchState, SourceHealth, SteerCommand};
+use crate::steer::{EndSwitchState, RowFigures, SourceHealth, SteerCommand};
 
 /// Every column a replay reads.
 pub(crate) const WANTED: &[&str] = &[
@@ -75,6 +75,10 @@ pub(crate) const WANTED: &[&str] = &[
     "cam_seq_gaps",
     "cam_duplicates",
     "cam_connected",
+    // What the supervisor judges the sensors by before it takes Autonomous (records
+    // made before these columns lack them: record::read::ADDED_LATER).
+    "gnss_heard_s",
+    "link_streaming_since_s",
 ];
 
 /// One row of the tick table, read column by column.
@@ -233,9 +237,23 @@ impl Row<'_> {
                 row_curvature_per_m: self.num_or_nan("law_row_curvature_per_m")?,
                 integral_per_m: self.num_or_nan("law_integral_per_m")?,
             },
+            row: RowFigures {
+                gnss_heard_s: self.gnss_heard_s()?,
+                ..RowFigures::default()
+            },
             ..SteerCommand::default()
         };
         Ok(steer)
+    }
+
+    /// When the receiver was last heard. A record from before the column was kept says
+    /// nothing: the receiver is taken as heard at the tick, as the supervisor of its day
+    /// took Autonomous without asking.
+    fn gnss_heard_s(&self) -> Result<Option<f64>, String> {
+        if self.table.absent.iter().any(|c| c == "gnss_heard_s") {
+            return Ok(Some(self.num("steer_t_s")?));
+        }
+        self.maybe("gnss_heard_s")
     }
 
     /// The camera link's status the tick copied in.
@@ -253,6 +271,9 @@ impl Row<'_> {
             connected: self.flag("cam_connected")?,
             ..LinkStatus::default()
         };
+        if let Some(since_s) = self.maybe("link_streaming_since_s")? {
+            (link.streaming, link.streaming_since_s) = (true, since_s);
+        }
         let c = &mut link.counters;
         c.frames_ok = self.count("cam_frames_ok")?;
         c.crc_errors = self.count("cam_crc_errors")?;
@@ -274,6 +295,8 @@ impl Row<'_> {
             gui_beat_s: self.maybe("gui_beat_s")?,
             panicked: self.word("thread_panicked", panicked, "a thread's name")?,
             supervisor_overruns: self.count("supervisor_overruns")?,
+            // Not in the record: a replayed timing fault names no load.
+            cpu_load: None,
         };
         let card = |t: &str| {
             [das08::NAME, dda06::NAME, quad04::NAME]

@@ -26,6 +26,7 @@ use crate::gamepad::{self, PadHw, PadState};
 use crate::record::{self, RecordTap, Recorder};
 use crate::rt::LoopSummary;
 use crate::rt::health::{self, PanicFlag, ThreadName};
+use crate::rt::load::{LoadGauge, sample_until};
 use crate::state::Reader;
 use crate::state::cross_track::CrossTrackMeaning;
 use crate::steer::{SteerCommand, SteerCore};
@@ -71,6 +72,8 @@ struct Threads {
     gamepad: Option<JoinHandle<()>>,
     gnss: Option<JoinHandle<()>>,
     gnss_cable: Option<JoinHandle<()>>,
+    /// Reads the computer's load for the supervisor's timing faults.
+    load: JoinHandle<()>,
 }
 
 /// What a run opens before any thread starts (steps 1 and 2 of `start`).
@@ -130,7 +133,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
 
     // 3. What the threads meet through: protected objects and bounded channels.
     let gnss_status = o.gnss.status.clone();
-    let w = wire(
+    let mut w = wire(
         s,
         &o.truth,
         o.bus_session.is_some(),
@@ -152,6 +155,8 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
     let link = with_rows_from_the_bus(link, s, o.bus_session.as_ref(), &w.row_counts)?;
     let (hw, gamepad, gamepad_thread) = with_gamepad(o.hw, s, &o.panics, &stop);
     let rate_hz = s.supervisor.rate_hz;
+    let gauge = Arc::new(LoadGauge::default());
+    w.supervisor.load = Some(gauge.clone());
     let supervisor = SupervisorThread::new(hw, Supervisor::new(s), rate_hz, o.clock, w.supervisor)
         .with_priority(priority(s.rt.supervisor_priority), s.rt.supervisor_cpu)
         .with_injection(opts.inject);
@@ -167,6 +172,10 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
         cable: o.cable,
         gamepad: gamepad_thread,
         gnss_cable: o.gnss.cable.take(),
+        load: spawn("load", {
+            let stop = stop.clone();
+            move || sample_until(&gauge, &stop)
+        }),
     };
 
     // 6. What the operator interface reads, and what `finish` stops.
@@ -283,7 +292,9 @@ impl Running {
         self.stop.store(true, Ordering::Relaxed);
         let link_ok = self.threads.link.join().is_ok();
         let steer_loop = self.threads.steer.join().unwrap_or_default();
-        let (supervisor, supervisor_loop) = match self.threads.supervisor.join() {
+        let supervisor_joined = self.threads.supervisor.join();
+        let supervisor_panicked = supervisor_joined.is_err();
+        let (supervisor, supervisor_loop) = match supervisor_joined {
             Ok(result) => result,
             Err(_) => {
                 tracing::error!(
@@ -304,6 +315,7 @@ impl Running {
         if let Some(Err(_)) = self.threads.gnss.map(JoinHandle::join) {
             tracing::error!("the GNSS link thread panicked");
         }
+        let _ = self.threads.load.join();
         if let Some(cable) = self.threads.gnss_cable {
             let _ = cable.join();
         }
@@ -320,6 +332,7 @@ impl Running {
         let outside_camera =
             CrossTrackMeaning::of(&self.settings) == CrossTrackMeaning::OutsideCamera;
         RunOutcome {
+            supervisor_panicked,
             final_status: *supervisor.status(),
             faults: supervisor.faults().to_vec(),
             notices: supervisor.notices().to_vec(),
@@ -328,7 +341,7 @@ impl Running {
             link: self.link_status.snapshot(),
             rt_warnings: self.rt_warnings,
             cross_track: (self.settings.backend == Backend::Sim && !outside_camera)
-                .then(|| self.truth.cross_track().summary()),
+                .then(|| self.truth.cross_track_summary()),
             cross_track_from_m: self.settings.sim.cross_track_from_m,
             outside_camera,
             record,

@@ -97,6 +97,9 @@ pub enum RunError {
 
 /// What a run leaves behind for the report.
 pub struct RunOutcome {
+    /// The supervisor thread panicked (its safe outputs were written as it unwound): the
+    /// run ended as badly as in a fault, whatever `final_status` says.
+    pub supervisor_panicked: bool,
     pub final_status: Status,
     pub faults: Vec<FaultRecord>,
     pub notices: Vec<Notice>,

@@ -116,6 +116,7 @@ pub(super) fn wire(
             bus: bus_tap,
             panics: panics.clone(),
             stop: stop.clone(),
+            load: None,
         },
         bus: None,
         requests: handle,

@@ -229,8 +229,39 @@ fn in_test_an_amplifier_follows_the_panel_and_an_estop_still_stops_everything() 
         .next()
         .unwrap()
         .click();
+    assert!(gui.shows("must be on its stand with the drive wheels off the ground"));
+    gui.wait_until("the relay closed", |app| {
+        app.view.status.outputs.main_power_on
+    });
+    // The H key held: the volt reaches the amplifier; let go, it is 0 V again.
+    gui.harness.key_down(eframe::egui::Key::H);
     gui.wait_until("1 V on the left amplifier", |app| {
         app.view.status.outputs.amp_left_v == 1.0 && app.view.status.outputs.main_power_on
+    });
+    gui.harness.key_up(eframe::egui::Key::H);
+    gui.wait_until("0 V when the key is let go", |app| {
+        app.view.status.outputs.amp_left_v == 0.0
+    });
+    // Nobody holds anything now: the panel's volt, which reached the amplifier a moment
+    // ago, stays on the panel.
+    for _ in 0..20 {
+        gui.harness.step();
+        std::thread::sleep(std::time::Duration::from_millis(10));
+        let volts = gui.harness.state().view.status.outputs.amp_left_v;
+        assert_eq!(volts, 0.0, "not held");
+    }
+    // The pointer held down on Hold to run does the same.
+    let centre = gui.harness.get_by_label("Hold to run").rect().center();
+    let button = |pressed| eframe::egui::Event::PointerButton {
+        pos: centre,
+        button: eframe::egui::PointerButton::Primary,
+        pressed,
+        modifiers: eframe::egui::Modifiers::NONE,
+    };
+    gui.harness.hover_at(centre);
+    gui.harness.event(button(true));
+    gui.wait_until("1 V while the button is held", |app| {
+        app.view.status.outputs.amp_left_v == 1.0
     });
     gui.click("Press e-stop front");
     gui.wait_until("fault with safe outputs", |app| {

@@ -112,7 +112,7 @@ fn a_pressed_estop_is_drawn_in_the_fault_colour() {
 fn the_layout_does_not_move_when_the_robots_first_status_comes() {
     let _one = crate::one_at_a_time();
     // Nothing received: no fault line, then "no fault" pushed the tabs down.
-    let remote = mechweed::gui::remote::RemoteView::offline("mechweed", "tcp/10.0.0.7:7447");
+    let remote = mechweed::gui::remote::RemoteView::offline("mechweed", "tcp/10.0.0.7:7510");
     let mut harness = window(remote, Settings::shipped(), [1280.0, 720.0]);
     let before = harness.get_by_label("Status").rect();
     if let Source::Remote(remote) = &harness.state().shared.lock().source {

@@ -96,6 +96,7 @@ fn a_latched_fault_shows_its_cause_and_why_nothing_can_start() {
         t_s: 10.0,
         tick_seen: 1000,
         tick_safe: 1000,
+        came_back_after_s: None,
     });
     view.status.standing_cause = Some(FaultCause::EstopFront);
     view.status.inputs.estop_front_released = false;
@@ -318,13 +319,13 @@ fn the_status_panel_shows_the_bus_its_endpoints_and_what_it_published_and_droppe
         ticks_dropped: 7,
         ..Default::default()
     };
-    view.bus_endpoints = "listening on tcp/127.0.0.1:7447, connecting to nothing".into();
+    view.bus_endpoints = "listening on tcp/127.0.0.1:7510, connecting to nothing".into();
     let mut h = panels(view, draw_status);
     h.step();
     assert!(shows(&h, "321 status"));
     assert!(shows(&h, "7 ticks, 0 events dropped"));
     assert!(shows(&h, "2 other programs present"));
-    assert!(shows(&h, "listening on tcp/127.0.0.1:7447"));
+    assert!(shows(&h, "listening on tcp/127.0.0.1:7510"));
 }
 
 #[test]
@@ -337,6 +338,7 @@ fn the_status_tab_shows_the_fix_which_sensors_steer_and_the_filters_row() {
         gnss_quality: 5,
         gnss_satellites: 16,
         gnss_sd_m: Some(0.1),
+        gnss_heard_s: Some(0.0),
         gnss_position: Some((52.0, 5.66)),
         filter: Some(FilterFigures {
             offset_m: 0.012,

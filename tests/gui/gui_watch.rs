@@ -26,7 +26,7 @@ fn the_same_panels_show_the_recorded_flows_and_the_header_names_the_robot() {
     let harness = watching(Duration::from_millis(100), |_, _| {});
     assert!(shows(
         &harness,
-        "watching mechweed at tcp/10.0.0.7:7447: status"
+        "watching mechweed at tcp/10.0.0.7:7510: status"
     ));
     assert!(shows(&harness, "requests: HALT only"));
     assert!(shows(&harness, "AUTONOMOUS"));
@@ -76,7 +76,7 @@ fn the_header_turns_red_with_the_age_when_the_status_is_older_than_a_second() {
     let harness = watching(Duration::from_secs(3), |_, _| {});
     assert!(shows(
         &harness,
-        "watching mechweed at tcp/10.0.0.7:7447: no status for 3."
+        "watching mechweed at tcp/10.0.0.7:7510: no status for 3."
     ));
     assert!(harness.state().view.remote.as_ref().unwrap().stale());
 }
@@ -88,12 +88,12 @@ fn a_view_that_never_got_a_status_shows_no_value_and_says_what_it_waits_for() {
     // HALT, "E-stop front PRESSED", 0.00 V, "connected, idle", "schedulable" and a
     // claim about the robot's accept_requests, none of them received.
     let remote =
-        RemoteView::offline("mechweed", "tcp/10.0.0.7:7447").opened_ago(Duration::from_secs(7));
+        RemoteView::offline("mechweed", "tcp/10.0.0.7:7510").opened_ago(Duration::from_secs(7));
     let harness = watch_harness::window(remote, Settings::shipped(), [1280.0, 1000.0]);
     assert!(shows(&harness, "NO DATA YET"));
     assert!(shows(
         &harness,
-        "no data yet: waiting for mechweed's status at tcp/10.0.0.7:7447 (7 s)"
+        "no data yet: waiting for mechweed's status at tcp/10.0.0.7:7510 (7 s)"
     ));
     for invented in [
         "PRESSED",
@@ -176,7 +176,7 @@ fn a_robot_that_fell_silent_is_counted_up_each_second_then_greyed_then_unknown()
 fn before_the_robot_says_whether_it_takes_requests_nothing_is_claimed_about_it() {
     let _one = crate::one_at_a_time();
     // The first status came; the answer to "accept_requests?" not yet.
-    let remote = RemoteView::offline("mechweed", "tcp/10.0.0.7:7447");
+    let remote = RemoteView::offline("mechweed", "tcp/10.0.0.7:7510");
     for (flow, payload) in recorded() {
         remote.feed(flow, payload.to_string().as_bytes(), Instant::now());
     }
@@ -316,7 +316,7 @@ fn the_view_reads_a_real_robots_flows_and_its_halt_is_answered() {
 #[test]
 fn messages_that_are_not_the_robots_flows_are_counted_and_change_nothing() {
     let _one = crate::one_at_a_time();
-    let mut remote = RemoteView::offline("mechweed", "tcp/10.0.0.7:7447");
+    let mut remote = RemoteView::offline("mechweed", "tcp/10.0.0.7:7510");
     let now = Instant::now();
     for (flow, payload) in recorded() {
         remote.feed(flow, payload.to_string().as_bytes(), now);

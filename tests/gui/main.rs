@@ -11,7 +11,9 @@ mod test_supervisor;
 mod watch_harness;
 
 mod gui;
+mod gui_fault_advice;
 mod gui_field;
+mod gui_figures;
 mod gui_gamepad;
 mod gui_panels;
 mod gui_requests;

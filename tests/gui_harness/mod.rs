@@ -133,7 +133,13 @@ impl Gui {
         self.wait_until("power on", |app| app.view.status.power == PowerState::On);
     }
 
-    pub fn finish(self) -> RunOutcome {
+    pub fn finish(mut self) -> RunOutcome {
+        self.stop_controller()
+    }
+
+    /// Stop the controller's threads and collect the run's outcome, keeping the window:
+    /// it goes on drawing what the stopped controller published last.
+    pub fn stop_controller(&mut self) -> RunOutcome {
         let running: Running = self.controller.lock().unwrap().take().expect("running");
         let outcome = running.finish();
         for f in &outcome.faults {

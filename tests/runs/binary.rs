@@ -18,8 +18,16 @@ fn run_with_report(args: &[&str]) -> (String, serde_json::Value) {
         .unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout).to_string();
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stdout}\n{stderr}");
-    let report = serde_json::from_str(&std::fs::read_to_string(&report_path).unwrap()).unwrap();
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report_path).unwrap()).unwrap();
+    // The exit status is the report's: 0, or 3 for a run that ended in Fault.
+    let want = if report["mode_final"] == "fault" {
+        3
+    } else {
+        0
+    };
+    assert_eq!(out.status.code(), Some(want), "{stdout}\n{stderr}");
+    assert_eq!(report["exit_code"], want, "{report:#}");
     (stdout, report)
 }
 
@@ -80,6 +88,14 @@ fn a_scripted_estop_shows_in_the_report_with_its_cause() {
     .unwrap_or_else(|| panic!("{stdout}"));
     assert!(fault_at < mode_at, "{stdout}");
     assert_eq!(report["mode_final"], "fault");
+    assert_eq!(
+        report["exit_code"], 3,
+        "a run that ends in Fault is no success"
+    );
+    assert!(
+        stdout.contains("the run ended in fault: mechweed exits with status 3"),
+        "{stdout}"
+    );
     let fault = &report["faults"][0];
     let cause = fault["cause"].as_str().unwrap();
     assert!(cause.contains("front emergency stop"), "{report:#}");
@@ -244,6 +260,8 @@ fn run_on_the_cards_without_them_refuses_to_start() {
             "1",
             "--set",
             "hw.backend=cards",
+            "--set",
+            "camera.port=/dev/ttyS0",
         ])
         .output()
         .unwrap();
@@ -264,6 +282,8 @@ fn bench_loop_never_drives_the_real_robot() {
             "1",
             "--set",
             "hw.backend=cards",
+            "--set",
+            "camera.port=/dev/ttyS0",
         ])
         .output()
         .unwrap();

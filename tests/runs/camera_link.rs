@@ -111,8 +111,10 @@ fn scenario(port: &str, serve: impl FnOnce(Instant, Log, Arc<AtomicBool>) -> Joi
     stop.store(true, Ordering::Relaxed);
     let _ = camera.join();
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
+    // The camera's silence ends the run in Fault: exit status 3.
+    assert_eq!(
+        out.status.code(),
+        Some(3),
         "{stdout}{}",
         String::from_utf8_lossy(&out.stderr)
     );

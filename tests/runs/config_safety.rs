@@ -336,7 +336,14 @@ fn fault_checks_can_see_what_they_watch() {
         )
     })
     .collect();
-    let expected: Vec<(usize, &str)> = expected.iter().map(|w| (stuck, w.as_str())).collect();
+    let mut expected: Vec<(usize, &str)> = expected.iter().map(|w| (stuck, w.as_str())).collect();
+    // Test's drive limit must stay above it too, or the check never looks in Test.
+    expected.push((
+        line("test", "drive_limit_v"),
+        "[test] drive_limit_v = 3 is not above [faults] encoder_stuck_v = 10: in Test the \
+         encoder check would never look, and a dead encoder would also blind [test] \
+         max_speed_mps. Raise drive_limit_v or lower encoder_stuck_v",
+    ));
     assert_refused(
         &shipped_with(&[("faults", "encoder_stuck_v", "10")]),
         &expected,

@@ -104,7 +104,13 @@ fn play_camera(stream: &mut (impl Read + Write), seconds: f64) {
 fn a_vanished_serial_device_is_named_and_retried() {
     let (mut master, slave) = TTYPort::pair().unwrap();
     master.set_timeout(Duration::from_millis(5)).unwrap();
-    let path = slave.name().unwrap();
+    // The link opens the terminal by a name of the test's own, as udev names an adapter:
+    // a pseudo-terminal's number is given to the next test that asks once this one is
+    // gone, and a link reopening that number would take another test's camera line.
+    let dir = tempfile::tempdir().unwrap();
+    let device = dir.path().join("ttyUSB-camera");
+    std::os::unix::fs::symlink(slave.name().unwrap(), &device).unwrap();
+    let path = device.display().to_string();
     let (status, stop) = start_link(CameraPort::Serial { path, baud: 115200 });
     play_camera(&mut master, 0.5);
     let up = wait_for(&status, 1.0, |s| s.counters.frames_ok > 5);
@@ -114,7 +120,8 @@ fn a_vanished_serial_device_is_named_and_retried() {
         "the link test at connection got no answer"
     );
 
-    // Unplug: the pseudo-terminal disappears with both of its ends.
+    // Unplug: the adapter's name goes, and the pseudo-terminal with both of its ends.
+    std::fs::remove_file(&device).unwrap();
     drop(master);
     drop(slave);
     let down = wait_for(&status, 2.0, |s| {

@@ -85,7 +85,13 @@ fn record_summary_of_a_real_run_prints_its_figures() {
         .output()
         .unwrap();
     let stdout = text(&out.stdout);
-    assert!(out.status.success(), "{stdout}\n{}", text(&out.stderr));
+    // The e-stop ends the run in Fault: exit status 3.
+    assert_eq!(
+        out.status.code(),
+        Some(3),
+        "{stdout}\n{}",
+        text(&out.stderr)
+    );
     assert!(
         stdout.contains(&format!("recording into {}", folder.display())),
         "{stdout}"

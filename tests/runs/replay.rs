@@ -178,8 +178,21 @@ fn a_real_run_replays_exactly_a_changed_limit_shows_its_fault_and_edits_are_caug
     // The code in hand is the code that drove: every output again, from either file.
     for file in [&name, &mcap] {
         let (ok, said) = replay_command(&[file]);
-        assert!(ok && said.contains("ticks, outputs identical"), "{said}");
-        assert!(said.contains("steering law: "), "{said}");
+        assert!(
+            ok && said.contains("ticks, outputs identical to the record: the mode, the amplifiers"),
+            "{said}"
+        );
+        assert!(
+            said.contains("steer commands: ") && said.contains(" made again by the steering law"),
+            "{said}"
+        );
+        // Steer commands beyond the tolerance are said apart, with why, never as a
+        // difference of the outputs.
+        assert!(
+            !said.contains(" differ from it by at most")
+                || said.contains("such differences are expected"),
+            "{said}"
+        );
     }
     // The steering law made again from the recorded estimates: within the tolerance,
     // but for the steer commands the record could not keep (the replay says why). On a

@@ -129,10 +129,23 @@ fn one_stalled_supervisor_tick_is_a_fault() {
     assert!(rt.max_overruns > 1);
     let outcome = run_with(ThreadName::Supervisor, Fail::Pause { ms: 200 }, 3.0);
     let (cause, t_s) = first_fault(&outcome);
-    let FaultCause::LateTick { late_ms, limit_ms } = cause else {
+    let FaultCause::LateTick {
+        late_ms,
+        limit_ms,
+        load,
+    } = cause
+    else {
         panic!("{cause:?}");
     };
     assert!(late_ms >= 150.0 && limit_ms < late_ms, "{cause:?}");
     assert!((1.5..2.0).contains(&t_s), "fault at {t_s}");
     assert!(cause.to_string().contains("stalled"), "{cause}");
+    // The run read this computer's load: the words say whether it was busy.
+    let load = load.expect("the run reads the computer's load");
+    assert!(
+        cause
+            .to_string()
+            .contains(&format!("the computer's load was {:.1} on", load.load_1min)),
+        "{cause}"
+    );
 }

@@ -39,7 +39,7 @@ pub fn recorded() -> Vec<(Flow, Value)> {
 /// A view of robot "mechweed" at 10.0.0.7 that has answered "HALT only" (its shipped
 /// `[bus] accept_requests`), fed the recorded flows `age` ago, each changed by `change`.
 pub fn fed(age: Duration, change: impl Fn(Flow, &mut Value)) -> RemoteView {
-    let remote = RemoteView::offline("mechweed", "tcp/10.0.0.7:7447");
+    let remote = RemoteView::offline("mechweed", "tcp/10.0.0.7:7510");
     remote.set_operator(false);
     let at = Instant::now() - age;
     for (flow, mut payload) in recorded() {

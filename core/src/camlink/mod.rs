@@ -72,6 +72,8 @@ pub struct LinkStatus {
     pub last_usable_s: f64,
     /// START has been sent and not yet taken back by STOP.
     pub streaming: bool,
+    /// When START was first sent for this spell of streaming, s.
+    pub streaming_since_s: f64,
     pub starts_sent: u64,
     pub stops_sent: u64,
     /// The transport is open.
@@ -101,6 +103,7 @@ impl Default for LinkStatus {
             last_usable: RowEstimate::default(),
             last_usable_s: f64::NEG_INFINITY,
             streaming: false,
+            streaming_since_s: f64::NEG_INFINITY,
             starts_sent: 0,
             stops_sent: 0,
             connected: false,
@@ -214,6 +217,9 @@ impl LinkCore {
         if wants_rows {
             let quiet_s = now_s - st.last_row_s.max(self.last_start_s);
             if !st.streaming || quiet_s > self.settings.restart_after_s {
+                if !st.streaming {
+                    st.streaming_since_s = now_s;
+                }
                 st.streaming = true;
                 st.starts_sent += 1;
                 self.last_start_s = now_s;

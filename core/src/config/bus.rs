@@ -69,7 +69,7 @@ pub struct BusSettings {
     pub required: bool,
     /// The first part of every key: ROBOT/status, ROBOT/request, ...
     pub robot: String,
-    /// Zenoh endpoints this program listens on, e.g. tcp/127.0.0.1:7447.
+    /// Zenoh endpoints this program listens on, e.g. tcp/127.0.0.1:7510.
     pub listen: Vec<String>,
     /// Zenoh endpoints this program connects to.
     pub connect: Vec<String>,
@@ -261,7 +261,7 @@ pub fn parse_endpoints(text: &str) -> Result<Vec<String>, String> {
                 Ok(item.to_string())
             } else {
                 Err(format!(
-                    "'{item}' is not an endpoint tcp/HOST:PORT or tls/HOST:PORT (for example tcp/127.0.0.1:7447, or tls/0.0.0.0:7447 for every network, with the cluster's keys)"
+                    "'{item}' is not an endpoint tcp/HOST:PORT or tls/HOST:PORT (for example tcp/127.0.0.1:7510, or tls/0.0.0.0:7510 for every network, with the cluster's keys)"
                 ))
             }
         })
@@ -275,34 +275,66 @@ mod tests {
     #[test]
     fn endpoints_are_tcp_host_port_lists() {
         assert_eq!(
-            parse_endpoints("tcp/127.0.0.1:7447, tcp/[::1]:7448").unwrap(),
-            ["tcp/127.0.0.1:7447", "tcp/[::1]:7448"]
+            parse_endpoints("tcp/127.0.0.1:7510, tcp/[::1]:7511").unwrap(),
+            ["tcp/127.0.0.1:7510", "tcp/[::1]:7511"]
         );
         assert!(parse_endpoints("none").unwrap().is_empty());
-        let err = parse_endpoints("127.0.0.1:7447").unwrap_err();
+        let err = parse_endpoints("127.0.0.1:7510").unwrap_err();
         assert!(err.contains("tcp/HOST:PORT"), "{err}");
-        assert!(parse_endpoints("udp/1.2.3.4:7447").is_err());
+        assert!(parse_endpoints("udp/1.2.3.4:7510").is_err());
         assert_eq!(
-            parse_endpoints("tls/0.0.0.0:7447").unwrap(),
-            ["tls/0.0.0.0:7447"]
+            parse_endpoints("tls/0.0.0.0:7510").unwrap(),
+            ["tls/0.0.0.0:7510"]
         );
         assert!(parse_endpoints("tcp/host:port").is_err());
     }
 
+    /// The port of each endpoint in `listen`.
+    fn ports(listen: &[String]) -> Vec<u16> {
+        let port = |e: &String| {
+            let (address, _) = endpoint_address(e)?;
+            address.rsplit_once(':')?.1.parse().ok()
+        };
+        listen.iter().map(|e| port(e).expect(e)).collect()
+    }
+
+    #[test]
+    fn the_shipped_bus_is_not_on_a_zenoh_routers_port() {
+        // 7447 is the TCP port of zenohd and of rmw_zenohd (ROS 2's router), 7446
+        // Zenoh's UDP scouting port: a robot listening there does not start its bus on
+        // a ROS machine or beside a Zenoh router.
+        let listen = crate::config::Settings::shipped().bus.listen;
+        assert!(!listen.is_empty(), "the shipped bus listens nowhere");
+        for port in ports(&listen) {
+            assert!(![7447, 7446].contains(&port), "{listen:?}");
+        }
+    }
+
+    #[test]
+    fn an_older_robot_ini_on_7447_is_read_as_it_says() {
+        // Files from before the bus had a port of its own listen on 7447: still an
+        // endpoint like any other.
+        let ini = crate::config::DEFAULT_INI;
+        let older = ini.replace("listen = tcp/127.0.0.1:7510", "listen = tcp/127.0.0.1:7447");
+        assert_ne!(older, ini, "the shipped [bus] listen has moved");
+        let s = crate::config::Settings::parse("robot.ini", &older, &[]).unwrap();
+        assert_eq!(s.bus.listen, ["tcp/127.0.0.1:7447"]);
+    }
+
     #[test]
     fn plain_tcp_beyond_loopback_is_refused_unless_trusted() {
-        let open = ["tcp/0.0.0.0:7447".to_string()];
+        let open = ["tcp/0.0.0.0:7510".to_string()];
         let why = listen_refusal(&open, false, false, "[bus] listen").unwrap();
-        assert!(why.contains("[bus] listen = tcp/0.0.0.0:7447"), "{why}");
+        assert!(why.contains("[bus] listen = tcp/0.0.0.0:7510"), "{why}");
         assert!(why.contains("trusted_network"), "{why}");
         assert_eq!(listen_refusal(&open, false, true, "[bus] listen"), None);
-        for local in ["tcp/127.0.0.1:7447", "tcp/[::1]:7447", "tcp/localhost:7447"] {
+        for local in ["tcp/127.0.0.1:7510", "tcp/[::1]:7510", "tcp/localhost:7510"] {
             assert_eq!(
                 listen_refusal(&[local.to_string()], false, false, "x"),
                 None
             );
         }
-        let secured = ["tls/0.0.0.0:7447".to_string()];
+        let secured = ["tls/0.0.0.0:7510".to_string()];
         assert_eq!(listen_refusal(&secured, true, false, "x"), None);
         assert!(
             listen_refusal(&open, true, true, "x").is_some(),

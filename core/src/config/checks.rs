@@ -29,7 +29,6 @@ pub(super) fn across(s: &Settings, r: &mut Reader) {
     joystick(s, r);
     end_switches(s, r);
     threads(s, r);
-    no_script_on_the_real_robot(s, r);
     rows_need_the_bus(s, r);
     gnss_fix_age(s, r);
     bus_open_only_with_tls(s, r);
@@ -93,28 +92,6 @@ fn rows_need_the_bus(s: &Settings, r: &mut Reader) {
                 "{} takes the row estimates from the bus, but {}: set [bus] enabled = yes",
                 named("camera", "port", "bus"),
                 named("bus", "enabled", "no")
-            )
-        },
-    );
-}
-
-/// Nothing powers the real robot up without a person: the scripted operator of
-/// [sim] events (power_up, mode) is for the simulated robot only.
-fn no_script_on_the_real_robot(s: &Settings, r: &mut Reader) {
-    let scripted: Vec<String> = (s.sim.events.iter())
-        .filter(|e| e.action.is_operator())
-        .map(|e| e.to_string())
-        .collect();
-    let real_robot = s.backend == super::Backend::Cards;
-    require(
-        r,
-        !real_robot || scripted.is_empty(),
-        &[("sim", "events"), ("hw", "backend")],
-        || {
-            format!(
-                "[sim] events has {}, which would power up or drive the real robot with nobody there ({}): remove the operator events (power_up, mode)",
-                scripted.join(", "),
-                named("hw", "backend", "cards")
             )
         },
     );

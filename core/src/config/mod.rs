@@ -12,11 +12,14 @@ mod io;
 mod joystick;
 mod lines;
 mod reader;
+mod real_robot;
 mod record;
 mod ros2;
+mod rt;
 mod sim;
 mod source;
 mod steer;
+mod test_panel;
 
 use std::path::Path;
 
@@ -36,6 +39,7 @@ pub use record::{RecordFormats, RecordSettings};
 pub use ros2::{Distro, MAX_DOMAIN_ID, Ros2Settings, parse_namespace, parse_router};
 pub use source::SettingsSource;
 pub use steer::{SteerLaw, SteerSettings};
+pub use test_panel::TestSettings;
 
 /// The settings file shipped with the program, used when no file is given and
 /// config/robot.ini is not in the working directory.
@@ -209,6 +213,8 @@ pub struct Settings {
     pub gui: GuiSettings,
     /// How `mechweed ros2` shows the robot to ROS 2 tools; None: no [ros2] section.
     pub ros2: Option<Ros2Settings>,
+    /// The limits of mode Test ([test]).
+    pub test: TestSettings,
     /// The text these settings were read from, for the bus's configuration ports.
     pub source: SettingsSource,
 }
@@ -227,14 +233,29 @@ impl Settings {
             .expect("the shipped config/robot.ini is checked by the tests")
     }
 
+    /// As `load`, for a file meant for the real robot (`check-config --real-robot`).
+    pub fn load_real_robot(path: &Path) -> Result<Settings, Vec<ConfigError>> {
+        let text = lines::read_text(path, "the settings file")?;
+        Settings::read(&path.display().to_string(), &text, &[], true)
+    }
+
     /// Read settings from text (`file` names it in messages).
     pub fn parse(
         file: &str,
         text: &str,
         overrides: &[String],
     ) -> Result<Settings, Vec<ConfigError>> {
+        Settings::read(file, text, overrides, false)
+    }
+
+    fn read(
+        file: &str,
+        text: &str,
+        overrides: &[String],
+        real_robot: bool,
+    ) -> Result<Settings, Vec<ConfigError>> {
         let mut r = Reader::new(file, text, overrides);
-        let settings = Settings {
+        let mut settings = Settings {
             robot: robot(&mut r),
             supervisor: supervisor(&mut r),
             faults: faults(&mut r),
@@ -248,7 +269,7 @@ impl Settings {
             gamepad: joystick::gamepad(&mut r),
             camera: camera(&mut r),
             camera_port: camera_port::load(&mut r),
-            rt: rt(&mut r),
+            rt: rt::load(&mut r),
             backend: [Backend::Sim, Backend::Cards][r.choice("hw", "backend", &["sim", "cards"])],
             cards: io::cards(&mut r),
             io: io::wiring(&mut r),
@@ -258,15 +279,22 @@ impl Settings {
             gnss: gnss::load(&mut r),
             gui: gui::load(&mut r),
             ros2: ros2::load(&mut r),
+            test: TestSettings::shipped(),
             source: SettingsSource {
                 label: file.to_string(),
                 text: text.to_string(),
                 overrides: overrides.to_vec(),
             },
         };
+        settings.test = test_panel::load(&mut r, &settings.faults);
         checks::across(&settings, &mut r);
+        real_robot::check(&settings, &mut r);
+        test_panel::check(&settings, &mut r);
+        if real_robot {
+            real_robot::require_cards(&settings, &mut r);
+        }
         gnss::check(&settings, &mut r);
-        let errors = r.finish_with(SECTIONS, &["ros2"]);
+        let errors = r.finish_with(SECTIONS, &["ros2", "test"]);
         if errors.is_empty() {
             Ok(settings)
         } else {
@@ -344,29 +372,6 @@ fn pd(r: &mut Reader, s: &str) -> PdSettings {
         kd: r.f64(s, "kd", 0.0, 1000.0),
         d_filter_s: r.f64(s, "d_filter_s", 0.0, 1.0),
         out_max_v: r.f64(s, "out_max_v", 0.0, 10.0),
-    }
-}
-
-fn rt(r: &mut Reader) -> RtSettings {
-    let s = "rt";
-    RtSettings {
-        supervisor_priority: r.u64(s, "supervisor_priority", 0, 99) as u8,
-        steer_priority: r.u64(s, "steer_priority", 0, 99) as u8,
-        camlink_priority: r.u64(s, "camlink_priority", 0, 99) as u8,
-        lock_memory: r.choice(s, "lock_memory", &["no", "yes"]) == 1,
-        // A CPU number is whole: 1.7 is an error, not CPU 1. The range fits i32.
-        supervisor_cpu: r.i64(s, "supervisor_cpu", -1, 1023) as i32,
-        gui_cpu: r.i64(s, "gui_cpu", -1, 1023) as i32,
-        // A stopped steer or camera-link thread leaves its last command standing: the
-        // robot must not drive on it for more than about a second.
-        heartbeat_timeout_s: r.f64(s, "heartbeat_timeout_s", 0.05, 1.0),
-        // The GUI runs at normal priority and may stall a few frames on a loaded computer
-        // (and a frame owed stops its beat until drawn); it holds the HALT button but
-        // not the driving (the e-stops are wired), so it may take up to 5 s.
-        gui_heartbeat_timeout_s: r.f64(s, "gui_heartbeat_timeout_s", 0.1, 5.0),
-        max_overruns: r.u64(s, "max_overruns", 0, 1_000_000) as u32,
-        overrun_window_s: r.f64(s, "overrun_window_s", 0.1, 3600.0),
-        max_late_periods: r.f64(s, "max_late_periods", 1.0, 100.0),
     }
 }
 

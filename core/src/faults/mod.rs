@@ -363,6 +363,7 @@ impl FaultChecks {
             report(FaultCause::LateTick {
                 late_ms: late_s * 1e3,
                 limit_ms: limit_s * 1e3,
+                load: c.health.cpu_load,
             });
         }
 
@@ -385,6 +386,7 @@ impl FaultChecks {
             report(FaultCause::Overruns {
                 count: self.overrun_times_s.len() as u32,
                 window_s: self.rt.overrun_window_s,
+                load: c.health.cpu_load,
             });
         }
     }

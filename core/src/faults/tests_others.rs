@@ -5,6 +5,7 @@ use super::tests::healthy_inputs;
 use super::*;
 use crate::camlink::LinkStatus;
 use crate::rt::health::ThreadHealth;
+use crate::rt::load::CpuLoad;
 use crate::state::measure::Measured;
 use crate::steer::{SourceHealth, SteerCommand};
 
@@ -178,14 +179,28 @@ fn a_panic_in_any_thread_is_a_fault_naming_it() {
 }
 
 #[test]
-fn a_late_tick_says_how_late_and_the_limit_in_milliseconds() {
+fn a_late_tick_says_how_late_the_limit_in_milliseconds_and_the_computers_load() {
     let mut given = Given::driving(SteerSource::Camera, 10.0);
     let period_s = 1.0 / given.settings.supervisor.rate_hz;
     let limit_s = given.settings.rt.max_late_periods * period_s;
     given.tick_gap_s = period_s + 2.0 * limit_s;
-    let Some(FaultCause::LateTick { late_ms, limit_ms }) = given.check_at(10.0) else {
+    // Three times the work the CPUs can do, as when a compiler runs beside the robot.
+    given.health.cpu_load = Some(CpuLoad {
+        load_1min: 6.0,
+        cpus: 2,
+    });
+    let cause = given.check_at(10.0);
+    let Some(FaultCause::LateTick {
+        late_ms, limit_ms, ..
+    }) = cause
+    else {
         panic!("a tick {} ms late passed", 2.0 * limit_s * 1e3);
     };
+    let words = cause.unwrap().to_string();
+    assert!(
+        words.contains("the computer's load was 6.0 on 2 CPUs: other programs took the CPU"),
+        "{words}"
+    );
     assert!(
         (late_ms - 2.0 * limit_s * 1e3).abs() < 1e-6,
         "late {late_ms} ms"
@@ -202,8 +217,16 @@ fn a_burst_of_overruns_counted_in_one_tick_is_a_fault() {
     let mut given = Given::driving(SteerSource::Camera, 10.0);
     let limit = given.settings.rt.max_overruns as u64;
     given.health.supervisor_overruns = limit + 1;
-    assert!(matches!(
-        given.check_at(10.0),
-        Some(FaultCause::Overruns { .. })
-    ));
+    given.health.cpu_load = Some(CpuLoad {
+        load_1min: 0.2,
+        cpus: 2,
+    });
+    let cause = given.check_at(10.0);
+    assert!(matches!(cause, Some(FaultCause::Overruns { .. })));
+    // Not busy: the words must not blame other programs.
+    let words = cause.unwrap().to_string();
+    assert!(
+        words.ends_with("load was 0.2 on 2 CPUs (not busy)"),
+        "{words}"
+    );
 }

@@ -28,7 +28,14 @@ pub struct Table {
     pub rows: Vec<Vec<Cell>>,
     /// Where each row came from, for messages: line 12, message 12.
     pub places: Vec<Place>,
+    /// Columns of ADDED_LATER asked for that this record lacks (read as empty).
+    pub absent: Vec<String>,
 }
+
+/// Columns added to the records after replays existed: a record made before one was
+/// added lacks it, and reads as empty there (the reader says which in `Table::absent`)
+/// rather than being refused.
+pub const ADDED_LATER: &[&str] = &["gnss_heard_s", "link_streaming_since_s"];
 
 /// A record read back.
 #[derive(Debug, Clone)]
@@ -143,9 +150,14 @@ fn parse_csv(text: &str, wanted: &[&str], notes: &mut Vec<String>) -> Result<Tab
     let header =
         fields(lines.next().unwrap_or_default()).ok_or(ReadProblem::UnclosedQuote { line: 1 })?;
     let mut picks = Vec::new();
+    let mut absent = Vec::new();
     for name in wanted {
         match header.iter().position(|h| h.trim() == *name) {
-            Some(i) => picks.push(i),
+            Some(i) => picks.push(Some(i)),
+            None if ADDED_LATER.contains(name) => {
+                picks.push(None);
+                absent.push(name.to_string());
+            }
             None => {
                 return Err(ReadProblem::MissingColumn {
                     name: name.to_string(),
@@ -155,6 +167,7 @@ fn parse_csv(text: &str, wanted: &[&str], notes: &mut Vec<String>) -> Result<Tab
     }
     let mut table = Table {
         columns: wanted.iter().map(|s| s.to_string()).collect(),
+        absent,
         ..Table::default()
     };
     let ends_whole = text.ends_with('\n');
@@ -182,9 +195,12 @@ fn parse_csv(text: &str, wanted: &[&str], notes: &mut Vec<String>) -> Result<Tab
             }
             None => return Err(ReadProblem::UnclosedQuote { line: number }),
         };
-        table
-            .rows
-            .push(picks.iter().map(|&k| cell(&cells[k])).collect());
+        table.rows.push(
+            picks
+                .iter()
+                .map(|&k| k.map_or(Cell::Empty, |k| cell(&cells[k])))
+                .collect(),
+        );
         table.places.push(Place::Line(number));
     }
     Ok(table)
@@ -252,6 +268,12 @@ fn read_mcap(path: &Path, bytes: &[u8], wanted: &[&str]) -> Result<Record, ReadP
                 Some(serde_json::Value::Bool(b)) => Cell::Num(f64::from(u8::from(*b))),
                 Some(serde_json::Value::Null) => Cell::Empty,
                 Some(other) => Cell::Text(other.to_string()),
+                None if ADDED_LATER.contains(name) => {
+                    if !table.absent.iter().any(|a| a == name) {
+                        table.absent.push(name.to_string());
+                    }
+                    Cell::Empty
+                }
                 None => {
                     return Err(ReadProblem::MissingField {
                         place,

@@ -10,6 +10,7 @@ use serde_json::{Map, Value};
 
 use super::RecordError;
 use super::header::RunHeader;
+use super::read::ADDED_LATER;
 use super::row::{COLUMNS, TickSample, Value as Kind};
 use super::thread::Sink;
 use crate::config::RecordSettings;
@@ -62,9 +63,12 @@ pub fn parse_tick(bytes: &[u8]) -> Result<ReceivedTick, String> {
     let mut cells = Vec::with_capacity(COLUMNS.len());
     for column in COLUMNS {
         let name = column.name;
-        let value = map
-            .get(name)
-            .ok_or_else(|| format!("the column {name} is missing"))?;
+        // A robot of an older version sends no column added since: empty there.
+        let value = match map.get(name) {
+            Some(value) => value,
+            None if ADDED_LATER.contains(&name) => &Value::Null,
+            None => return Err(format!("the column {name} is missing")),
+        };
         let cell = match ((column.value)(&sample), value) {
             (Kind::Num(_), Value::Null) => Cell::Num(f64::NAN),
             (Kind::Num(_), Value::Number(n)) => Cell::Num(n.as_f64().unwrap_or(f64::NAN)),

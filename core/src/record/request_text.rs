@@ -35,6 +35,7 @@ pub fn request_text(request: &Request) -> String {
             u8::from(o.brake_release_right),
             u8::from(o.tool_on)
         ),
+        Request::TestHold(held) => format!("test_hold held={}", u8::from(*held)),
         Request::Gains(g) => format!("gains {}", gains_text(g)),
         Request::Tuning(g, s) => format!("tuning {} {}", gains_text(g), steer_text(s)),
     }
@@ -99,6 +100,7 @@ fn parse_request(text: &str) -> Result<Request, String> {
             brake_release_right: values.flag("brake_release_right")?,
             tool_on: values.flag("tool_on")?,
         }),
+        "test_hold" => Request::TestHold(values.flag("held")?),
         "gains" => Request::Gains(values.gains()?),
         "tuning" => Request::Tuning(values.gains()?, values.steer()?),
         other => return Err(format!("'{other}' is not a request")),
@@ -208,6 +210,8 @@ mod tests {
             Request::Mode(Mode::Autonomous),
             Request::PowerUp,
             Request::TestOutputs(outputs),
+            Request::TestHold(true),
+            Request::TestHold(false),
             Request::Gains(gains),
             Request::Tuning(gains, s.steer),
         ];

@@ -181,6 +181,8 @@ pub const COLUMNS: &[Column] = &[
     col("gnss_satellites", "count", "satellites in the last fix", |r| Value::Int(r.steer.row.gnss_satellites as i64)),
     col("gnss_sd_m", "m", "the receiver's own s.d. of that position (GST)",
         |r| num(r.steer.row.gnss_sd_m.unwrap_or(f64::NAN))),
+    col("gnss_heard_s", "s", "when the GNSS receiver last sent an epoch, fix or not (empty: never)",
+        |r| num(r.steer.row.gnss_heard_s.unwrap_or(f64::NAN))),
     col("gnss_lat_deg", "deg", "the antenna's latitude in the last fix (WGS-84)",
         |r| num(r.steer.row.gnss_position.map_or(f64::NAN, |p| p.0))),
     col("gnss_lon_deg", "deg", "the antenna's longitude in the last fix",
@@ -208,6 +210,8 @@ pub const COLUMNS: &[Column] = &[
     col("cam_duplicates", "count", "frames received twice (ignored) so far",
         |r| Value::Int(r.link.counters.duplicates as i64)),
     col("cam_connected", "0/1", "1 = camera port open", |r| flag(r.link.connected)),
+    col("link_streaming_since_s", "s", "when the camera link began this spell of streaming rows (empty: not streaming)",
+        |r| num(if r.link.streaming { r.link.streaming_since_s } else { f64::NAN })),
     // The rest of what the tick was given (for `mechweed replay`): the steer command's
     // time, mode and end-switch procedure, the link's times, the threads' health.
     col("steer_t_s", "s", "when the steer command was made", |r| num(r.steer.t_s)),

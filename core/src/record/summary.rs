@@ -2,13 +2,16 @@
 //! terminal: duration, distance, modes, faults with their causes, notices, and the
 //! tool's cross-track error.
 //!
-//! The cross-track figures are those of the run report (the simulated plant: by distance, from
-//! 5 m on, until the tool passes the row's end), taken from the recorded ticks: each
-//! tick's error weighs as much as the distance the robot truly drove since the last
-//! recorded tick. `--from-m` moves the start, for short runs.
+//! The cross-track figures are the run report's, by the same code on the same points
+//! (mechweed_hw::sim::TickCrossTrack): each recorded tick's error weighs as much as the
+//! distance the robot truly drove since the recorded tick before, from 5 m on until the
+//! tool passes the row's end. A record of every tick gives the report's figures to the
+//! last digit; `--from-m` moves the start, for short runs.
 
 use std::fmt::Write;
 use std::path::Path;
+
+use mechweed_hw::sim::{CrossTrackSummary, TickCrossTrack};
 
 use super::error::{ReadProblem, RecordError};
 use super::header::RunHeader;
@@ -26,18 +29,6 @@ const WANTED: [&str; 7] = [
     "sim_row_done",
 ];
 
-/// Cross-track figures, cm, over `distance_m` of travel.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct CrossTrack {
-    pub mean_cm: f64,
-    pub sd_cm: f64,
-    pub rms_cm: f64,
-    /// 95th percentile of |error|, by distance.
-    pub p95_cm: f64,
-    pub max_cm: f64,
-    pub distance_m: f64,
-}
-
 #[derive(Debug, Clone, PartialEq)]
 pub struct Summary {
     pub file: String,
@@ -54,7 +45,7 @@ pub struct Summary {
     pub notices: Vec<(f64, String)>,
     pub from_m: f64,
     /// None: not a simulated run, so no cross-track error was recorded.
-    pub cross_track: Option<CrossTrack>,
+    pub cross_track: Option<CrossTrackSummary>,
     /// What the record's header says the cross-track is worth (meaningful without one).
     pub cross_track_meaning: CrossTrackMeaning,
     pub notes: Vec<String>,
@@ -79,33 +70,19 @@ pub fn summarise(path: &Path, from_m: f64) -> Result<Summary, RecordError> {
     Ok(summary)
 }
 
-/// Weighted figures of (error m, weight m) samples; None without weight.
-pub fn cross_track(samples: &mut [(f64, f64)]) -> Option<CrossTrack> {
-    let total: f64 = samples.iter().map(|s| s.1).sum();
-    if total <= 0.0 {
-        return None;
-    }
-    let mean = samples.iter().map(|(e, w)| e * w).sum::<f64>() / total;
-    let mean_sq = samples.iter().map(|(e, w)| e * e * w).sum::<f64>() / total;
-    samples.sort_by(|a, b| a.0.abs().total_cmp(&b.0.abs()));
-    let mut below = 0.0;
-    let mut p95 = 0.0;
-    for (e, w) in samples.iter() {
-        below += w;
-        p95 = e.abs();
-        if below >= 0.95 * total {
-            break;
-        }
-    }
-    let max = samples.iter().map(|s| s.0.abs()).fold(0.0, f64::max);
-    Some(CrossTrack {
-        mean_cm: mean * 100.0,
-        sd_cm: (mean_sq - mean * mean).max(0.0).sqrt() * 100.0,
-        rms_cm: mean_sq.sqrt() * 100.0,
-        p95_cm: p95 * 100.0,
-        max_cm: max * 100.0,
-        distance_m: total,
-    })
+/// The tool's cross-track figures in the words of the run report and `record summary`
+/// alike, at the precision both show.
+pub fn cross_track_words(c: &CrossTrackSummary, from_m: f64) -> String {
+    format!(
+        "tool cross-track (after the first {from_m} m, over {:.2} m): mean {:.2} cm, s.d. {:.2} cm, RMS {:.2} cm, p95 {:.2} cm, max {:.2} cm, {:.1} % of distance over 2 cm",
+        c.distance_m,
+        c.mean_cm,
+        c.sd_cm,
+        c.rms_cm,
+        c.p95_cm,
+        c.max_cm,
+        c.share_over_2cm * 100.0
+    )
 }
 
 fn figures(record: &Record, from_m: f64) -> Result<Summary, ReadProblem> {
@@ -127,10 +104,9 @@ fn figures(record: &Record, from_m: f64) -> Result<Summary, ReadProblem> {
 
     let mut modes: Vec<(f64, String)> = Vec::new();
     let mut gaps = Vec::new();
-    let mut samples = Vec::new();
+    let mut cross_track = TickCrossTrack::new(from_m);
     let mut simulated = false;
     let mut last_tick: Option<f64> = None;
-    let mut last_sim_m: Option<f64> = None;
     for row in 0..n {
         let mode = t.text(row, c_mode);
         if modes.last().is_none_or(|(_, m)| *m != mode) {
@@ -144,13 +120,8 @@ fn figures(record: &Record, from_m: f64) -> Result<Summary, ReadProblem> {
         let sim_m = num(row, c_sim_d)?;
         simulated |= error_m.is_some();
         if let (Some(e), Some(d)) = (error_m, sim_m) {
-            let weight = last_sim_m.map_or(0.0, |last| (d - last).max(0.0));
-            let done = num(row, c_done)? == Some(1.0);
-            if d >= from_m && !done && weight > 0.0 {
-                samples.push((e, weight));
-            }
+            cross_track.tick(e, d, num(row, c_done)? == Some(1.0));
         }
-        last_sim_m = sim_m.or(last_sim_m);
     }
     // Recorded every Nth tick: the smallest gap is N; larger gaps are dropped ticks.
     let every = gaps.iter().copied().fold(f64::INFINITY, f64::min);
@@ -174,7 +145,7 @@ fn figures(record: &Record, from_m: f64) -> Result<Summary, ReadProblem> {
         faults,
         notices,
         from_m,
-        cross_track: simulated.then(|| cross_track(&mut samples).unwrap_or_default()),
+        cross_track: simulated.then(|| cross_track.summary()),
         // Until the header beside the record says otherwise.
         cross_track_meaning: CrossTrackMeaning::Unknown,
         notes: record.notes.clone(),
@@ -256,42 +227,12 @@ impl Summary {
                 );
             }
             Some(c) => {
-                let _ = writeln!(
-                    out,
-                    "tool cross-track (from {:.1} m, over {:.2} m): mean {:.2} cm, s.d. {:.2} cm, RMS {:.2} cm, p95 {:.2} cm, max {:.2} cm",
-                    self.from_m, c.distance_m, c.mean_cm, c.sd_cm, c.rms_cm, c.p95_cm, c.max_cm
-                );
+                let _ = writeln!(out, "{}", cross_track_words(c, self.from_m));
             }
         }
         for note in &self.notes {
             let _ = writeln!(out, "note: {note}");
         }
         out
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn figures_of_a_known_distribution_by_distance() {
-        // -3, -1, +1, +3 cm, each over 0.25 m; a long stretch at 0 m weighs nothing.
-        let mut samples = vec![
-            (-0.03, 0.25),
-            (0.0, 0.0),
-            (-0.01, 0.25),
-            (0.01, 0.25),
-            (0.03, 0.25),
-        ];
-        let c = cross_track(&mut samples).unwrap();
-        let close = |a: f64, b: f64| (a - b).abs() < 1e-9;
-        assert!(close(c.mean_cm, 0.0) && close(c.distance_m, 1.0));
-        assert!(close(c.sd_cm, 5f64.sqrt()) && close(c.rms_cm, 5f64.sqrt()));
-        assert!(close(c.p95_cm, 3.0) && close(c.max_cm, 3.0));
-        // The p95 is by distance: 96 % of the way at 1 cm, 4 % at 10 cm.
-        let mut samples = vec![(0.01, 0.96), (0.10, 0.04)];
-        assert!(close(cross_track(&mut samples).unwrap().p95_cm, 1.0));
-        assert_eq!(cross_track(&mut [(0.02, 0.0)]), None);
     }
 }

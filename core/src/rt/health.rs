@@ -71,6 +71,8 @@ pub struct ThreadHealth {
     pub panicked: Option<ThreadName>,
     /// Deadline overruns of the supervisor loop so far.
     pub supervisor_overruns: u64,
+    /// The computer's load as last read (None where it is not read: lockstep, replay).
+    pub cpu_load: Option<crate::rt::load::CpuLoad>,
 }
 
 /// One run's panic flag, shared by its threads.

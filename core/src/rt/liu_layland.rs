@@ -1,5 +1,15 @@
 //! The Liu and Layland check of the periodic threads' measured load (rt/mod.rs keeps the
 //! figures it is worked out from).
+//!
+//! The honest figure is the worst case of the whole run: both periodic loops (the
+//! supervisor and the steer thread), each with the longest execution time of any of its
+//! ticks from the first to the last, start-up and stopping included, since a
+//! schedulability claim that leaves out its worst tick claims too much. Every reader
+//! shows that one figure, from `liu_layland` on the loops' cumulative figures and in
+//! `LiuLayland::words`: the run summary from the figures each thread returns as it ends,
+//! the GUI, the console's status line and the bus from the figures the threads publish
+//! four times a second and once more as they end (threads/mod.rs), so that the GUI's
+//! last figure includes the run's last ticks too.
 
 use super::LoopSummary;
 
@@ -10,6 +20,22 @@ pub struct LiuLayland {
     pub utilisation: f64,
     pub bound: f64,
     pub schedulable: bool,
+}
+
+impl LiuLayland {
+    /// The check in the words, and at the precision, that every reader shows.
+    pub fn words(&self) -> String {
+        format!(
+            "worst-case load {:.4} of bound {:.3}: {}",
+            self.utilisation,
+            self.bound,
+            if self.schedulable {
+                "schedulable"
+            } else {
+                "NOT guaranteed schedulable"
+            }
+        )
+    }
 }
 
 pub fn liu_layland(loops: &[LoopSummary]) -> LiuLayland {

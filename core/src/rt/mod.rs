@@ -14,6 +14,7 @@ use thread_priority::{
 
 pub mod health;
 pub mod inject;
+pub mod load;
 
 use crate::config::RtSettings;
 

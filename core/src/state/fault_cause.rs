@@ -6,6 +6,7 @@ use std::fmt;
 use mechweed_hw::{EncoderId, Side};
 
 use crate::rt::health::ThreadName;
+use crate::rt::load::CpuLoad;
 
 /// Why the robot stopped, in words a field technician understands.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -54,14 +55,17 @@ pub enum FaultCause {
     ThreadPanicked {
         thread: ThreadName,
     },
+    /// The computer's load at the fault says whether other programs took the CPU.
     Overruns {
         count: u32,
         window_s: f64,
+        load: Option<CpuLoad>,
     },
     /// One supervisor tick started this late after its deadline.
     LateTick {
         late_ms: f64,
         limit_ms: f64,
+        load: Option<CpuLoad>,
     },
     /// A joystick axis read beyond what the joystick can give: a broken wiper.
     JoystickAxis {
@@ -78,6 +82,14 @@ pub enum FaultCause {
 pub enum JoystickAxis {
     Speed,
     Steer,
+}
+
+/// "; the computer's load was ...", where it was read.
+fn say_load(f: &mut fmt::Formatter<'_>, load: Option<CpuLoad>) -> fmt::Result {
+    match load {
+        Some(load) => write!(f, "; {load}"),
+        None => Ok(()),
+    }
 }
 
 fn side_name(side: Side) -> &'static str {
@@ -179,14 +191,28 @@ impl fmt::Display for FaultCause {
                     thread.label()
                 )
             }
-            FaultCause::Overruns { count, window_s } => write!(
-                f,
-                "the supervisor missed {count} deadlines within {window_s:.0} s: the computer is overloaded"
-            ),
-            FaultCause::LateTick { late_ms, limit_ms } => write!(
-                f,
-                "the supervisor stalled: one tick started {late_ms:.0} ms late (limit {limit_ms:.0} ms)"
-            ),
+            FaultCause::Overruns {
+                count,
+                window_s,
+                load,
+            } => {
+                write!(
+                    f,
+                    "the supervisor missed {count} deadlines within {window_s:.0} s"
+                )?;
+                say_load(f, load)
+            }
+            FaultCause::LateTick {
+                late_ms,
+                limit_ms,
+                load,
+            } => {
+                write!(
+                    f,
+                    "the supervisor stalled: one tick started {late_ms:.0} ms late (limit {limit_ms:.0} ms)"
+                )?;
+                say_load(f, load)
+            }
             FaultCause::JoystickAxis { axis, volts } => {
                 let which = match axis {
                     JoystickAxis::Speed => "speed",

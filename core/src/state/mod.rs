@@ -11,11 +11,13 @@
 //! last copy when the lock is busy, and counts how often it was.
 
 pub mod cross_track;
+pub mod fault_advice;
 pub mod fault_cause;
 pub mod measure;
 pub mod modes;
 pub mod operator;
 pub mod request_channel;
+pub mod sensor_down;
 pub mod status;
 pub mod steering;
 

@@ -7,6 +7,7 @@ use mechweed_hw::Outputs;
 
 use crate::config::{PdSettings, PiSettings, SteerSettings};
 use crate::state::fault_cause::FaultCause;
+use crate::state::sensor_down::SensorDown;
 
 /// The three regulators' gains, as one request.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -89,6 +90,9 @@ pub enum Request {
     PowerUp,
     /// Hardware test panel: the outputs to write while in Test.
     TestOutputs(Outputs),
+    /// Hardware test panel: a person holds (true) or let go of (false) its Hold to run;
+    /// a hold counts for supervisor::test_mode::PANEL_HOLD_S unless renewed.
+    TestHold(bool),
     /// New regulator gains; taken only in Halt, so that nothing jumps while moving.
     Gains(Gains),
     /// New gains and steering-law parameters together (the GUI's Apply): both are
@@ -117,13 +121,19 @@ pub enum Refusal {
     NotStarted,
     /// A person drives in joystick mode, dead-man held: the bus may not take over.
     PersonAtTheRobot,
+    /// Autonomous needs a sensor ([steer] source) that cannot be heard now.
+    SensorDown(SensorDown),
 }
 
 impl fmt::Display for Refusal {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Refusal::FaultLatched(Some(c)) => {
-                write!(f, "a fault is latched ({c}): power up to clear it")
+                write!(
+                    f,
+                    "a fault is latched ({c}): power up to clear it; what to check: {}",
+                    c.what_to_check()
+                )
             }
             Refusal::FaultLatched(None) => write!(f, "a fault is latched: power up to clear it"),
             Refusal::CauseStillActive(c) => write!(f, "cannot power up: {c}"),
@@ -151,6 +161,7 @@ impl fmt::Display for Refusal {
                 f,
                 "a person at the robot holds the joystick's dead-man, or let go of it less than 2 s ago: a request over the bus never takes the robot from them into autonomous or test (rule: a person at the robot first)"
             ),
+            Refusal::SensorDown(why) => write!(f, "autonomous needs its sensors: {why}"),
             Refusal::OnlyInHalt => write!(
                 f,
                 "gains and steering-law parameters are changed only in halt, so that nothing jumps while moving"

@@ -16,6 +16,9 @@ pub struct OperatorScript {
     next: usize,
     /// The mode asked for at start, pursued until reached or a fault intervenes.
     goal: Option<Mode>,
+    /// The goal was asked for once while a sensor it needs was down: its refusal said
+    /// why, and it is asked again only once the sensor is back, not in every tick.
+    asked_while_down: bool,
 }
 
 pub(crate) fn mode_of(m: OperatorMode) -> Mode {
@@ -37,6 +40,7 @@ impl OperatorScript {
                 .collect(),
             next: 0,
             goal: (start_mode != Mode::Halt).then_some(start_mode),
+            asked_while_down: false,
         }
     }
 
@@ -74,6 +78,11 @@ impl OperatorScript {
             }
             _ if status.power == PowerState::Off => Some(Request::PowerUp),
             _ if status.power == PowerState::On && status.measured.calibrated => {
+                let down = goal == Mode::Autonomous && status.sensor_down.is_some();
+                if down && self.asked_while_down {
+                    return None;
+                }
+                self.asked_while_down = down;
                 Some(Request::Mode(goal))
             }
             _ => None,

@@ -6,6 +6,7 @@ use mechweed_hw::{Inputs, Outputs, Side};
 use crate::state::fault_cause::FaultCause;
 use crate::state::measure::Measured;
 use crate::state::modes::Mode;
+use crate::state::sensor_down::SensorDown;
 use crate::state::steering::Steering;
 
 /// The motor contactor as the supervisor commands it.
@@ -28,6 +29,9 @@ pub struct FaultRecord {
     pub tick_seen: u64,
     /// Tick that wrote the safe outputs.
     pub tick_safe: u64,
+    /// The same kind of cause latched this soon after the power-up that cleared it, s:
+    /// the power-up did not mend it. None: it did not come back.
+    pub came_back_after_s: Option<f64>,
 }
 
 /// Something the operator should know that is not a fault.
@@ -38,6 +42,8 @@ pub enum Notice {
     /// The tool passed the end of the row: the robot stopped in Halt. Driven in
     /// Autonomous along this row, m.
     RowEnded { driven_m: f64, t_s: f64 },
+    /// Test entered: the robot must be on its stand, and nothing moves unless held.
+    TestOnStand { t_s: f64 },
     /// Autonomous by GNSS or the fused row: these sensors steer from now on.
     /// The sensors that steer changed; `why` names what the others lack.
     Steering {
@@ -53,6 +59,7 @@ impl Notice {
         match self {
             Notice::EndSwitchRecovered { t_s, .. }
             | Notice::RowEnded { t_s, .. }
+            | Notice::TestOnStand { t_s }
             | Notice::Steering { t_s, .. } => *t_s,
         }
     }
@@ -74,6 +81,10 @@ impl std::fmt::Display for Notice {
             Notice::RowEnded { driven_m, .. } => write!(
                 f,
                 "end of row after {driven_m:.1} m: the tool passed the row's end, robot stopped, now in halt"
+            ),
+            Notice::TestOnStand { .. } => write!(
+                f,
+                "test mode: the robot must be on its stand with the drive wheels off the ground; an amplifier gets the panel's voltage only while Hold to run (or the dead-man) is held"
             ),
             Notice::Steering { steering, why, .. } => {
                 write!(f, "steering by {}", steering.words())?;
@@ -108,6 +119,9 @@ pub struct Status {
     /// A fault cause that holds now whatever the mode (an e-stop pressed, ...): power-up
     /// is refused while there is one.
     pub standing_cause: Option<FaultCause>,
+    /// A sensor that autonomous mode needs by [steer] source and cannot hear now:
+    /// Autonomous is refused while there is one.
+    pub sensor_down: Option<SensorDown>,
 }
 
 impl Default for Status {
@@ -128,6 +142,7 @@ impl Default for Status {
             endswitch_hit: None,
             notice: None,
             standing_cause: None,
+            sensor_down: None,
         }
     }
 }

@@ -77,6 +77,9 @@ pub struct RowFigures {
     pub gnss_sd_m: Option<f64>,
     /// The antenna's latitude and longitude in that fix, degrees.
     pub gnss_position: Option<(f64, f64)>,
+    /// When the receiver last sent an epoch, with or without a position (None: never),
+    /// s: the supervisor refuses autonomous by GNSS while it is silent.
+    pub gnss_heard_s: Option<f64>,
     /// The row filter (None when the camera steers alone: its figures are then the
     /// camera's own, and the record keeps those).
     pub filter: Option<FilterFigures>,
@@ -207,7 +210,10 @@ impl RowSources {
 
     /// The last fix's figures and, where the filter runs, its estimate.
     pub fn figures(&self, gnss: &GnssStatus) -> RowFigures {
-        let mut f = RowFigures::default();
+        let mut f = RowFigures {
+            gnss_heard_s: Some(gnss.last_epoch_s).filter(|t| t.is_finite()),
+            ..RowFigures::default()
+        };
         if let Some(fix) = gnss.last_fix {
             f.gnss_quality = fix.quality.code();
             f.gnss_satellites = fix.satellites.unwrap_or(0);
@@ -310,7 +316,7 @@ impl RowSources {
             self.fuse_gnss(gnss, m.distance_m);
         }
         self.steering = self.choose(now_s, camera_fresh);
-        let searching = self.searching(now_s, m);
+        let searching = self.searching(now_s, m, link);
         let (camera_heard, gnss_heard) = (
             self.camera_good_s > self.reset_s,
             self.gnss_good_s > self.reset_s,
@@ -354,14 +360,19 @@ impl RowSources {
 
     /// The camera alone, with no row seen yet in this spell: after [steer]
     /// camera_fallback_s standing, and within [camera] first_row_m of where it began, the
-    /// robot drives straight ahead to find its first plants.
-    fn searching(&mut self, now_s: f64, m: &Measured) -> bool {
+    /// robot drives straight ahead to find its first plants, and only while the camera's
+    /// link brings frames (of any quality): a silent camera would never see them.
+    fn searching(&mut self, now_s: f64, m: &Measured, link: &LinkStatus) -> bool {
         let heard = self.camera_good_s > self.reset_s;
+        let live = link.connected && now_s - link.last_row_s <= self.link_timeout_s;
         let driven_m = m.distance_m - self.start_distance_m.unwrap_or(m.distance_m);
         // Standing for the camera's fall-back time first: its first frames may be on the way.
         let waited = now_s - self.reset_s >= self.s.camera_fallback_s;
-        self.searching =
-            self.s.source == SteerSource::Camera && !heard && waited && driven_m < self.first_row_m;
+        self.searching = self.s.source == SteerSource::Camera
+            && live
+            && !heard
+            && waited
+            && driven_m < self.first_row_m;
         self.searching
     }
 

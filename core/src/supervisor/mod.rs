@@ -8,12 +8,14 @@
 //! Autonomous directly, bumpless); any fault latches Fault with safe outputs in the
 //! same tick, until the cause is gone and the operator powers up again.
 
+mod came_back;
 mod drive;
 mod endswitch;
 pub mod pid;
 mod requests;
 pub mod row_end;
 pub mod rules;
+pub mod sensors;
 pub mod test_mode;
 
 use mechweed_hw::{Inputs, Outputs};
@@ -48,6 +50,8 @@ pub struct Supervisor {
     endswitch: EndSwitchLatch,
     row_end: RowEnd,
     test_outputs: Outputs,
+    /// Who holds a control in Test (test_mode.rs).
+    test_hold: test_mode::Hold,
     /// Steering-law parameters accepted in Halt, not yet passed to the steer thread.
     steer_settings: Option<SteerSettings>,
     /// The steering law's parameters as last accepted (the steer thread follows).
@@ -61,6 +65,8 @@ pub struct Supervisor {
     /// When the joystick's dead-man was last held, s: a person at the robot, whom the
     /// bus never overrides (rules.rs, remote_refusal).
     deadman_held_s: f64,
+    /// The cause the last power-up cleared, and when: a fault of it again soon came back.
+    last_cleared: came_back::LastCleared,
 }
 
 impl Supervisor {
@@ -78,6 +84,7 @@ impl Supervisor {
             endswitch: EndSwitchLatch::default(),
             row_end: RowEnd::new(s),
             test_outputs: Outputs::SAFE,
+            test_hold: test_mode::Hold::RELEASED,
             steer_settings: None,
             steer_in_force: s.steer,
             status: Status::default(),
@@ -85,6 +92,7 @@ impl Supervisor {
             notice_log: Vec::with_capacity(LOG_CAPACITY),
             steering_said: None,
             deadman_held_s: f64::NEG_INFINITY,
+            last_cleared: came_back::LastCleared::default(),
         }
     }
 
@@ -150,12 +158,14 @@ impl Supervisor {
             t_s: self.status.t_s,
             tick_seen: self.status.tick,
             tick_safe: self.status.tick,
+            came_back_after_s: self.last_cleared.came_back_after_s(&cause, self.status.t_s),
         };
         if self.fault_log.len() < LOG_CAPACITY {
             self.fault_log.push(record);
         }
         self.status.fault = Some(record);
         self.status.power = PowerState::Off;
+        self.test_hold = test_mode::Hold::RELEASED;
         self.set_mode(Mode::Fault);
     }
 
@@ -181,6 +191,7 @@ impl Supervisor {
         health: &ThreadHealth,
     ) -> Outputs {
         let (gap_s, measured) = self.take_in(now_s, inputs);
+        self.status.sensor_down = sensors::down(&self.settings, link, steer, now_s);
         self.follow_power(now_s, inputs);
         // A finished end-switch procedure and the row's end first: a robot that stops
         // in Halt there is not checked for a row the camera no longer sees.
@@ -296,7 +307,13 @@ impl Supervisor {
         let outputs = match self.status.mode {
             Mode::Fault => Outputs::SAFE,
             Mode::Halt => self.standing_outputs(),
-            Mode::Test => guard_steering(test_mode::limit_amplifiers(self.test_outputs), inputs),
+            Mode::Test => {
+                // The dead-man on the cards is a hold as good as the panel's button.
+                let held = self.test_hold.held(inputs.joystick_enable, now_s);
+                let asked = test_mode::limit_amplifiers(self.test_outputs);
+                let test = &self.settings.test;
+                guard_steering(test_mode::hold_to_run(asked, held, test, measured), inputs)
+            }
             Mode::Joystick | Mode::Autonomous => self.drive(now_s, steer, inputs, gap_s),
         };
         if !self.status.mode.drives() {

@@ -3,7 +3,7 @@
 //! (modes.rs), then the change, all between two ticks.
 
 use crate::state::modes::{Gains, Mode, Refusal, Request};
-use crate::state::status::PowerState;
+use crate::state::status::{Notice, PowerState};
 
 use super::rules::{mode_refusal, power_up_refusal, remote_refusal};
 
@@ -39,7 +39,9 @@ impl Supervisor {
                     // again from the potentiometer, with the robot standing.
                     self.measure.recalibrate();
                     self.set_mode(Mode::Halt);
-                    self.status.fault = None;
+                    if let Some(fault) = self.status.fault.take() {
+                        self.last_cleared.cleared(&fault.cause, self.status.t_s);
+                    }
                 }
                 self.status.power = PowerState::Closing {
                     since_s: self.status.t_s,
@@ -51,10 +53,19 @@ impl Supervisor {
                     return Err(refusal);
                 }
                 match mode {
-                    Mode::Test => self.test_outputs = test_mode::first_outputs(st.power),
+                    Mode::Test => {
+                        self.test_outputs = test_mode::first_outputs(st.power);
+                        self.test_hold = test_mode::Hold::RELEASED;
+                        self.say(Notice::TestOnStand {
+                            t_s: self.status.t_s,
+                        });
+                    }
                     // Leaving Test restores the safe outputs, contactor open: whatever
                     // the panel switched stays behind on the bench, not in Halt.
-                    Mode::Halt if st.mode == Mode::Test => self.status.power = PowerState::Off,
+                    Mode::Halt if st.mode == Mode::Test => {
+                        self.status.power = PowerState::Off;
+                        self.test_hold = test_mode::Hold::RELEASED;
+                    }
                     Mode::Joystick | Mode::Autonomous if st.mode == Mode::Halt => {
                         self.start_driving()
                     }
@@ -84,6 +95,13 @@ impl Supervisor {
                     return Err(Refusal::NotInTest);
                 }
                 self.test_outputs = outputs;
+                Ok(())
+            }
+            Request::TestHold(held) => {
+                if st.mode != Mode::Test {
+                    return Err(Refusal::NotInTest);
+                }
+                self.test_hold.panel(held, st.t_s);
                 Ok(())
             }
         }

@@ -25,6 +25,7 @@ pub(crate) fn mode_refusal(wanted: Mode, st: &Status) -> Option<Refusal> {
         _ if matches!(st.power, PowerState::Closing { .. }) => Some(Refusal::PowerComingOn),
         _ if st.power != PowerState::On => Some(Refusal::NotPowered),
         _ if !st.measured.calibrated => Some(Refusal::NotCalibrated),
+        Mode::Autonomous => st.sensor_down.map(Refusal::SensorDown),
         _ => None,
     }
 }

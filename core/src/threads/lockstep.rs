@@ -127,6 +127,9 @@ impl Lockstep {
                     .ok()
             })
             .flatten();
+        // The camera's pipe is open from the start, as a port the link thread opened.
+        let mut link = LinkCore::new(&settings.camera);
+        link.connected();
         Lockstep {
             robot,
             io,
@@ -135,7 +138,7 @@ impl Lockstep {
             steer: SteerCore::with_map(settings, place),
             gnss_pipe,
             gnss: GnssCore::new(),
-            link: LinkCore::new(&settings.camera),
+            link,
             steer_command: SteerCommand::default(),
             operator: OperatorScript::new(&settings.sim.events, start_mode),
             t_us: 0,

@@ -43,3 +43,13 @@ fn publish_figures_now_and_then(
         }
     }
 }
+
+/// The loop's figures as its thread ends, published once more (waiting for the lock:
+/// no tick is timed any more) and returned: every reader (the GUI, the console, the
+/// bus) ends on the very figures the run's summary prints, not on ones up to a quarter
+/// of a second older (rt/liu_layland.rs).
+fn final_figures(periodic: &Periodic, figures: &Writer<LoopSummary>) -> LoopSummary {
+    let summary = periodic.stats.summary();
+    figures.publish(&summary);
+    summary
+}

@@ -17,7 +17,7 @@ use crate::state::status::Status;
 use crate::state::{Latest, Reader, Writer};
 use crate::steer::{SteerCommand, SteerCore};
 
-use super::{publish_figures_now_and_then, publish_soon};
+use super::{final_figures, publish_figures_now_and_then, publish_soon};
 
 /// What the steer thread meets the other threads through.
 pub struct SteerWires {
@@ -124,6 +124,6 @@ impl SteerThread {
             // out on the clock, not on a count of ticks that frames can step over.
             publish_figures_now_and_then(&mut periodic, &self.wires.figures, &mut figures_pending);
         }
-        periodic.stats.summary()
+        final_figures(&periodic, &self.wires.figures)
     }
 }

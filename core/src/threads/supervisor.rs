@@ -12,6 +12,7 @@ use crate::config::SteerSettings;
 use crate::record::{Given, HwFailure, RecordTap};
 use crate::rt::health::{self, PanicFlag, ThreadHealth, ThreadName};
 use crate::rt::inject::{Fail, Injection};
+use crate::rt::load::LoadGauge;
 use crate::rt::{self, LoopSummary, Periodic};
 use crate::state::modes::{Gains, Request};
 use crate::state::request_channel::{Envelope, RequestReceiver};
@@ -20,7 +21,7 @@ use crate::state::{Latest, Mailbox, Reader, Writer};
 use crate::steer::SteerCommand;
 use crate::supervisor::Supervisor;
 
-use super::publish_figures_now_and_then;
+use super::{final_figures, publish_figures_now_and_then};
 
 /// Writes the safe outputs when dropped: at the end of the supervisor thread, and
 /// also if it unwinds from a panic, so that no exit leaves a frozen last command.
@@ -52,6 +53,8 @@ pub struct SupervisorWires {
     pub bus: RecordTap,
     pub panics: Arc<PanicFlag>,
     pub stop: Arc<AtomicBool>,
+    /// The computer's load, read by a thread of its own (None: not read).
+    pub load: Option<Arc<LoadGauge>>,
 }
 
 /// What the supervisor thread owns: the hardware, the supervisor, its wires.
@@ -126,6 +129,7 @@ impl SupervisorThread {
             mut bus,
             panics,
             stop,
+            load,
         } = wires;
         health::watch_this_thread(&panics, ThreadName::Supervisor);
         if let Some(warning) = rt::set_this_thread(priority, cpu) {
@@ -162,6 +166,7 @@ impl SupervisorThread {
                 gui_beat_s: (!gui_beat_s.is_nan()).then_some(gui_beat_s),
                 panicked: panics.panicked(),
                 supervisor_overruns: periodic.stats.overruns,
+                cpu_load: load.as_ref().and_then(|gauge| gauge.now()),
             };
             let hw_failed =
                 read_tick_write(&mut hw, &mut core, now_s, (&steer_now, &link_now), &health);
@@ -181,7 +186,7 @@ impl SupervisorThread {
             periodic.done();
             publish_figures_now_and_then(&mut periodic, &figures, &mut figures_pending);
         }
-        (core, periodic.stats.summary())
+        (core, final_figures(&periodic, &figures))
     }
 }
 

@@ -48,3 +48,29 @@ fn through_a_gap_the_camera_alone_slows_to_its_gap_speed_and_says_so() {
         sim.supervisor.notices()
     );
 }
+
+#[test]
+fn a_silent_camera_never_sends_the_robot_looking_for_plants() {
+    // The camera computer falls silent while the robot stands in Halt (the link streams
+    // only while driving, so nothing shows yet). Autonomous is taken; the robot must not
+    // then drive off blind "to find the first plants": it stands, and the silence is
+    // the camera's fault.
+    let s = crate::common::settings_with("0.2 link_silent 30", &[]);
+    let mut sim = Lockstep::new(&s, Mode::Autonomous);
+    while sim.supervisor.faults().is_empty() && sim.now_s() < 10.0 {
+        sim.tick();
+    }
+    assert_eq!(
+        sim.supervisor.faults().first().map(|f| f.cause.to_string()),
+        Some("camera link lost: no row frame for 0.51 s".to_string()),
+        "{:?}",
+        sim.supervisor.faults()
+    );
+    let driven_m = sim.robot.truth().distance_m;
+    assert!(driven_m < 0.01, "drove {driven_m} m with a silent camera");
+    assert!(
+        !said(&sim, "no row in sight yet"),
+        "{:?}",
+        sim.supervisor.notices()
+    );
+}

@@ -139,7 +139,11 @@ fn every_error_is_reported_at_once() {
 #[test]
 fn the_shipped_wiring_is_io_cards_md() {
     use mechweed_hw::cards::pci::CardLocation;
-    let s = Settings::parse("robot.ini", SHIPPED, &["hw.backend=cards".to_string()]).unwrap();
+    let on_cards = [
+        "hw.backend=cards".to_string(),
+        "camera.port=/dev/ttyS0".to_string(),
+    ];
+    let s = Settings::parse("robot.ini", SHIPPED, &on_cards).unwrap();
     assert_eq!(s.backend, mechweed_core::config::Backend::Cards);
     assert_eq!(s.cards.das08, CardLocation::PciAuto);
     assert_eq!((s.io.battery_v.channel, s.io.battery_v.scale), (3, 10.0));

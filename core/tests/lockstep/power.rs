@@ -27,7 +27,8 @@ fn panel(relay: bool, v: f64) -> Outputs {
 fn power_up_then_test_keeps_power_and_the_relay_switch_is_the_power_switch() {
     // The ordinary order of a person at the test panel; it used to fault 20 ms after
     // entering Test with "motor power lost".
-    let s = settings_with("0.5 power_up, 3 mode test", &[]);
+    // The dead-man held: the hold that lets the panel's volts reach the amplifiers.
+    let s = settings_with("0.5 power_up, 3 mode test, 3.1 deadman on", &[]);
     let mut sim = Lockstep::new(&s, Mode::Halt);
     let ticks = record(&mut sim, 6.0);
     assert!(
@@ -78,7 +79,7 @@ fn power_lost_in_test_is_a_fault() {
 fn test_without_power_up_still_finds_a_stuck_encoder() {
     // No Power up: the panel closes the relay and drives the amplifiers itself. The
     // encoder check must watch that as it watches driving.
-    let s = settings_with("1 mode test, 2 encoder_stuck left", &[]);
+    let s = settings_with("1 mode test, 1.1 deadman on, 2 encoder_stuck left", &[]);
     let mut sim = Lockstep::new(&s, Mode::Halt);
     record(&mut sim, 1.5);
     assert_eq!(sim.supervisor.mode(), Mode::Test);
@@ -207,7 +208,7 @@ fn from_test_a_driving_mode_is_refused_until_halt() {
     // In Test with the relay closed and the wheels turning on the panel's volts: a
     // driving mode taken directly would hand running motors and released brakes to the
     // regulators without the stop in Halt between.
-    let s = settings_with("0.5 power_up, 2 mode test", &[]);
+    let s = settings_with("0.5 power_up, 2 mode test, 2.1 deadman on", &[]);
     let mut sim = Lockstep::new(&s, Mode::Halt);
     record(&mut sim, 2.5);
     sim.request(Request::TestOutputs(panel(true, 3.0))).unwrap();

@@ -27,7 +27,10 @@ fn a_tick_that_comes_late_is_a_fault_naming_how_late() {
     let outputs = tick_by_hand(&mut sim, now_s, &command, |_| {});
     assert_eq!(outputs, Outputs::SAFE);
     let log = sim.supervisor.faults();
-    let Some(FaultCause::LateTick { late_ms, limit_ms }) = log.first().map(|f| f.cause) else {
+    let Some(FaultCause::LateTick {
+        late_ms, limit_ms, ..
+    }) = log.first().map(|f| f.cause)
+    else {
         panic!("{log:?}");
     };
     assert!(

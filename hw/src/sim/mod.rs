@@ -8,10 +8,12 @@
 //! wheel and its sensors), `body` (the bicycle model), `field` (the row), `tool` (the
 //! tool's path along the row), `sight` (what the camera sees), `camera` (the camera
 //! computer), `robot` (all of it together), `realtime` (on the wall clock), plus
-//! `params`, `events`, `pipe` and `crosstrack`; `field_tier` adds what real fields add.
+//! `params`, `events`, `pipe`, `crosstrack` (the plant's figures) and `crosstrack_ticks`
+//! (a run's, from its ticks); `field_tier` adds what real fields add.
 
 pub mod camera;
 pub mod crosstrack;
+pub mod crosstrack_ticks;
 pub mod events;
 pub mod field;
 pub mod field_map;
@@ -34,6 +36,7 @@ mod tool;
 pub(crate) mod alloc_tests;
 
 pub use crosstrack::{CrossTrackStats, CrossTrackSummary, SAMPLE_SPACING_M};
+pub use crosstrack_ticks::TickCrossTrack;
 pub use events::{ActionHelp, EventAction, OperatorMode, SimEvent, action_list, parse_events};
 pub use params::{CROSS_TRACK_FROM_M, FieldKind, FieldTierParams, RowShape, SimParams};
 pub use pipe::{PipeEnd, byte_pipe};

@@ -1,20 +1,21 @@
 //! The simulated robot on the wall clock, as hardware behind the `Hw` trait.
 //!
 //! Each `read()` first advances the plant to the time elapsed since `SimHw::new`, then
-//! publishes the truth and the cross-track statistics for other threads (GUI, reports)
-//! through a mutex held only to copy. The published statistics are fed sample by sample
-//! from the robot's journal, so publishing never allocates. Other threads operate the
-//! plant (e-stop buttons, joystick) through `SimControl`, whose requests wait in a fixed
-//! queue until the next `read()`.
+//! publishes the truth and the cross-track figures for other threads (GUI, reports)
+//! through a mutex held only to copy. The figures are those of the truth at each read,
+//! that is at each supervisor tick: the points a run's record holds, so that the run
+//! report and `record summary` give the same (crosstrack_ticks.rs). Publishing never
+//! allocates. Other threads operate the plant (e-stop buttons, joystick) through
+//! `SimControl`, whose requests wait in a fixed queue until the next `read()`.
 
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Instant;
 
 use super::Truth;
-use super::crosstrack::{CrossTrackStats, CrossTrackSummary};
+use super::crosstrack::CrossTrackSummary;
+use super::crosstrack_ticks::TickCrossTrack;
 use super::events::EventAction;
 use super::robot::SimRobot;
-use super::tool::JOURNAL_LEN;
 use crate::{Hw, HwError, Inputs, Outputs};
 
 /// Requests that can wait for the next `read()` at once.
@@ -22,7 +23,7 @@ const QUEUE_LEN: usize = 16;
 
 struct Shared {
     truth: Truth,
-    cross: CrossTrackStats,
+    cross: TickCrossTrack,
     actions: [Option<EventAction>; QUEUE_LEN],
     joystick: Option<(f64, f64, bool)>,
 }
@@ -39,8 +40,6 @@ pub struct SimHw {
     robot: SimRobot,
     start: Instant,
     shared: Arc<Mutex<Shared>>,
-    /// Cross-track samples already copied into the shared statistics.
-    journal_seen: u64,
 }
 
 /// Read the newest truth and cross-track statistics from any thread.
@@ -60,12 +59,11 @@ impl SimHw {
     pub fn new(robot: SimRobot) -> SimHw {
         let shared = Shared {
             truth: robot.truth(),
-            cross: robot.cross_track().clone(),
+            cross: TickCrossTrack::new(robot.cross_track_from_m()),
             actions: [None; QUEUE_LEN],
             joystick: None,
         };
         SimHw {
-            journal_seen: robot.cross_track_journal(0, |_, _| {}),
             robot,
             start: Instant::now(),
             shared: Arc::new(Mutex::new(shared)),
@@ -104,27 +102,13 @@ impl SimHw {
         }
     }
 
-    /// Advance to `t_s` in chunks short enough that the robot's journal of cross-track
-    /// samples (at most one per step) never overflows between two copies.
+    /// Advance to `t_s`, then publish the truth there and take it into the figures.
     fn advance_and_publish(&mut self, t_s: f64) {
-        let chunk_s = (JOURNAL_LEN / 2) as f64 * self.robot.step_s();
-        loop {
-            let before_s = self.robot.time_s();
-            self.robot.advance_to((before_s + chunk_s).min(t_s));
-            self.publish();
-            if self.robot.time_s() <= before_s {
-                return;
-            }
-        }
-    }
-
-    fn publish(&mut self) {
+        self.robot.advance_to(t_s);
+        let truth = self.robot.truth();
         let mut shared = lock(&self.shared);
-        shared.truth = self.robot.truth();
-        let cross = &mut shared.cross;
-        self.journal_seen = self
-            .robot
-            .cross_track_journal(self.journal_seen, |e, n| cross.record(e, n));
+        shared.truth = truth;
+        (shared.cross).tick(truth.tool_cross_track_m, truth.distance_m, truth.row_done);
     }
 }
 
@@ -151,7 +135,7 @@ impl TruthHandle {
     pub fn none() -> TruthHandle {
         let shared = Shared {
             truth: Truth::default(),
-            cross: CrossTrackStats::new(),
+            cross: TickCrossTrack::new(0.0),
             actions: [None; QUEUE_LEN],
             joystick: None,
         };
@@ -164,11 +148,7 @@ impl TruthHandle {
         lock(&self.shared).truth
     }
 
-    /// A copy of the statistics (allocates: call it from a reader, not a tight loop).
-    pub fn cross_track(&self) -> CrossTrackStats {
-        lock(&self.shared).cross.clone()
-    }
-
+    /// The cross-track figures of the ticks so far (none on the real robot).
     pub fn cross_track_summary(&self) -> CrossTrackSummary {
         lock(&self.shared).cross.summary()
     }
@@ -244,9 +224,8 @@ mod tests {
     }
 
     #[test]
-    fn published_statistics_equal_the_robots() {
+    fn published_figures_are_those_of_the_truth_at_each_read() {
         let mut hw = sim_hw();
-        // Drive for 20 simulated seconds in one catch-up, many journal chunks long.
         hw.robot.set_outputs(&Outputs {
             amp_left_v: 6.0,
             amp_right_v: 6.0,
@@ -255,11 +234,20 @@ mod tests {
             brake_release_right: true,
             ..Outputs::SAFE
         });
-        hw.advance_and_publish(20.0);
+        // 20 s of 10 ms ticks, each tick's truth taken as a record takes it.
         let handle = hw.truth_handle();
+        let mut recorded = TickCrossTrack::new(hw.robot.cross_track_from_m());
+        for tick in 1..=2000 {
+            hw.advance_and_publish(tick as f64 * 0.01);
+            let t = handle.truth();
+            recorded.tick(t.tool_cross_track_m, t.distance_m, t.row_done);
+        }
         let published = handle.cross_track_summary();
-        assert!(published.distance_m > 5.0);
-        assert_eq!(published, hw.robot.cross_track().summary());
-        assert_eq!(handle.cross_track().summary(), published);
+        assert!(published.distance_m > 5.0, "{published:?}");
+        assert_eq!(published, recorded.summary());
+        // The plant's own figures, a sample per centimetre of its 1 ms steps, are close.
+        let plant = hw.robot.cross_track().summary();
+        assert!((published.distance_m - plant.distance_m).abs() < 0.05);
+        assert!((published.max_cm - plant.max_cm).abs() < 0.05 + 0.05 * plant.max_cm);
     }
 }

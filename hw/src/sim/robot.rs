@@ -148,10 +148,6 @@ impl SimRobot {
         self.steps as f64 * self.p.step_s
     }
 
-    pub(crate) fn step_s(&self) -> f64 {
-        self.p.step_s
-    }
-
     fn step(&mut self) {
         let dt_s = self.p.step_s;
         let o = self.outputs;
@@ -376,9 +372,9 @@ impl SimRobot {
         &self.camera
     }
 
-    /// Cross-track samples since `seen`, for `SimHw` (see `ToolTrack::journal`).
-    pub(crate) fn cross_track_journal(&self, seen: u64, record: impl FnMut(f64, u64)) -> u64 {
-        self.tool.journal(seen, record)
+    /// Travel before this is left out of the cross-track figures, m.
+    pub(crate) fn cross_track_from_m(&self) -> f64 {
+        self.p.cross_track_from_m
     }
 }
 

@@ -3,15 +3,10 @@
 //!
 //! the simulated plant: measure after the first 5 m (`SimParams::cross_track_from_m`), against the interpolated centre line. One
 //! sample per centimetre travelled by the rear axle, while the tool is within the row.
-//! The newest samples are also kept in a fixed journal, so that `SimHw` can copy them
-//! into the statistics it shares with other threads without allocating.
 
 use super::body::Pose;
 use super::crosstrack::{CrossTrackStats, SAMPLE_SPACING_M};
 use super::field::{Field, Projection};
-
-/// Samples remembered for `SimHw` to copy (see `journal`).
-pub(crate) const JOURNAL_LEN: usize = 1024;
 
 pub(crate) struct ToolTrack {
     /// Tool point along the heading from the rear axle, m (negative = behind).
@@ -24,9 +19,6 @@ pub(crate) struct ToolTrack {
     stats: CrossTrackStats,
     /// Next centimetre of travel at which to take a sample.
     next_mark: u64,
-    /// The newest samples (error, count), and how many were ever taken.
-    journal: [(f64, u64); JOURNAL_LEN],
-    journal_total: u64,
 }
 
 impl ToolTrack {
@@ -39,8 +31,6 @@ impl ToolTrack {
             row_done: false,
             stats: CrossTrackStats::new(),
             next_mark: 0,
-            journal: [(0.0, 0); JOURNAL_LEN],
-            journal_total: 0,
         }
     }
 
@@ -71,23 +61,8 @@ impl ToolTrack {
         let count = marks_passed - self.next_mark + 1;
         self.next_mark = marks_passed + 1;
         if distance_m >= self.from_m && !self.row_done {
-            let error_m = self.now.signed_offset_m;
-            self.stats.record(error_m, count);
-            self.journal[(self.journal_total % JOURNAL_LEN as u64) as usize] = (error_m, count);
-            self.journal_total += 1;
+            self.stats.record(self.now.signed_offset_m, count);
         }
-    }
-
-    /// Hand every sample taken since `seen` (a count this returned before, 0 at first)
-    /// to `record`, and return the new count. Only the newest JOURNAL_LEN are kept, so
-    /// call it at least that often in samples (at most one is taken per step).
-    pub(crate) fn journal(&self, seen: u64, mut record: impl FnMut(f64, u64)) -> u64 {
-        let oldest_kept = self.journal_total.saturating_sub(JOURNAL_LEN as u64);
-        for k in seen.max(oldest_kept)..self.journal_total {
-            let (error_m, count) = self.journal[(k % JOURNAL_LEN as u64) as usize];
-            record(error_m, count);
-        }
-        self.journal_total
     }
 }
 
@@ -97,7 +72,7 @@ mod tests {
     use crate::sim::params::{RowShape, SimParams};
 
     #[test]
-    fn samples_every_centimetre_from_5_m_and_journals_them() {
+    fn samples_every_centimetre_from_5_m() {
         let field = Field::new(&SimParams {
             row: RowShape::Straight,
             row_length_m: 20.0,
@@ -120,9 +95,5 @@ mod tests {
             "{}",
             tool.stats().samples()
         );
-        let mut copied = CrossTrackStats::new();
-        let seen = tool.journal(0, |e, n| copied.record(e, n));
-        assert_eq!(copied.summary(), tool.stats().summary());
-        assert_eq!(tool.journal(seen, |_, _| panic!("nothing new")), seen);
     }
 }

@@ -162,11 +162,7 @@ impl LoopBench {
         out += "\n";
         out += &loop_line("steer", &self.steer);
         out += "\n";
-        let ll = &self.liu_layland;
-        out += &format!(
-            "Liu-Layland: worst-case load {:.4} of bound {:.3}\n",
-            ll.utilisation, ll.bound
-        );
+        out += &format!("Liu-Layland: {}\n", self.liu_layland.words());
         out += &format!(
             "CPU time of the whole process: {:.2} s, {:.3} CPUs",
             self.cpu_s, self.cpus

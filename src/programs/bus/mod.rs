@@ -233,6 +233,12 @@ mod tests {
     use super::decided;
 
     #[test]
+    fn the_tools_look_for_the_robot_where_the_shipped_robot_listens() {
+        let listen = crate::config::Settings::shipped().bus.listen;
+        assert_eq!(listen, [super::tools::DEFAULT_ENDPOINT]);
+    }
+
+    #[test]
     fn an_empty_answer_is_not_taken_for_a_decision() {
         assert_eq!(decided(r#"{"accepted": true}"#), Ok("accepted".to_string()));
         let why = decided("").unwrap_err();

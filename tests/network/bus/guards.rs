@@ -94,7 +94,7 @@ fn a_plain_listen_beyond_loopback_is_refused_before_anything_starts() {
     let dir = tempfile::tempdir().unwrap();
     let shipped =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/config/robot.ini")).unwrap();
-    let open = shipped.replace("listen = tcp/127.0.0.1:7447", "listen = tcp/0.0.0.0:7447");
+    let open = shipped.replace("listen = tcp/127.0.0.1:7510", "listen = tcp/0.0.0.0:7510");
     assert_ne!(open, shipped);
     let file = dir.path().join("robot.ini");
     std::fs::write(&file, &open).unwrap();
@@ -103,7 +103,7 @@ fn a_plain_listen_beyond_loopback_is_refused_before_anything_starts() {
     let said = text(&check.stdout) + &text(&check.stderr);
     assert!(
         said.contains(
-            "[bus] listen = tcp/0.0.0.0:7447 opens the bus beyond this computer without TLS"
+            "[bus] listen = tcp/0.0.0.0:7510 opens the bus beyond this computer without TLS"
         ),
         "{said}"
     );

@@ -26,6 +26,13 @@ pub fn endpoint(port: u16) -> String {
     format!("tcp/127.0.0.1:{port}")
 }
 
+/// The shipped [bus] listen, as config/robot.ini says it.
+pub fn shipped_listen() -> String {
+    let listen = mechweed::config::Settings::shipped().bus.listen;
+    assert_eq!(listen.len(), 1, "{listen:?}");
+    listen[0].clone()
+}
+
 /// A robot program with its bus listening at `endpoint`, recording into `folder`.
 pub struct Robot {
     /// None once `finish` has waited for it.
@@ -74,7 +81,7 @@ impl Robot {
             .unwrap();
         Robot {
             child: Some(child),
-            endpoint: listen.unwrap_or_else(|| endpoint(7447)),
+            endpoint: listen.unwrap_or_else(shipped_listen),
             folder: Some(folder),
             tool_args: Vec::new(),
         }
