@@ -79,6 +79,7 @@ pub(crate) const WANTED: &[&str] = &[
     // made before these columns lack them: record::read::ADDED_LATER).
     "gnss_heard_s",
     "link_streaming_since_s",
+    "link_heard_s",
 ];
 
 /// One row of the tick table, read column by column.
@@ -274,6 +275,12 @@ impl Row<'_> {
         if let Some(since_s) = self.maybe("link_streaming_since_s")? {
             (link.streaming, link.streaming_since_s) = (true, since_s);
         }
+        // A record from before the column: the camera taken as heard at the tick.
+        link.heard_s = if self.table.absent.iter().any(|c| c == "link_heard_s") {
+            link.beat_s
+        } else {
+            self.time_or_never("link_heard_s")?
+        };
         let c = &mut link.counters;
         c.frames_ok = self.count("cam_frames_ok")?;
         c.crc_errors = self.count("cam_crc_errors")?;

@@ -74,6 +74,9 @@ pub struct LinkStatus {
     pub streaming: bool,
     /// When START was first sent for this spell of streaming, s.
     pub streaming_since_s: f64,
+    /// When the camera computer last sent a valid frame, a row or a PONG, s: standing,
+    /// it answers the link's keep-alive PINGs, so a computer switched off shows.
+    pub heard_s: f64,
     pub starts_sent: u64,
     pub stops_sent: u64,
     /// The transport is open.
@@ -104,6 +107,7 @@ impl Default for LinkStatus {
             last_usable_s: f64::NEG_INFINITY,
             streaming: false,
             streaming_since_s: f64::NEG_INFINITY,
+            heard_s: f64::NEG_INFINITY,
             starts_sent: 0,
             stops_sent: 0,
             connected: false,
@@ -124,7 +128,13 @@ pub struct LinkCore {
     status: LinkStatus,
     last_start_s: f64,
     ping_sent_s: Option<f64>,
+    last_ping_s: f64,
 }
+
+/// While not streaming, the link PINGs the camera computer this often, s: the robot
+/// standing in Halt still knows whether its camera answers (the supervisor refuses
+/// Autonomous when it has not for a while: supervisor/sensors.rs).
+pub const KEEPALIVE_S: f64 = 1.0;
 
 impl LinkCore {
     pub fn new(settings: &CameraSettings) -> LinkCore {
@@ -134,6 +144,7 @@ impl LinkCore {
             status: LinkStatus::default(),
             last_start_s: f64::NEG_INFINITY,
             ping_sent_s: None,
+            last_ping_s: f64::NEG_INFINITY,
         }
     }
 
@@ -147,6 +158,7 @@ impl LinkCore {
         for &byte in bytes {
             match self.decoder.push(byte) {
                 Some(Frame::Row(estimate)) => {
+                    self.status.heard_s = now_s;
                     self.status.last_row = estimate;
                     self.status.last_row_s = now_s;
                     if estimate.quality >= self.settings.min_quality {
@@ -156,6 +168,7 @@ impl LinkCore {
                     }
                 }
                 Some(Frame::Pong { .. }) => {
+                    self.status.heard_s = now_s;
                     if let Some(sent_s) = self.ping_sent_s.take() {
                         self.status.ping_rtt_ms = (now_s - sent_s) * 1e3;
                     }
@@ -205,8 +218,15 @@ impl LinkCore {
     /// A link test: the PING byte to send; the round trip shows in the status.
     pub fn ping(&mut self, now_s: f64) -> u8 {
         self.ping_sent_s = Some(now_s);
+        self.last_ping_s = now_s;
         self.status.pings_sent += 1;
         CMD_PING
+    }
+
+    /// A keep-alive PING is due at `now_s`: not streaming (rows show that the camera
+    /// computer is there), and no PING for KEEPALIVE_S.
+    pub fn keepalive_due(&self, now_s: f64) -> bool {
+        !self.status.streaming && now_s - self.last_ping_s >= KEEPALIVE_S
     }
 
     /// The command byte to send now, if any: START when rows are wanted (again after

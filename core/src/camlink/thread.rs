@@ -226,7 +226,7 @@ impl LinkThread {
             {
                 injection.strike(&self.stop);
             }
-            ping_due |= self.ping_requests.try_recv().is_ok();
+            ping_due |= self.ping_requests.try_recv().is_ok() || self.core.keepalive_due(now_s);
             let ping = ping_due.then(|| self.core.ping(now_s));
             ping_due = false;
             let command = self

@@ -35,7 +35,7 @@ pub struct Table {
 /// Columns added to the records after replays existed: a record made before one was
 /// added lacks it, and reads as empty there (the reader says which in `Table::absent`)
 /// rather than being refused.
-pub const ADDED_LATER: &[&str] = &["gnss_heard_s", "link_streaming_since_s"];
+pub const ADDED_LATER: &[&str] = &["gnss_heard_s", "link_streaming_since_s", "link_heard_s"];
 
 /// A record read back.
 #[derive(Debug, Clone)]

@@ -212,6 +212,8 @@ pub const COLUMNS: &[Column] = &[
     col("cam_connected", "0/1", "1 = camera port open", |r| flag(r.link.connected)),
     col("link_streaming_since_s", "s", "when the camera link began this spell of streaming rows (empty: not streaming)",
         |r| num(if r.link.streaming { r.link.streaming_since_s } else { f64::NAN })),
+    col("link_heard_s", "s", "when the camera computer last sent a valid frame, a row or a PONG (empty: never)",
+        |r| num(r.link.heard_s)),
     // The rest of what the tick was given (for `mechweed replay`): the steer command's
     // time, mode and end-switch procedure, the link's times, the threads' health.
     col("steer_t_s", "s", "when the steer command was made", |r| num(r.steer.t_s)),

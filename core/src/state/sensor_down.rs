@@ -11,6 +11,9 @@ pub enum SensorDown {
     CameraClosed,
     /// The camera link streams and no row frame has come for this long, s.
     CameraSilent { for_s: f64 },
+    /// Standing, the camera computer has answered no keep-alive PING for this long
+    /// (infinite: never), s.
+    CameraUnheard { for_s: f64 },
     /// The GNSS receiver has sent no epoch for this long (infinite: none yet), s.
     GnssSilent { for_s: f64 },
 }
@@ -25,6 +28,14 @@ impl fmt::Display for SensorDown {
             SensorDown::CameraSilent { for_s } => write!(
                 f,
                 "the camera link is silent: no row frame for {for_s:.1} s (is the camera computer running?)"
+            ),
+            SensorDown::CameraUnheard { for_s } if for_s.is_infinite() => write!(
+                f,
+                "the camera computer has answered nothing yet: is it switched on, and is [camera] port its line?"
+            ),
+            SensorDown::CameraUnheard { for_s } => write!(
+                f,
+                "the camera computer has answered nothing for {for_s:.1} s: is it switched on, and its cable in?"
             ),
             SensorDown::GnssSilent { for_s } if for_s.is_infinite() => write!(
                 f,

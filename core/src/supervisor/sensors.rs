@@ -8,9 +8,13 @@
 //! receiver sends its epochs all the time, so it is up while they keep coming.
 
 use crate::camlink::LinkStatus;
-use crate::config::{Settings, SteerSource};
+use crate::config::{CameraPort, Settings, SteerSource};
 use crate::state::sensor_down::SensorDown;
 use crate::steer::SteerCommand;
+
+/// A camera computer that has answered no keep-alive for this long while the robot
+/// stands is down, s: two PINGs (camlink::KEEPALIVE_S) and their answers' way back.
+const CAMERA_UNHEARD_S: f64 = 2.5;
 
 /// A receiver silent this long is down, s, however short [gnss] timeout_s (a fix's
 /// age while steering): a 1 Hz receiver is between two epochs for up to a second, and
@@ -34,6 +38,12 @@ pub(crate) fn down(
         if link.streaming && silent_s > s.camera.link_timeout_s {
             return Some(SensorDown::CameraSilent { for_s: silent_s });
         }
+        // Standing, the camera computer answers the link's keep-alive PINGs (rows from
+        // the bus come from a program that is asked nothing).
+        let unheard_s = now_s - link.heard_s;
+        if !link.streaming && s.camera_port != CameraPort::Bus && unheard_s > CAMERA_UNHEARD_S {
+            return Some(SensorDown::CameraUnheard { for_s: unheard_s });
+        }
     }
     if source != SteerSource::Camera {
         let silent_s = steer.row.gnss_heard_s.map_or(f64::INFINITY, |t| now_s - t);
@@ -55,6 +65,7 @@ mod tests {
         s.sources.source = SteerSource::Fused;
         let link = LinkStatus {
             connected: true,
+            heard_s: 9.9,
             ..LinkStatus::default()
         };
         (s, link, SteerCommand::default())
@@ -106,6 +117,20 @@ mod tests {
         ));
         // Just started streaming: frames are on their way.
         link.streaming_since_s = 9.9;
+        assert_eq!(down(&s, &link, &steer, 10.0), None);
+        // Standing, a camera computer switched off answers no keep-alive.
+        link.streaming = false;
+        link.heard_s = 10.0 - CAMERA_UNHEARD_S - 0.1;
+        let unheard = down(&s, &link, &steer, 10.0).unwrap();
+        assert!(
+            matches!(unheard, SensorDown::CameraUnheard { .. }),
+            "{unheard:?}"
+        );
+        assert!(
+            unheard.to_string().contains("answered nothing"),
+            "{unheard}"
+        );
+        link.heard_s = 9.5;
         assert_eq!(down(&s, &link, &steer, 10.0), None);
     }
 }

@@ -238,7 +238,9 @@ impl Lockstep {
                 }
                 self.steer_tick();
             }
-            if let Some(byte) = self.link.command(self.steer_command.wants_rows, now) {
+            let ping = self.link.keepalive_due(now).then(|| self.link.ping(now));
+            let command = self.link.command(self.steer_command.wants_rows, now);
+            for byte in [ping, command].into_iter().flatten() {
                 use std::io::Write;
                 // The pipe drops what does not fit, as a UART would; a command is one byte.
                 let _ = self.pipe.write(&[byte]);

@@ -74,3 +74,26 @@ fn a_silent_camera_never_sends_the_robot_looking_for_plants() {
         sim.supervisor.notices()
     );
 }
+
+#[test]
+fn a_camera_computer_that_answers_nothing_while_standing_keeps_the_robot_out_of_autonomous() {
+    // The camera computer is switched off (its line silent from the start): the port
+    // opens, but no keep-alive PING is answered. Autonomous is refused with the reason
+    // rather than taken and faulted a moment later with the robot moving.
+    let s = crate::common::settings_with("0 link_silent 30", &[]);
+    let mut sim = Lockstep::new(&s, Mode::Autonomous);
+    sim.run_for(5.0);
+    let st = sim.supervisor.status();
+    assert_eq!(st.mode, Mode::Halt, "{:?}", sim.supervisor.faults());
+    assert!(
+        sim.supervisor.faults().is_empty(),
+        "{:?}",
+        sim.supervisor.faults()
+    );
+    let why = st.sensor_down.expect("the camera is down").to_string();
+    assert!(
+        why.contains("the camera computer has answered nothing"),
+        "{why}"
+    );
+    assert!(sim.robot.truth().distance_m < 0.01);
+}
