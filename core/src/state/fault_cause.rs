@@ -112,7 +112,7 @@ impl fmt::Display for FaultCause {
             FaultCause::PowerUpFailed => write!(f, "motor power did not come on after power-up"),
             FaultCause::ContactorWelded => write!(
                 f,
-                "the motor contactor did not open: motor power stays on although it was switched off (welded contacts?)"
+                "the motor contactor did not open: motor power stays on although it was switched off (welded contacts?); the watchdog line stops while it does, so a watchdog relay ([io] watchdog) cuts the contactor's coil"
             ),
             FaultCause::BatteryLow { volts } => write!(f, "battery low: {volts:.1} V"),
             FaultCause::PotOutOfRange { volts } => {

@@ -156,3 +156,36 @@ fn a_counter_that_stops_is_the_encoder_fault_of_that_wheel() {
     assert!(fault.t_s - t0 < 0.5, "after {:.2} s", fault.t_s - t0);
     assert_eq!(sim.robot.outputs(), Outputs::SAFE);
 }
+
+#[test]
+fn a_welded_contactor_stops_the_watchdog_line_so_its_relay_can_cut_the_coil() {
+    // Standing in Halt without power, the relay open; at 2 s the contacts weld and
+    // motor power comes on. Only the watchdog relay can still cut the coil.
+    let s = settings_with("2 contactor_welded", &[]);
+    let mut sim = Lockstep::with_io(&s, Mode::Halt, Io::cards(&s).unwrap());
+    let watchdog_line = |sim: &mut Lockstep| rig(sim).dda06.pin(1, 0);
+    sim.run_for(1.0);
+    let mut before = Vec::new();
+    for _ in 0..6 {
+        sim.tick();
+        before.push(watchdog_line(&mut sim));
+    }
+    assert!(
+        before.windows(2).all(|w| w[0] != w[1]),
+        "toggling: {before:?}"
+    );
+    sim.run_for(1.5);
+    assert_eq!(
+        sim.supervisor.faults().first().map(|f| f.cause),
+        Some(FaultCause::ContactorWelded)
+    );
+    let mut after = Vec::new();
+    for _ in 0..20 {
+        sim.tick();
+        after.push(watchdog_line(&mut sim));
+    }
+    assert!(
+        after.iter().all(|&level| !level),
+        "still toggling: {after:?}"
+    );
+}

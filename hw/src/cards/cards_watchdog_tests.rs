@@ -169,3 +169,37 @@ fn with_watchdog_none_port_b_stays_an_input() {
         );
     }
 }
+
+#[test]
+fn motor_power_present_with_the_relay_open_stops_the_watchdog_until_it_is_gone() {
+    // The unsafe state: the relay commanded open (the safe outputs, as in Fault), yet
+    // motor power stays present: a welded contactor, a stuck relay driver. The watchdog
+    // relay is then the one channel that can still cut the coil, so its line must stop.
+    let mut rig = rig();
+    let motor_power = 3; // das08 ip 3 in this wiring
+    rig.das08.set_input(motor_power, true);
+    let mut levels = Vec::new();
+    for _ in 0..10 {
+        assert!(rig.hw.read().unwrap().motor_power_present);
+        rig.hw.write(&Outputs::SAFE).unwrap();
+        levels.push(line(&rig.dda06));
+    }
+    assert_eq!(levels, vec![false; 10], "held at its inactive level");
+    // With the relay closed, power present is what was asked: it toggles.
+    let mut levels = Vec::new();
+    for _ in 0..4 {
+        rig.hw.read().unwrap();
+        rig.hw.write(&driving()).unwrap();
+        levels.push(line(&rig.dda06));
+    }
+    assert_eq!(levels, alternating(true, 4));
+    // The contactor drops at last: the watchdog runs again with the relay open.
+    rig.das08.set_input(motor_power, false);
+    let mut levels = Vec::new();
+    for _ in 0..4 {
+        assert!(!rig.hw.read().unwrap().motor_power_present);
+        rig.hw.write(&Outputs::SAFE).unwrap();
+        levels.push(line(&rig.dda06));
+    }
+    assert_eq!(levels, alternating(true, 4));
+}

@@ -173,6 +173,8 @@ pub struct CardsHw {
     watchdog: Watchdog,
     /// The last read and write found every card answering; else the watchdog holds.
     answering: bool,
+    /// The last read found motor power present.
+    power_present: bool,
 }
 
 /// The first error of several attempts, so that every attempt is made.
@@ -204,6 +206,7 @@ impl CardsHw {
             reads_das08_inputs: wiring.reads_das08_inputs(),
             watchdog: Watchdog::new(wiring.watchdog),
             answering: true,
+            power_present: false,
         })
     }
 
@@ -274,13 +277,19 @@ impl Hw for CardsHw {
         // A card that stopped answering may still hold its last outputs: only the
         // watchdog relay can then cut the motor power, so it holds until all answer.
         self.answering = cards.is_ok();
-        Ok(self.wiring.inputs(&cards?))
+        let inputs = self.wiring.inputs(&cards?);
+        self.power_present = inputs.motor_power_present;
+        Ok(inputs)
     }
 
-    /// Called once per supervisor tick: the watchdog changes with every write.
+    /// Called once per supervisor tick: the watchdog changes with every write, but for
+    /// while motor power is present with the relay commanded open (a welded contactor,
+    /// a stuck relay driver): then the watchdog relay is the one channel left that can
+    /// cut the contactor's coil, and it holds until the power is gone.
     fn write(&mut self, outputs: &Outputs) -> Result<(), HwError> {
         let mut cards = self.wiring.card_outputs(outputs);
-        if self.answering {
+        let power_unasked = self.power_present && !outputs.main_power_on;
+        if self.answering && !power_unasked {
             self.watchdog.toggle(&mut cards);
         } else {
             self.watchdog.hold(&mut cards);
