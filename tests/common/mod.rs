@@ -31,6 +31,27 @@ pub fn mechweed() -> std::process::Command {
     cmd
 }
 
+/// `mechweed run --headless ARGS --report FILE` with the tests' shared settings, its
+/// record and report in `folder`: what it printed, and its report (which must be there).
+pub fn run_headless(
+    folder: &std::path::Path,
+    args: &[&str],
+) -> (std::process::Output, serde_json::Value) {
+    let report_path = folder.join("report.json");
+    let out = mechweed()
+        .args(["run", "--headless"])
+        .args(test_run_settings(folder))
+        .args(args)
+        .arg("--report")
+        .arg(&report_path)
+        .output()
+        .unwrap();
+    let Ok(json) = std::fs::read_to_string(&report_path) else {
+        panic!("no report:\n{}{}", text(&out.stdout), text(&out.stderr));
+    };
+    (out, serde_json::from_str(&json).unwrap())
+}
+
 /// A program's output as text.
 pub fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()

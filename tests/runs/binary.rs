@@ -7,19 +7,9 @@ use common::mechweed;
 /// `mechweed run --headless ARGS --report FILE`: its standard output and its report.
 fn run_with_report(args: &[&str]) -> (String, serde_json::Value) {
     let dir = tempfile::tempdir().unwrap();
-    let report_path = dir.path().join("report.json");
-    let out = mechweed()
-        .args(["run", "--headless"])
-        .args(common::test_run_settings(dir.path()))
-        .args(args)
-        .arg("--report")
-        .arg(&report_path)
-        .output()
-        .unwrap();
+    let (out, report) = common::run_headless(dir.path(), args);
     let stdout = String::from_utf8_lossy(&out.stdout).to_string();
     let stderr = String::from_utf8_lossy(&out.stderr);
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&report_path).unwrap()).unwrap();
     // The exit status is the report's: 0, or 3 for a run that ended in Fault.
     let want = if report["mode_final"] == "fault" {
         3

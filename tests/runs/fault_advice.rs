@@ -4,39 +4,21 @@
 
 use crate::common;
 
-use common::mechweed;
-
 const CHECK: &str = "what to check: the encoder and its cable, then Power up";
 
 #[test]
 fn the_fault_line_says_what_to_check_and_a_fault_after_power_up_that_it_came_back() {
     let dir = tempfile::tempdir().unwrap();
-    let report_path = dir.path().join("report.json");
     // Driving off, the left wheel's encoder stops counting for the rest of the run; the
     // operator powers up and drives off again, as in the field.
     let events = "sim.events=1 encoder_stuck left, 2.5 power_up, 3.5 mode autonomous";
-    let out = mechweed()
-        .args([
-            "run",
-            "--headless",
-            "--mode",
-            "autonomous",
-            "--duration",
-            "5.5",
-        ])
-        .args(common::test_run_settings(dir.path()))
-        .args(["--set", events, "--report"])
-        .arg(&report_path)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
-    // The run ends in Fault, which is its exit status (binary.rs tests that): here only
-    // a run that did not end at all, or failed another way, is wrong.
-    assert!(
-        out.status.success() || report_path.exists(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
+    let (out, report) = common::run_headless(
+        dir.path(),
+        &["--mode", "autonomous", "--duration", "5.5", "--set", events],
     );
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    // The run ends in Fault, which is its exit status (binary.rs tests that); a run that
+    // did not end at all, or failed another way, left no report (run_headless says so).
     let faults: Vec<&str> = stdout.lines().filter(|l| l.contains("FAULT: ")).collect();
     assert_eq!(faults.len(), 2, "{stdout}");
     let first = "FAULT: left wheel encoder does not count while its motor is driven; what to check: the encoder and its cable, then Power up";
@@ -47,8 +29,6 @@ fn the_fault_line_says_what_to_check_and_a_fault_after_power_up_that_it_came_bac
 
     // The report at exit, on the terminal and as JSON.
     assert!(stdout.contains(&format!("\n  {CHECK}\n")), "{stdout}");
-    let text = std::fs::read_to_string(&report_path).unwrap();
-    let report: serde_json::Value = serde_json::from_str(&text).unwrap();
     let faults = report["faults"].as_array().unwrap();
     assert_eq!(faults.len(), 2, "{report:#}");
     for fault in faults {

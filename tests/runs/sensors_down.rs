@@ -4,29 +4,23 @@
 
 use crate::common;
 
-use common::mechweed;
-
 #[test]
 fn autonomous_with_the_camera_link_down_is_refused_with_its_reason_and_nothing_moves() {
     let dir = tempfile::tempdir().unwrap();
-    let report_path = dir.path().join("report.json");
     // The unsafe state: a start in autonomous, and no camera computer where it is said
     // to be.
-    let out = mechweed()
-        .args([
-            "run",
-            "--headless",
+    let no_camera = "camera.port=/dev/mechweed-test-no-camera";
+    let (out, report) = common::run_headless(
+        dir.path(),
+        &[
             "--mode",
             "autonomous",
             "--duration",
             "3",
-        ])
-        .args(common::test_run_settings(dir.path()))
-        .args(["--set", "camera.port=/dev/mechweed-test-no-camera"])
-        .arg("--report")
-        .arg(&report_path)
-        .output()
-        .unwrap();
+            "--set",
+            no_camera,
+        ],
+    );
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);
     let said = format!("{stdout}{stderr}");
@@ -36,8 +30,6 @@ fn autonomous_with_the_camera_link_down_is_refused_with_its_reason_and_nothing_m
         .collect();
     assert_eq!(refusals.len(), 1, "asked once, said why once:\n{said}");
     assert!(refusals[0].contains("check [camera] port"), "{said}");
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&report_path).unwrap()).unwrap();
     assert_eq!(report["mode_final"], "halt", "{report:#}");
     assert_eq!(report["faults"].as_array().unwrap().len(), 0, "{report:#}");
     assert!(report["distance_m"].as_f64().unwrap() < 0.01, "{report:#}");

@@ -43,6 +43,38 @@ pub struct CrossTrackSummary {
     pub distance_m: f64,
 }
 
+impl CrossTrackSummary {
+    /// The figures from sums of the signed error over a total `weight` (samples, or
+    /// metres driven): the one arithmetic of both statistics, the plant's per centimetre
+    /// and the ticks' (crosstrack_ticks.rs); zero before any weight.
+    pub(crate) fn from_sums(
+        weight: f64,
+        sum_m: f64,
+        sum_sq_m2: f64,
+        p95_m: f64,
+        max_abs_m: f64,
+        over_2cm: f64,
+        distance_m: f64,
+    ) -> CrossTrackSummary {
+        if weight <= 0.0 {
+            return CrossTrackSummary::default();
+        }
+        let mean_m = sum_m / weight;
+        let mean_sq_m2 = sum_sq_m2 / weight;
+        // Population s.d.; max(0) guards the rounding of a near-constant error.
+        let sd_m = (mean_sq_m2 - mean_m * mean_m).max(0.0).sqrt();
+        CrossTrackSummary {
+            mean_cm: mean_m * 100.0,
+            sd_cm: sd_m * 100.0,
+            rms_cm: mean_sq_m2.sqrt() * 100.0,
+            p95_cm: p95_m * 100.0,
+            max_cm: max_abs_m * 100.0,
+            share_over_2cm: over_2cm / weight,
+            distance_m,
+        }
+    }
+}
+
 impl Default for CrossTrackStats {
     fn default() -> Self {
         Self::new()
@@ -97,24 +129,16 @@ impl CrossTrackStats {
     }
 
     pub fn summary(&self) -> CrossTrackSummary {
-        if self.samples == 0 {
-            return CrossTrackSummary::default();
-        }
         let n = self.samples as f64;
-        let mean_m = self.sum_m / n;
-        let mean_sq_m2 = self.sum_sq_m2 / n;
-        // Population s.d.; max(0) guards the rounding of a near-constant error.
-        let sd_m = (mean_sq_m2 - mean_m * mean_m).max(0.0).sqrt();
-        let p95_m = self.abs_um.value_at_quantile(0.95) as f64 / UNITS_PER_M;
-        CrossTrackSummary {
-            mean_cm: mean_m * 100.0,
-            sd_cm: sd_m * 100.0,
-            rms_cm: mean_sq_m2.sqrt() * 100.0,
-            p95_cm: p95_m * 100.0,
-            max_cm: self.max_abs_m * 100.0,
-            share_over_2cm: self.over_2cm as f64 / n,
-            distance_m: n * SAMPLE_SPACING_M,
-        }
+        CrossTrackSummary::from_sums(
+            n,
+            self.sum_m,
+            self.sum_sq_m2,
+            self.abs_um.value_at_quantile(0.95) as f64 / UNITS_PER_M,
+            self.max_abs_m,
+            self.over_2cm as f64,
+            n * SAMPLE_SPACING_M,
+        )
     }
 }
 

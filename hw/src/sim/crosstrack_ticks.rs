@@ -87,23 +87,15 @@ impl TickCrossTrack {
 
     /// The figures so far (all zero before any travel from `from_m` on).
     pub fn summary(&self) -> CrossTrackSummary {
-        if self.distance_m <= 0.0 {
-            return CrossTrackSummary::default();
-        }
-        let mean_m = self.sum_m2 / self.distance_m;
-        let mean_sq_m2 = self.sum_sq_m3 / self.distance_m;
-        // Population s.d.; max(0) guards the rounding of a near-constant error.
-        let sd_m = (mean_sq_m2 - mean_m * mean_m).max(0.0).sqrt();
-        let p95_m = self.abs_um.value_at_quantile(0.95) as f64 / UM_PER_M;
-        CrossTrackSummary {
-            mean_cm: mean_m * 100.0,
-            sd_cm: sd_m * 100.0,
-            rms_cm: mean_sq_m2.sqrt() * 100.0,
-            p95_cm: p95_m * 100.0,
-            max_cm: self.max_abs_m * 100.0,
-            share_over_2cm: self.over_2cm_m / self.distance_m,
-            distance_m: self.distance_m,
-        }
+        CrossTrackSummary::from_sums(
+            self.distance_m,
+            self.sum_m2,
+            self.sum_sq_m3,
+            self.abs_um.value_at_quantile(0.95) as f64 / UM_PER_M,
+            self.max_abs_m,
+            self.over_2cm_m,
+            self.distance_m,
+        )
     }
 }
 
