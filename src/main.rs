@@ -7,7 +7,7 @@ use clap::Parser;
 use mechweed::console::log_style;
 use mechweed::programs::{
     Cli, Command, bench, bus, camsim, check_config, cluster, done, gnsssim, keys, probe, record,
-    replay, ros2, run, said, teach, watch,
+    replay, ros2, run, safe, said, teach, watch,
 };
 
 fn main() -> ExitCode {
@@ -22,6 +22,7 @@ fn main() -> ExitCode {
         Some(Command::Gnsssim(args)) => done(gnsssim::run(args)),
         Some(Command::Camsim(args)) => done(camsim::run(args)),
         Some(Command::Probe(args)) => probe::program(args),
+        Some(Command::Safe(args)) => safe::program(args),
         Some(Command::Record(args)) => record::record(args),
         Some(Command::Replay(args)) => replay::replay(args),
         Some(Command::Bus(args)) => bus::bus(args),

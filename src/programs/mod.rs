@@ -13,10 +13,12 @@ pub mod cluster;
 pub mod gnsssim;
 pub mod keys;
 pub mod probe;
+pub mod probe_watch;
 pub mod record;
 pub mod replay;
 pub mod ros2;
 pub mod run;
+pub mod safe;
 pub mod teach;
 pub mod watch;
 
@@ -65,6 +67,9 @@ pub enum Command {
     /// List the gamepads; find the I/O cards and read every input once (writes nothing
     /// but safe outputs).
     Probe(probe::ProbeArgs),
+    /// Open the I/O cards and write the safe outputs only, from robot.ini's [hw] and
+    /// [io] alone (after a killed run; the service runs it when the controller stops).
+    Safe(safe::SafeArgs),
     /// Run records (CSV or MCAP) left by `mechweed run`, and the off-board recorder
     /// (`record --bus`).
     Record(record::RecordArgs),

@@ -246,6 +246,10 @@ pub struct ProbeArgs {
     /// Also print the cards' registers.
     #[arg(long)]
     pub raw: bool,
+    /// Show every input live, four times a second, from one opening of the cards
+    /// (the counters keep counting), until Ctrl-C.
+    #[arg(long, conflicts_with = "raw")]
+    pub watch: bool,
     /// Settings file (card locations, wiring) [default: config/robot.ini, or the built-in copy]
     #[arg(long)]
     pub config: Option<PathBuf>,
@@ -253,16 +257,20 @@ pub struct ProbeArgs {
 
 /// `mechweed probe`: the gamepads, then every input of the cards once.
 pub fn program(args: ProbeArgs) -> ExitCode {
-    let ProbeArgs { raw, config } = args;
+    let ProbeArgs { raw, watch, config } = args;
     let settings = match load_settings(config.as_deref(), &[]) {
         Ok(s) => s,
         Err(errors) => {
             print_errors(&errors);
+            crate::programs::safe::after_refusal(config.as_deref(), false);
             return ExitCode::FAILURE;
         }
     };
     let input_dir = std::path::Path::new(crate::gamepad::device::INPUT_DIR);
     print!("{}", crate::programs::probe::gamepads(&settings, input_dir));
+    if watch {
+        return watch_inputs(&settings);
+    }
     match crate::programs::probe::probe(&settings, raw) {
         Ok(text) => {
             print!("{text}");
@@ -270,6 +278,36 @@ pub fn program(args: ProbeArgs) -> ExitCode {
         }
         Err(why) => {
             eprintln!("{why}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// `probe --watch`: open the cards once and show every input until Ctrl-C; the cards
+/// get their safe outputs at the start and at the end.
+fn watch_inputs(settings: &Settings) -> ExitCode {
+    let stop = crate::console::ctrl_c();
+    let opened = open_cards(settings, Path::new(PCI_DEVICES), Path::new(DEV_PORT));
+    let (mut hw, found) = match opened {
+        Ok(opened) => opened,
+        Err(e) => {
+            eprintln!("{}", ProbeError::NotUsable(e));
+            return ExitCode::FAILURE;
+        }
+    };
+    for line in found {
+        println!("found {line}");
+    }
+    println!("every input from one opening of the cards (safe outputs written); Ctrl-C stops");
+    let watched = crate::programs::probe_watch::watch(&mut hw, &settings.robot, &stop);
+    drop(hw);
+    match watched {
+        Ok(()) => {
+            println!("stopped; the outputs are safe");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("{e}");
             ExitCode::FAILURE
         }
     }

@@ -115,7 +115,10 @@ fn settings_for_the_run(args: &RunArgs) -> Option<Settings> {
         overrides.push(format!("sim.seed={seed}"));
     }
     let mut settings = load_settings(args.config.as_deref(), &overrides)
-        .map_err(|errors| print_errors(&errors))
+        .map_err(|errors| {
+            print_errors(&errors);
+            crate::programs::safe::after_refusal(args.config.as_deref(), true);
+        })
         .ok()?;
     if let Some(from_m) = args.from_m {
         settings.sim.cross_track_from_m = from_m;

@@ -27,6 +27,7 @@ mod records_keep;
 mod replay;
 mod replay_words;
 mod row_end;
+mod safe_outputs;
 mod sensors_down;
 mod teach;
 mod test_mode;

@@ -4,6 +4,7 @@
 
 mod bus;
 mod camera_port;
+mod cards_only;
 mod checks;
 mod filter;
 mod gnss;
@@ -11,6 +12,7 @@ mod gui;
 mod io;
 mod joystick;
 mod lines;
+mod motion_faults;
 mod reader;
 mod real_robot;
 mod record;
@@ -28,10 +30,12 @@ pub use bus::{
     listen_refusal, optional_yes, parse_endpoints, parse_prefix, tls_files,
 };
 pub use camera_port::{BAUD_RATES, CameraPort};
+pub use cards_only::CardsOnly;
 pub use filter::{FILTER_MAX_STEP_M, FilterConfig};
 pub use gnss::{GnssPort, GnssSettings, MapSource, SourceSettings, SteerSource};
 pub use joystick::{GamepadDevice, GamepadSettings, JoystickSettings, JoystickSource};
 pub use lines::{parse_seconds, read_text};
+pub use motion_faults::MotionFaultSettings;
 
 pub use gui::{GuiSettings, Theme};
 pub use reader::{ConfigError, Place, Reader, override_parts};
@@ -111,6 +115,8 @@ pub struct FaultSettings {
     /// Steering by GNSS or the fused row: the row filter's row farther than this from
     /// the rear axle is the robot off its row, m.
     pub off_row_m: f64,
+    /// Wrong-way, speed and uncommanded-motion checks (motion_faults.rs).
+    pub motion: MotionFaultSettings,
 }
 
 /// PI speed regulator of one drive wheel, with feed-forward.
@@ -354,6 +360,7 @@ fn faults(r: &mut Reader) -> FaultSettings {
         // A real contactor drops in tens of milliseconds; a second is plenty.
         contactor_drop_s: r.f64(s, "contactor_drop_s", 0.02, 1.0),
         off_row_m: r.f64(s, "off_row_m", 0.02, 2.0),
+        motion: motion_faults::load(r),
     }
 }
 

@@ -2,8 +2,9 @@
 //! These are the plant's true values; the controller's own model is in [robot].
 
 use mechweed_hw::sim::gnss::SimGnssParams;
+use mechweed_hw::sim::miswire::miswire_names;
 use mechweed_hw::sim::{
-    CROSS_TRACK_FROM_M, FieldKind, FieldTierParams, RowShape, SimParams, parse_events,
+    CROSS_TRACK_FROM_M, FieldKind, FieldTierParams, Miswire, RowShape, SimParams, parse_events,
 };
 
 use super::reader::Reader;
@@ -60,9 +61,23 @@ pub(super) fn load(r: &mut Reader) -> SimParams {
         camera_reboot_s: r.f64(s, "camera_reboot_s", 0.0, 600.0),
         gnss: gnss(r),
         events: r.parsed(s, "events", parse_events).unwrap_or_default(),
+        miswire: miswire(r),
         // Not a setting: the simulated plant's rule, which `run --from-m` changes for one run.
         cross_track_from_m: CROSS_TRACK_FROM_M,
     }
+}
+
+/// [sim] miswire: optional, so that a file from before it was a setting reads as
+/// wired right.
+fn miswire(r: &mut Reader) -> Miswire {
+    let Some(text) = r.optional("sim", "miswire") else {
+        return Miswire::None;
+    };
+    Miswire::parse(&text).unwrap_or_else(|| {
+        let names = miswire_names().join(", ");
+        r.error_at("sim", "miswire", format!("'{text}' is not one of: {names}"));
+        Miswire::None
+    })
 }
 
 /// [sim] field_*: what the realistic field adds (read whichever field is chosen, so

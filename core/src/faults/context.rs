@@ -35,3 +35,12 @@ pub struct CheckContext<'a> {
     pub link: &'a LinkStatus,
     pub health: &'a ThreadHealth,
 }
+
+/// Starts a timer when `condition` becomes true; returns how long it has been true.
+pub(super) fn held_for(timer: &mut Option<f64>, condition: bool, now_s: f64) -> f64 {
+    if !condition {
+        *timer = None;
+        return 0.0;
+    }
+    now_s - *timer.get_or_insert(now_s)
+}

@@ -6,10 +6,12 @@
 //! counting) keep a timer here; their times are settings in robot.ini [faults].
 
 mod context;
+mod motion;
 
 use mechweed_hw::{EncoderId, Inputs};
 
 pub use context::CheckContext;
+use context::held_for;
 
 use crate::config::{CameraSettings, FaultSettings, RtSettings, Settings, SteerSource};
 use crate::rt::health::ThreadName;
@@ -37,20 +39,13 @@ pub(crate) struct FaultChecks {
     battery_low_since_s: Option<f64>,
     pot_disagree_since_s: Option<f64>,
     encoder_idle_since_s: [Option<f64>; 3],
-    /// The potentiometer's angle when the steering encoder's idle time began, deg.
+    /// The potentiometer less the encoder (both filtered) when the steering encoder's idle time began, deg.
     steer_idle_pot_deg: f64,
     contactor_open_since_s: Option<f64>,
     /// Motor power has stayed on past the drop time with the relay open.
     contactor_welded: bool,
-}
-
-/// Starts a timer when `condition` becomes true; returns how long it has been true.
-fn held_for(timer: &mut Option<f64>, condition: bool, now_s: f64) -> f64 {
-    if !condition {
-        *timer = None;
-        return 0.0;
-    }
-    now_s - *timer.get_or_insert(now_s)
+    /// Wrong-way, speed and uncommanded-motion checks (motion.rs).
+    motion: motion::MotionChecks,
 }
 
 const ENCODERS: [EncoderId; 3] = [EncoderId::Left, EncoderId::Right, EncoderId::Steer];
@@ -85,6 +80,7 @@ impl FaultChecks {
             steer_idle_pot_deg: 0.0,
             contactor_open_since_s: None,
             contactor_welded: false,
+            motion: motion::MotionChecks::new(settings),
         }
     }
 
@@ -126,6 +122,7 @@ impl FaultChecks {
         self.battery_and_potentiometer(c, &mut report);
         self.end_switches(c, &mut report);
         self.encoders(c, &mut report);
+        self.motion.check(c, &mut report);
         self.joystick(c, &mut report);
         self.row_sources(c, &mut report);
         self.camera(c, &mut report);
@@ -237,8 +234,12 @@ impl FaultChecks {
                             || driven_v.abs() > needed_v + self.s.encoder_stuck_v)
                 }
                 // The steering: the potentiometer saw it turn while the encoder stood.
+                // Against the encoder through the same filter, so that the filter's
+                // lag after a jump both saw (a stone's kick) is not a turn.
                 EncoderId::Steer => {
-                    let pot_deg = c.measured.pot_angle_filtered_rad.to_degrees();
+                    let m = c.measured;
+                    let pot_deg =
+                        (m.pot_angle_filtered_rad - m.wheel_angle_filtered_rad).to_degrees();
                     if !was_idle {
                         self.steer_idle_pot_deg = pot_deg;
                     }

@@ -42,6 +42,18 @@ impl FaultCause {
                 "the steering and the end switch: free whichever is stuck, then Power up"
             }
             FaultCause::EncoderStuck(_) => "the encoder and its cable, then Power up",
+            FaultCause::SteerWrongWay { .. } | FaultCause::EndSwitchNoBackOff { .. } => {
+                "the steering amplifier's motor leads and the steering encoder's wires (docs/robot-pc.md, \"Commissioning\"), then Power up"
+            }
+            FaultCause::DriveWrongWay { .. } => {
+                "that drive's amplifier leads and encoder wires (docs/robot-pc.md, \"Commissioning\"), then Power up"
+            }
+            FaultCause::DriveSpeed { .. } => {
+                "that drive: its brake, its amplifier and [robot] enc_counts_per_m, then Power up"
+            }
+            FaultCause::UncommandedMotion { .. } => {
+                "the amplifiers' offsets and the DDA06's range switches (Test's voltmeter step), then Power up"
+            }
             FaultCause::CameraLinkLost { .. } => "the camera computer and its cable, then Power up",
             FaultCause::CameraSeesNoRow { .. } => {
                 "where the robot stands: drive it back onto the row in Joystick, then Autonomous"
@@ -110,6 +122,8 @@ mod tests {
             EstopFront | EstopBack | MotorPowerLost | PowerUpFailed | ContactorWelded => (),
             BatteryLow { .. } | PotOutOfRange { .. } | PotDisagrees { .. } => (),
             BothEndSwitches | EndSwitchUnhandled(_) | EndSwitchStuck(_) | EncoderStuck(_) => (),
+            SteerWrongWay { .. } | EndSwitchNoBackOff { .. } | DriveWrongWay { .. } => (),
+            DriveSpeed { .. } | UncommandedMotion { .. } => (),
             CameraLinkLost { .. } | CameraSeesNoRow { .. } | TwoRowSources => (),
             NoRowSource { .. } | OffTheRow { .. } => (),
             ThreadStopped { .. } | ThreadPanicked { .. } | Overruns { .. } | LateTick { .. } => (),
@@ -131,6 +145,28 @@ mod tests {
             EndSwitchUnhandled(Side::Left),
             EndSwitchStuck(Side::Right),
             EncoderStuck(EncoderId::Left),
+            SteerWrongWay {
+                driven_left: true,
+                turned_deg: 2.5,
+                pot_driven_way: false,
+            },
+            EndSwitchNoBackOff {
+                side: Side::Left,
+                moved_deg: 0.0,
+            },
+            DriveWrongWay {
+                wheel: Side::Left,
+                forwards: true,
+            },
+            DriveSpeed {
+                wheel: Side::Right,
+                speed_mps: 0.9,
+                ref_mps: 0.5,
+            },
+            UncommandedMotion {
+                part: EncoderId::Steer,
+                moved: 1.5,
+            },
             CameraLinkLost { silent_s: 0.5 },
             CameraSeesNoRow { for_s: 0.5 },
             TwoRowSources,

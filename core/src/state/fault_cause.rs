@@ -31,6 +31,36 @@ pub enum FaultCause {
     EndSwitchUnhandled(Side),
     EndSwitchStuck(Side),
     EncoderStuck(EncoderId),
+    /// The steering turned against the way it was driven (faults/motion.rs).
+    SteerWrongWay {
+        /// Driven to the left (positive volts).
+        driven_left: bool,
+        /// How far the encoder saw it turn the wrong way, deg.
+        turned_deg: f64,
+        /// The potentiometer saw it turn the driven way: the encoder counts backwards.
+        pot_driven_way: bool,
+    },
+    /// Driven off a closed end switch, the steering encoder showed no motion off it.
+    EndSwitchNoBackOff {
+        side: Side,
+        moved_deg: f64,
+    },
+    /// A drive wheel turned against its speed reference.
+    DriveWrongWay {
+        wheel: Side,
+        forwards: bool,
+    },
+    /// A drive wheel's speed stayed far from its reference.
+    DriveSpeed {
+        wheel: Side,
+        speed_mps: f64,
+        ref_mps: f64,
+    },
+    /// Something moved, standing with motor power on and 0 V commanded.
+    UncommandedMotion {
+        part: EncoderId,
+        moved: f64,
+    },
     CameraLinkLost {
         silent_s: f64,
     },
@@ -155,6 +185,72 @@ impl fmt::Display for FaultCause {
                 write!(
                     f,
                     "{which} encoder does not count while its motor is driven"
+                )
+            }
+            FaultCause::SteerWrongWay {
+                driven_left,
+                turned_deg,
+                pot_driven_way,
+            } => {
+                let (driven, other) = if driven_left {
+                    ("left", "right")
+                } else {
+                    ("right", "left")
+                };
+                if pot_driven_way {
+                    write!(
+                        f,
+                        "the steering encoder counts the wrong way: driven {driven}, the potentiometer saw the steering turn {driven} but the encoder {turned_deg:.1} deg {other}: its A and B wires may be swapped"
+                    )
+                } else {
+                    write!(
+                        f,
+                        "the steering turns the wrong way: driven {driven}, it turned {turned_deg:.1} deg {other}: the steering amplifier's motor leads may be swapped"
+                    )
+                }
+            }
+            FaultCause::EndSwitchNoBackOff { side, moved_deg } => write!(
+                f,
+                "driven off the {} end switch, the steering encoder saw it move {moved_deg:.1} deg off: the steering amplifier's or encoder's wires may be swapped, or the steering is jammed",
+                side_name(side)
+            ),
+            FaultCause::DriveWrongWay { wheel, forwards } => {
+                let (driven, turns) = if forwards {
+                    ("forwards", "backwards")
+                } else {
+                    ("backwards", "forwards")
+                };
+                write!(
+                    f,
+                    "the {} drive turns {turns} when driven {driven}: its amplifier's or its encoder's wires may be swapped",
+                    side_name(wheel)
+                )
+            }
+            FaultCause::DriveSpeed {
+                wheel,
+                speed_mps,
+                ref_mps,
+            } => {
+                let why = if speed_mps.abs() > ref_mps.abs() {
+                    "too fast: its encoder counts too few ([robot] enc_counts_per_m?) or its amplifier gives too much"
+                } else {
+                    "too slow: a brake still on, the wheel jammed, or its amplifier limited"
+                };
+                write!(
+                    f,
+                    "the {} drive turns at {speed_mps:.2} m/s, asked for {ref_mps:.2} m/s: {why}",
+                    side_name(wheel)
+                )
+            }
+            FaultCause::UncommandedMotion { part, moved } => {
+                let what = match part {
+                    EncoderId::Left => format!("the left wheel moved {:.0} mm", moved * 1e3),
+                    EncoderId::Right => format!("the right wheel moved {:.0} mm", moved * 1e3),
+                    EncoderId::Steer => format!("the steering turned {moved:.1} deg"),
+                };
+                write!(
+                    f,
+                    "uncommanded motion: {what} with motor power on and 0 V commanded: an amplifier's offset, or a DDA06 range switch that differs from [hw] dda06_ranges_v"
                 )
             }
             FaultCause::CameraLinkLost { silent_s } => {

@@ -7,7 +7,8 @@
 
 use std::path::Path;
 
-use mechweed_hw::cards::{CardPorts, CardsHw};
+use mechweed_hw::cards::wiring::Wiring;
+use mechweed_hw::cards::{CardPorts, CardsHw, CardsSettings};
 use mechweed_hw::{Hw, OpenError, StartError};
 
 use crate::config::Settings;
@@ -32,9 +33,20 @@ pub fn open_cards(
     pci_root: &Path,
     dev_port: &Path,
 ) -> Result<(CardsHw, [String; 3]), OpenError> {
-    let ports = CardPorts::open(&settings.cards, &settings.io, pci_root, dev_port)?;
+    open_cards_as(&settings.cards, &settings.io, pci_root, dev_port)
+}
+
+/// The same from [hw] and [io] alone (config/cards_only.rs): all that the safe
+/// outputs need. Opening writes them; a card that is missing leaves the others safe.
+pub fn open_cards_as(
+    cards: &CardsSettings,
+    io: &Wiring,
+    pci_root: &Path,
+    dev_port: &Path,
+) -> Result<(CardsHw, [String; 3]), OpenError> {
+    let ports = CardPorts::open(cards, io, pci_root, dev_port)?;
     let found = ports.descriptions.clone();
-    let hw = CardsHw::open(ports, &settings.cards, &settings.io)
-        .map_err(|e| OpenError::Starting(StartError::new(e)))?;
+    let hw =
+        CardsHw::open(ports, cards, io).map_err(|e| OpenError::Starting(StartError::new(e)))?;
     Ok((hw, found))
 }

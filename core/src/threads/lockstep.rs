@@ -13,7 +13,7 @@
 //! real robot except the wires.
 
 use mechweed_hw::emulated::CardRig;
-use mechweed_hw::sim::{CrossTrackStats, PipeEnd, SAMPLE_SPACING_M, SimRobot, byte_pipe};
+use mechweed_hw::sim::{CrossTrackStats, Miswire, PipeEnd, SAMPLE_SPACING_M, SimRobot, byte_pipe};
 use mechweed_hw::{Hw, HwError, Outputs};
 
 use crate::camlink::LinkCore;
@@ -119,7 +119,10 @@ impl Lockstep {
         } else {
             (None, None)
         };
-        let robot = SimRobot::with_gnss(&settings.sim, camera_end, receiver_end);
+        let mut robot = SimRobot::with_gnss(&settings.sim, camera_end, receiver_end);
+        if let Io::Cards(_) = io {
+            robot.dacs_on_cards();
+        }
         let g = &settings.gnss;
         let place = with_receiver
             .then(|| {
@@ -281,6 +284,7 @@ impl Lockstep {
             }
             Io::Cards(rig) => {
                 // As the supervisor thread (threads/supervisor.rs) does with its Hw.
+                rig.set_amplifier_switches_unipolar(self.robot.miswire() == Miswire::Dda06Unipolar);
                 rig.set_wires(&self.robot.inputs());
                 let mut outputs = match rig.hw.read() {
                     Ok(inputs) => self.supervisor.tick(now, &inputs, steer, link, &health),

@@ -16,6 +16,7 @@ mod gnss_degraded;
 mod gnss_safety;
 mod gnss_steering;
 mod hold_to_run;
+mod miswire;
 mod no_alloc;
 mod power;
 mod real_robot_config;

@@ -82,6 +82,26 @@ impl DacRange {
         let code = steps.round() + f64::from(self.zero_code());
         code.clamp(0.0, 65535.0) as u16
     }
+
+    /// What a DAC whose switch is at this range puts out for `code`, V: offset binary
+    /// when bipolar. A code written for one range and put out at another is how a
+    /// switch that differs from robot.ini shows on a voltmeter.
+    pub fn volts(self, code: u16) -> f64 {
+        let fs = self.full_scale_v();
+        if self.bipolar() {
+            (f64::from(code) - 32768.0) / 32768.0 * fs
+        } else {
+            f64::from(code) / 65536.0 * fs
+        }
+    }
+
+    /// The unipolar range of the same full scale: a switch set one position off.
+    pub fn unipolar(self) -> DacRange {
+        match self {
+            DacRange::Bipolar10 | DacRange::Unipolar10 => DacRange::Unipolar10,
+            DacRange::Bipolar5 | DacRange::Unipolar5 => DacRange::Unipolar5,
+        }
+    }
 }
 
 /// Which bits of the 8255's ports A, B and C are wired as outputs.

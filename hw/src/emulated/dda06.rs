@@ -43,16 +43,6 @@ impl Dda06Regs {
     }
 }
 
-/// The output of one DAC for a code, by the card's range: offset binary when bipolar.
-fn dac_volts(range: DacRange, code: u16) -> f64 {
-    let fs = range.full_scale_v();
-    if range.bipolar() {
-        (f64::from(code) - 32768.0) / 32768.0 * fs
-    } else {
-        f64::from(code) / 65536.0 * fs
-    }
-}
-
 /// An emulated PCIM-DDA06/16; clones share the same card.
 #[derive(Clone)]
 pub struct EmulatedDda06(Arc<Mutex<Dda06Regs>>);
@@ -78,8 +68,15 @@ impl EmulatedDda06 {
     pub(crate) fn dac_volts(&self, n: usize) -> f64 {
         let r = lock(&self.0);
         match (r.ranges.get(n), r.codes.get(n)) {
-            (Some(&range), Some(&code)) => dac_volts(range, code),
+            (Some(&range), Some(&code)) => range.volts(code),
             _ => 0.0,
+        }
+    }
+
+    /// Someone sets DAC `n`'s range switch to `range` (the card keeps its code).
+    pub fn set_range_switch(&self, n: usize, range: DacRange) {
+        if let Some(switch) = lock(&self.0).ranges.get_mut(n) {
+            *switch = range;
         }
     }
 

@@ -4,6 +4,7 @@
 //! [`CardRig::set_wires`] and takes what the cards drive with [`CardRig::plant_outputs`].
 
 use super::{EmulatedDas08, EmulatedDda06, EmulatedQuad04};
+use crate::cards::dda06::{DACS, DacRange};
 use crate::cards::port::{AccessCount, CountingPort, PortIo};
 use crate::cards::wiring::{CardOutputs, Wiring};
 use crate::cards::{CardPorts, CardsHw, CardsSettings};
@@ -16,6 +17,8 @@ pub struct CardRig {
     /// The real driver stack over the emulated cards.
     pub hw: CardsHw,
     wiring: Wiring,
+    /// The DDA06's range switches as robot.ini says they are set.
+    ranges_in_ini: [DacRange; DACS],
 }
 
 impl CardRig {
@@ -66,7 +69,18 @@ impl CardRig {
             quad04,
             hw,
             wiring: *wiring,
+            ranges_in_ini: settings.dda06_ranges,
         })
+    }
+
+    /// Someone sets the amplifiers' range switches (AO0..AO2) at the unipolar range of
+    /// the full scale robot.ini gives (`unipolar`), or back as robot.ini says.
+    pub fn set_amplifier_switches_unipolar(&self, unipolar: bool) {
+        for n in 0..3 {
+            let range = self.ranges_in_ini[n];
+            let switch = if unipolar { range.unipolar() } else { range };
+            self.dda06.set_range_switch(n, switch);
+        }
     }
 
     /// The robot's sensor signals onto the cards' wires.

@@ -8,6 +8,7 @@
 use std::fmt;
 
 use super::gnss_model::GnssState;
+use super::miswire::Miswire;
 use crate::{EncoderId, Side};
 
 #[path = "events_help.rs"]
@@ -64,6 +65,8 @@ pub enum EventAction {
     /// The steering encoder's coupling slips by this many degrees (positive: the
     /// encoder reads that much further left than the wheel is).
     SteerSlip(f64),
+    /// From now on the robot is wired with this mistake (miswire.rs; `none` undoes it).
+    Miswire(Miswire),
     /// The operator's joystick axes move to these voltages (as wired: steer + = right,
     /// speed + = forward); they stay there until the next joystick event.
     Joystick { steer_v: f64, speed_v: f64 },
@@ -98,6 +101,7 @@ const ACTIONS: &[&str] = &[
     "pot_broken",
     "contactor_welded",
     "steer_slip",
+    "miswire",
     "joystick",
     "deadman",
     "gnss_fixed",
@@ -125,6 +129,7 @@ impl fmt::Display for EventAction {
             EventAction::PotBroken => write!(f, "pot_broken"),
             EventAction::ContactorWelded => write!(f, "contactor_welded"),
             EventAction::SteerSlip(deg) => write!(f, "steer_slip {deg}"),
+            EventAction::Miswire(m) => write!(f, "miswire {m}"),
             EventAction::Joystick { steer_v, speed_v } => write!(f, "joystick {steer_v} {speed_v}"),
             EventAction::Deadman(held) => write!(f, "deadman {}", if *held { "on" } else { "off" }),
             EventAction::Gnss(state) => write!(f, "{}", gnss_name(*state)),
@@ -219,6 +224,7 @@ fn takes_argument(name: &str) -> bool {
             | "endswitch"
             | "battery"
             | "steer_slip"
+            | "miswire"
             | "joystick"
             | "deadman"
     )
@@ -274,6 +280,10 @@ fn parse_action(name: &str, arg: Option<&str>) -> Result<EventAction, String> {
             }
         }
         "deadman" => EventAction::Deadman(choice(arg, &["on", "off"])? == "on"),
+        "miswire" => {
+            let word = choice(arg, &super::miswire::miswire_names())?;
+            EventAction::Miswire(Miswire::parse(word).unwrap_or_default())
+        }
         _ => {
             return Err(format!(
                 "unknown action \"{name}\" (known: {})",

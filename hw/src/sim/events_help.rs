@@ -23,6 +23,9 @@ impl EventAction {
             EventAction::SteerSlip(_) => {
                 "the steering encoder's coupling slips this many degrees (+ = reads further left)"
             }
+            EventAction::Miswire(_) => {
+                "from now on the robot is wired with this mistake ([sim] miswire's names; none undoes it)"
+            }
             EventAction::Joystick { .. } => {
                 "the joystick's axes move to these volts and stay (steer + = right, speed + = forward)"
             }
@@ -62,6 +65,7 @@ fn example_argument(name: &str) -> Option<&'static str> {
         "steer_slip" => Some("-3"),
         "joystick" => Some("0 2"),
         "deadman" => Some("on"),
+        "miswire" => Some("steer_amp_reversed"),
         _ => None,
     }
 }

@@ -21,6 +21,7 @@ pub mod field_tier;
 pub mod gauss_markov;
 pub mod gnss;
 pub mod gnss_model;
+pub mod miswire;
 pub mod params;
 pub mod pipe;
 
@@ -38,6 +39,7 @@ pub(crate) mod alloc_tests;
 pub use crosstrack::{CrossTrackStats, CrossTrackSummary, SAMPLE_SPACING_M};
 pub use crosstrack_ticks::TickCrossTrack;
 pub use events::{ActionHelp, EventAction, OperatorMode, SimEvent, action_list, parse_events};
+pub use miswire::Miswire;
 pub use params::{CROSS_TRACK_FROM_M, FieldKind, FieldTierParams, RowShape, SimParams};
 pub use pipe::{PipeEnd, byte_pipe};
 pub use realtime::{SimControl, SimHw, TruthHandle};

@@ -6,6 +6,7 @@
 
 use super::events::SimEvent;
 use super::gnss::SimGnssParams;
+use super::miswire::Miswire;
 
 /// The shape of the crop row's centre line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -180,6 +181,8 @@ pub struct SimParams {
     pub gnss: SimGnssParams,
     /// Scheduled plant and operator events.
     pub events: Vec<SimEvent>,
+    /// A wiring mistake made on purpose (miswire.rs).
+    pub miswire: Miswire,
     /// The tool's cross-track figures leave out the travel before this distance, m
     /// (the simulated plant: the first 5 m, while the robot settles onto the row).
     pub cross_track_from_m: f64,
@@ -232,6 +235,7 @@ impl Default for SimParams {
             camera_reboot_s: 2.0,
             gnss: SimGnssParams::default(),
             events: Vec::new(),
+            miswire: Miswire::None,
             cross_track_from_m: CROSS_TRACK_FROM_M,
         }
     }
@@ -321,6 +325,7 @@ impl SimParams {
                 .filter(|e| e.t_s.is_finite())
                 .copied()
                 .collect(),
+            miswire: self.miswire,
         }
     }
 }

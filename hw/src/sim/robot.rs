@@ -18,6 +18,7 @@ use super::events::{EventAction, SimEvent};
 use super::field::Field;
 use super::field_tier::FieldTier;
 use super::gnss::SimReceiver;
+use super::miswire::{Miswire, Wires};
 use super::params::SimParams;
 use super::pipe::PipeEnd;
 use super::steering::Steering;
@@ -70,6 +71,8 @@ pub struct SimRobot {
     events: Vec<SimEvent>,
     next_event: usize,
     tool: ToolTrack,
+    /// How the amplifiers and encoders are wired ([sim] miswire).
+    wires: Wires,
 }
 
 impl SimRobot {
@@ -124,6 +127,10 @@ impl SimRobot {
             events,
             next_event: 0,
             tool: ToolTrack::new(p.tool_offset_m, p.cross_track_from_m),
+            wires: Wires {
+                miswire: p.miswire,
+                ..Wires::default()
+            },
             // The robot drives a little past the row's line, so lay the field out beyond it.
             tier: FieldTier::new(&p, field.length_m() + 10.0),
             field,
@@ -153,10 +160,10 @@ impl SimRobot {
         let o = self.outputs;
         let v_before = self.speed_mps();
         self.left
-            .step(self.amp_v(o.amp_left_v), !o.brake_release_left, dt_s);
+            .step(self.amp_v(0, o.amp_left_v), !o.brake_release_left, dt_s);
         self.right
-            .step(self.amp_v(o.amp_right_v), !o.brake_release_right, dt_s);
-        self.steering.step(self.amp_v(o.amp_steer_v), dt_s);
+            .step(self.amp_v(1, o.amp_right_v), !o.brake_release_right, dt_s);
+        self.steering.step(self.amp_v(2, o.amp_steer_v), dt_s);
         // The body moves at the step's mean wheel speed, as the encoders count it, less
         // what the wheels slip on loose soil (then the encoders over-read).
         let rim_mps = 0.5 * (v_before + self.speed_mps());
@@ -190,10 +197,12 @@ impl SimRobot {
         self.apply_due_events();
     }
 
-    /// What an amplifier puts on its motor: its command, clamped, while the contactor is closed.
-    fn amp_v(&self, commanded_v: f64) -> f64 {
+    /// What amplifier `k` (left, right, steering) puts on its motor: its command,
+    /// clamped, through its wires, while the contactor is closed.
+    fn amp_v(&self, k: usize, commanded_v: f64) -> f64 {
         if self.motor_power_present() && commanded_v.is_finite() {
-            commanded_v.clamp(-AMP_MAX_V, AMP_MAX_V)
+            let v = commanded_v.clamp(-AMP_MAX_V, AMP_MAX_V);
+            self.wires.motor_v(k, v, AMP_MAX_V)
         } else {
             0.0
         }
@@ -243,7 +252,7 @@ impl SimRobot {
             EventAction::PowerLoss => self.power_lost = true,
             EventAction::PowerRestore => self.power_lost = false,
             EventAction::EncoderStuck(id) => {
-                let count = self.encoder_counts(id);
+                let count = self.encoder(id);
                 self.stuck_counts[id as usize].get_or_insert(count);
             }
             EventAction::LinkSilent(duration_s) => self.camera.silence(now_s, duration_s),
@@ -267,6 +276,7 @@ impl SimRobot {
                     gnss.set_state(state, now_s);
                 }
             }
+            EventAction::Miswire(miswire) => self.rewire(miswire),
             EventAction::SteerSlip(deg) => {
                 // `as` saturates, so no slip can make this panic.
                 self.steer_slip_counts += (deg * self.p.steer_counts_per_deg).round() as i64
@@ -288,7 +298,26 @@ impl SimRobot {
     }
 
     fn encoder(&self, id: EncoderId) -> i64 {
-        self.stuck_counts[id as usize].unwrap_or_else(|| self.encoder_counts(id))
+        let k = id as usize;
+        self.stuck_counts[k].unwrap_or_else(|| self.wires.count(k, self.encoder_counts(id)))
+    }
+
+    /// Wire the amplifiers and encoders as `miswire` says from now on.
+    fn rewire(&mut self, miswire: Miswire) {
+        let counts =
+            [EncoderId::Left, EncoderId::Right, EncoderId::Steer].map(|id| self.encoder_counts(id));
+        self.wires.rewire(miswire, counts);
+    }
+
+    /// The wiring mistake made now ([sim] miswire, or the last `miswire` event).
+    pub fn miswire(&self) -> Miswire {
+        self.wires.miswire
+    }
+
+    /// The amplifiers' commands come through emulated cards from now on, whose DDA06
+    /// models its own range switches (`dda06_unipolar` is theirs to apply).
+    pub fn dacs_on_cards(&mut self) {
+        self.wires.dacs_on_cards = true;
     }
 
     /// The sensors now.
