@@ -16,12 +16,13 @@
 //! GUI), `header` (mode, HALT, fault), `modes` (mode buttons and why one is disabled),
 //! `status` (every input, output, the camera link and loop figures), `plots` and
 //! `plot_data` (the last 60 s), `tuning` (gains and the steering law, saved to
-//! robot.ini by `ini_edit`), `test_panel` (mode Test), `sim_panel` (the simulated
+//! robot.ini by `ini_edit`), `test_panel` (mode Test, with `commissioning`'s steps), `sim_panel` (the simulated
 //! robot's e-stops, joystick and faults). Every panel draws from a `View` and asks
 //! through `Requests` only, so it can be tested from a `View`
 //! made by hand (tests/gui/gui_panels.rs).
 
 pub mod app;
+mod commissioning;
 mod display;
 pub mod header;
 pub mod ini_edit;

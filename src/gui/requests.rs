@@ -79,6 +79,7 @@ fn refused_text(request: &Request, why: &str) -> String {
     match request {
         Request::TestOutputs(_) => format!("test outputs refused: {why}"),
         Request::TestHold(_) => format!("hold to run refused: {why}"),
+        Request::TestStep(step) => format!("{} step refused: {why}", step.name()),
         _ => format!("refused: {why}"),
     }
 }

@@ -20,6 +20,7 @@
 use eframe::egui::{self, RichText};
 use mechweed_hw::Outputs;
 
+use super::commissioning::Commissioning;
 use super::requests::Requests;
 use super::status::inputs_grid;
 use super::view::View;
@@ -95,6 +96,8 @@ pub struct TestPanel {
     holding: bool,
     /// When the hold now going on was last sent (None: no hold sent), s.
     hold_sent_s: Option<f64>,
+    /// The commissioning steps and their last result (commissioning.rs).
+    commissioning: Commissioning,
 }
 
 impl Default for TestPanel {
@@ -106,6 +109,7 @@ impl Default for TestPanel {
             last_sent: None,
             holding: false,
             hold_sent_s: None,
+            commissioning: Commissioning::default(),
         }
     }
 }
@@ -240,6 +244,8 @@ impl TestPanel {
                 }
             });
             self.amplifiers_grid(ui, view.now_s);
+            ui.separator();
+            self.commissioning.show(ui, view, requests);
         });
         ui.separator();
         ui.heading("Inputs");

@@ -11,6 +11,7 @@ mod test_supervisor;
 mod watch_harness;
 
 mod gui;
+mod gui_commission;
 mod gui_fault_advice;
 mod gui_field;
 mod gui_figures;

@@ -9,7 +9,7 @@ use mechweed_hw::cards::dda06::{DACS, DacRange};
 use mechweed_hw::cards::pci::{CardLocation, parse_pci_address};
 use mechweed_hw::cards::wiring::{
     self, AnalogIn, AnalogOut, Bit, Encoder, Switch, Wiring, parse_analog_in, parse_analog_out,
-    parse_encoder, parse_switch_in, parse_switch_out, parse_watchdog,
+    parse_encoder, parse_second_contact, parse_switch_in, parse_switch_out, parse_watchdog,
 };
 
 use super::reader::Reader;
@@ -123,6 +123,13 @@ fn line<T>(
     })
 }
 
+/// [io] joystick_released: optional, so that a file from before it reads as a
+/// dead-man with one contact.
+fn second_contact(r: &mut Reader, all_read: &mut bool) -> Option<Switch> {
+    r.optional("io", "joystick_released")?;
+    line(r, "joystick_released", parse_second_contact, None, all_read)
+}
+
 pub(super) fn wiring(r: &mut Reader) -> Wiring {
     let ok = &mut true;
     let (ai, aout, enc) = (parse_analog_in, parse_analog_out, parse_encoder);
@@ -138,6 +145,7 @@ pub(super) fn wiring(r: &mut Reader) -> Wiring {
         end_switch_left: line(r, "end_switch_left", sw_in, NO_SWITCH, ok),
         end_switch_right: line(r, "end_switch_right", sw_in, NO_SWITCH, ok),
         joystick_enable: line(r, "joystick_enable", sw_in, NO_SWITCH, ok),
+        joystick_released: second_contact(r, ok),
         enc_left_counts: line(r, "enc_left_counts", enc, NO_ENCODER, ok),
         enc_right_counts: line(r, "enc_right_counts", enc, NO_ENCODER, ok),
         enc_steer_counts: line(r, "enc_steer_counts", enc, NO_ENCODER, ok),

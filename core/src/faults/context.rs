@@ -24,6 +24,8 @@ pub struct CheckContext<'a> {
     pub driven_v: [f64; 3],
     /// The motor contactor's relay as written last tick (true = commanded closed).
     pub relay_closed: bool,
+    /// The drive wheels' brakes as written last tick (true = released): left, right.
+    pub brakes_released: [bool; 2],
     /// The speed each drive wheel was asked to move at last tick, m/s: its reference
     /// while driving; in Test, what the panel's voltage gives with the brake released.
     pub expected_mps: [f64; 2],

@@ -179,11 +179,13 @@ impl MotionChecks {
         }
     }
 
-    /// Standing in Halt with motor power on and 0 V on every amplifier (brakes on),
-    /// nothing moves once the last motion has had time to stop.
+    /// Standing in Halt, or in Test with nothing held, with motor power on and 0 V on
+    /// every amplifier, nothing moves once the last motion has had time to stop: not
+    /// the steering, and not a wheel whose brake is on (in Test a person may turn a
+    /// wheel whose brake the panel released).
     fn standing(&mut self, c: &CheckContext, report: &mut impl FnMut(FaultCause)) {
         let volts = c.driven_v.iter().any(|v| *v != 0.0);
-        if c.mode != Mode::Halt || volts {
+        if !matches!(c.mode, Mode::Halt | Mode::Test) || volts {
             self.commanded_s = c.now_s;
         }
         // Without motor power no amplifier can move anything: motion then is a
@@ -214,8 +216,9 @@ impl MotionChecks {
                 self.s.uncommanded_deg,
             ),
         ];
-        for (part, moved, limit) in parts {
-            if moved > limit {
+        for (k, (part, moved, limit)) in parts.into_iter().enumerate() {
+            let free_wheel = k < 2 && c.brakes_released[k];
+            if moved > limit && !free_wheel {
                 report(FaultCause::UncommandedMotion { part, moved });
             }
         }

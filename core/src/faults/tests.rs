@@ -61,6 +61,7 @@ impl Scene {
             measured: &self.measured,
             driven_v: self.driven_v,
             relay_closed: self.relay_closed,
+            brakes_released: [false; 2],
             expected_mps: self.expected_mps,
             counts_moved: [false; 3],
             endswitch_hit: None,

@@ -71,6 +71,7 @@ impl Given {
             measured: &Measured::default(),
             driven_v: [0.0; 3],
             relay_closed: true,
+            brakes_released: [false; 2],
             expected_mps: [0.0; 2],
             counts_moved: [false; 3],
             endswitch_hit: None,

@@ -178,9 +178,12 @@ fn parse_csv(text: &str, wanted: &[&str], notes: &mut Vec<String>) -> Result<Tab
         if line.is_empty() && last {
             break;
         }
+        // A last line without its newline was cut while written, even where it has every
+        // column: its last value may be cut short ("0.125" read as "0.1").
+        let cut_short = last && !ends_whole;
         let cells = match fields(line) {
-            Some(cells) if cells.len() == header.len() => cells,
-            _ if last && !ends_whole => {
+            Some(cells) if cells.len() == header.len() && !cut_short => cells,
+            _ if cut_short => {
                 notes.push(format!(
                     "line {number} is incomplete (the run ended abruptly?): left out"
                 ));
@@ -320,6 +323,10 @@ mod tests {
         assert_eq!(t.rows[0], [Cell::Empty, Cell::Num(0.1)]);
         assert_eq!(t.number(1, 0), Ok(Some(3.0)));
         assert_eq!(notes.len(), 1);
+        // Cut inside its last value, a line has every column: still cut, left out.
+        let t = parse_csv("t_s,x\n0.1,2\n0.2,0.12", &["x"], &mut notes).unwrap();
+        assert_eq!(t.rows.len(), 1, "0.125 cut to 0.12 is not a value");
+        assert_eq!(notes.len(), 2);
         let t = parse_csv("t_s,x\n0.1,abc\n", &["x"], &mut notes).unwrap();
         let e = t.number(0, 0).unwrap_err();
         assert_eq!(

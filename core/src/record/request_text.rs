@@ -7,6 +7,7 @@ use std::collections::BTreeMap;
 use mechweed_hw::Outputs;
 
 use crate::config::{PdSettings, PiSettings, SteerLaw, SteerSettings};
+use crate::state::commission::TestStep;
 use crate::state::modes::{Gains, Mode, Refusal, Request};
 
 /// "REQUEST => accepted" or "REQUEST => refused: WHY".
@@ -36,6 +37,7 @@ pub fn request_text(request: &Request) -> String {
             u8::from(o.tool_on)
         ),
         Request::TestHold(held) => format!("test_hold held={}", u8::from(*held)),
+        Request::TestStep(step) => format!("test_step step={}", step.name()),
         Request::Gains(g) => format!("gains {}", gains_text(g)),
         Request::Tuning(g, s) => format!("tuning {} {}", gains_text(g), steer_text(s)),
     }
@@ -101,6 +103,12 @@ fn parse_request(text: &str) -> Result<Request, String> {
             tool_on: values.flag("tool_on")?,
         }),
         "test_hold" => Request::TestHold(values.flag("held")?),
+        "test_step" => {
+            let name = values.0.remove("step").unwrap_or_default();
+            Request::TestStep(
+                TestStep::from_name(&name).ok_or_else(|| format!("step={name} is not a step"))?,
+            )
+        }
         "gains" => Request::Gains(values.gains()?),
         "tuning" => Request::Tuning(values.gains()?, values.steer()?),
         other => return Err(format!("'{other}' is not a request")),
@@ -212,6 +220,9 @@ mod tests {
             Request::TestOutputs(outputs),
             Request::TestHold(true),
             Request::TestHold(false),
+            Request::TestStep(TestStep::Actuator(mechweed_hw::EncoderId::Steer)),
+            Request::TestStep(TestStep::Voltmeter),
+            Request::TestStep(TestStep::Stop),
             Request::Gains(gains),
             Request::Tuning(gains, s.steer),
         ];

@@ -10,6 +10,7 @@
 //! inheritance): it uses `try_snapshot` and `try_publish`, which never wait, keeps its
 //! last copy when the lock is busy, and counts how often it was.
 
+pub mod commission;
 pub mod cross_track;
 pub mod fault_advice;
 pub mod fault_cause;

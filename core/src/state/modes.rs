@@ -6,6 +6,7 @@ use std::fmt;
 use mechweed_hw::Outputs;
 
 use crate::config::{PdSettings, PiSettings, SteerSettings};
+use crate::state::commission::TestStep;
 use crate::state::fault_cause::FaultCause;
 use crate::state::sensor_down::SensorDown;
 
@@ -93,6 +94,8 @@ pub enum Request {
     /// Hardware test panel: a person holds (true) or let go of (false) its Hold to run;
     /// a hold counts for supervisor::test_mode::PANEL_HOLD_S unless renewed.
     TestHold(bool),
+    /// Hardware test panel: a commissioning step (state/commission.rs).
+    TestStep(TestStep),
     /// New regulator gains; taken only in Halt, so that nothing jumps while moving.
     Gains(Gains),
     /// New gains and steering-law parameters together (the GUI's Apply): both are
@@ -117,6 +120,10 @@ pub enum Refusal {
     AlreadyPowered,
     /// In Test the panel's relay switch is the power switch.
     PanelHasThePower,
+    /// The voltmeter step needs the contactor open.
+    ContactorClosed,
+    /// Another commissioning step is running.
+    StepRunning,
     OnlyInHalt,
     NotStarted,
     /// A person drives in joystick mode, dead-man held: the bus may not take over.
@@ -156,6 +163,11 @@ impl fmt::Display for Refusal {
                 f,
                 "in test the panel's main power relay switch is the power switch"
             ),
+            Refusal::ContactorClosed => write!(
+                f,
+                "the voltmeter step needs the contactor open: switch the panel's main power relay off, and wait until motor power shows off"
+            ),
+            Refusal::StepRunning => write!(f, "a commissioning step is running: stop it first"),
             Refusal::NotStarted => write!(f, "the robot's inputs have not been read yet"),
             Refusal::PersonAtTheRobot => write!(
                 f,

@@ -3,6 +3,7 @@
 
 use mechweed_hw::{Inputs, Outputs, Side};
 
+use crate::state::commission::{MeterReading, StepReport};
 use crate::state::fault_cause::FaultCause;
 use crate::state::measure::Measured;
 use crate::state::modes::Mode;
@@ -44,6 +45,10 @@ pub enum Notice {
     RowEnded { driven_m: f64, t_s: f64 },
     /// Test entered: the robot must be on its stand, and nothing moves unless held.
     TestOnStand { t_s: f64 },
+    /// A commissioning step in Test ended: what the encoder and potentiometer saw.
+    StepDone { report: StepReport, t_s: f64 },
+    /// The voltmeter step began: what the meter must read.
+    Voltmeter { reading: MeterReading, t_s: f64 },
     /// Autonomous by GNSS or the fused row: these sensors steer from now on.
     /// The sensors that steer changed; `why` names what the others lack.
     Steering {
@@ -60,6 +65,8 @@ impl Notice {
             Notice::EndSwitchRecovered { t_s, .. }
             | Notice::RowEnded { t_s, .. }
             | Notice::TestOnStand { t_s }
+            | Notice::StepDone { t_s, .. }
+            | Notice::Voltmeter { t_s, .. }
             | Notice::Steering { t_s, .. } => *t_s,
         }
     }
@@ -86,6 +93,8 @@ impl std::fmt::Display for Notice {
                 f,
                 "test mode: the robot must be on its stand with the drive wheels off the ground; an amplifier gets the panel's voltage only while Hold to run (or the dead-man) is held"
             ),
+            Notice::StepDone { report, .. } => write!(f, "{report}"),
+            Notice::Voltmeter { reading, .. } => write!(f, "{reading}"),
             Notice::Steering { steering, why, .. } => {
                 write!(f, "steering by {}", steering.words())?;
                 match why {

@@ -9,8 +9,10 @@
 //! same tick, until the cause is gone and the operator powers up again.
 
 mod came_back;
+mod commission;
 mod drive;
 mod endswitch;
+mod follow;
 pub mod pid;
 mod requests;
 pub mod row_end;
@@ -22,9 +24,10 @@ use mechweed_hw::{Inputs, Outputs};
 
 use crate::camlink::LinkStatus;
 use crate::config::Settings;
-use crate::config::{SteerSettings, SteerSource};
+use crate::config::SteerSettings;
 use crate::faults::{CheckContext, FaultChecks};
 use crate::rt::health::ThreadHealth;
+use crate::state::commission::TestStep;
 use crate::state::fault_cause::FaultCause;
 use crate::state::measure::{Measured, Measurement};
 use crate::state::modes::{Gains, Mode};
@@ -52,6 +55,8 @@ pub struct Supervisor {
     test_outputs: Outputs,
     /// Who holds a control in Test (test_mode.rs).
     test_hold: test_mode::Hold,
+    /// The commissioning step running in Test, if any (commission.rs).
+    commissioning: commission::Commissioning,
     /// Steering-law parameters accepted in Halt, not yet passed to the steer thread.
     steer_settings: Option<SteerSettings>,
     /// The steering law's parameters as last accepted (the steer thread follows).
@@ -85,6 +90,7 @@ impl Supervisor {
             row_end: RowEnd::new(s),
             test_outputs: Outputs::SAFE,
             test_hold: test_mode::Hold::RELEASED,
+            commissioning: commission::Commissioning::default(),
             steer_settings: None,
             steer_in_force: s.steer,
             status: Status::default(),
@@ -166,6 +172,14 @@ impl Supervisor {
         self.status.fault = Some(record);
         self.status.power = PowerState::Off;
         self.test_hold = test_mode::Hold::RELEASED;
+        let pot_deg = self.status.measured.pot_angle_filtered_rad.to_degrees();
+        let (inputs, s) = (&self.status.inputs, &self.settings);
+        if let Some(report) = self.commissioning.end_by_fault(inputs, pot_deg, s) {
+            self.say(Notice::StepDone {
+                report,
+                t_s: self.status.t_s,
+            });
+        }
         self.set_mode(Mode::Fault);
     }
 
@@ -244,17 +258,6 @@ impl Supervisor {
         }
     }
 
-    /// At the row's end (row_end.rs), stop in Halt and say how far the robot drove.
-    fn follow_row_end(&mut self, now_s: f64, distance_m: f64) {
-        if let Some(driven_m) = self.row_end.update(self.status.mode, distance_m) {
-            self.say(Notice::RowEnded {
-                driven_m,
-                t_s: now_s,
-            });
-            self.set_mode(Mode::Halt);
-        }
-    }
-
     /// Every fault check (faults/mod.rs); the first cause found enters Fault.
     fn check_faults(
         &mut self,
@@ -280,6 +283,7 @@ impl Supervisor {
             measured,
             driven_v: [last.amp_left_v, last.amp_right_v, last.amp_steer_v],
             relay_closed: last.main_power_on,
+            brakes_released: [last.brake_release_left, last.brake_release_right],
             expected_mps,
             counts_moved: self.measure.counts_moved,
             endswitch_hit: self.endswitch.hit(self.status.endswitch_hit),
@@ -307,13 +311,7 @@ impl Supervisor {
         let outputs = match self.status.mode {
             Mode::Fault => Outputs::SAFE,
             Mode::Halt => self.standing_outputs(),
-            Mode::Test => {
-                // The dead-man on the cards is a hold as good as the panel's button.
-                let held = self.test_hold.held(inputs.joystick_enable, now_s);
-                let asked = test_mode::limit_amplifiers(self.test_outputs);
-                let test = &self.settings.test;
-                guard_steering(test_mode::hold_to_run(asked, held, test, measured), inputs)
-            }
+            Mode::Test => self.test_outputs_now(now_s, inputs, measured),
             Mode::Joystick | Mode::Autonomous => self.drive(now_s, steer, inputs, gap_s),
         };
         if !self.status.mode.drives() {
@@ -326,39 +324,25 @@ impl Supervisor {
         outputs
     }
 
-    /// The steer thread finished an end-switch procedure: stop in Halt and say so.
-    fn follow_endswitch_procedure(&mut self, steer: &SteerCommand, now_s: f64) {
-        let finished = self
-            .endswitch
-            .finished(&mut self.status.endswitch_hit, steer);
-        if self.status.mode.drives()
-            && let Some(side) = finished
-        {
-            self.say(Notice::EndSwitchRecovered { side, t_s: now_s });
-            self.set_mode(Mode::Halt);
+    /// Test's outputs: the panel's, or a commissioning step's, through hold-to-run and
+    /// the steering's guard; the voltmeter step's need no hold, as the contactor is open.
+    fn test_outputs_now(&mut self, now_s: f64, inputs: &Inputs, measured: &Measured) -> Outputs {
+        // The dead-man on the cards is a hold as good as the panel's button.
+        let held = self.test_hold.held(inputs.joystick_enable, now_s);
+        let asked = test_mode::limit_amplifiers(self.test_outputs);
+        let pot_deg = measured.pot_angle_filtered_rad.to_degrees();
+        let s = &self.settings;
+        let (asked, said) = self
+            .commissioning
+            .outputs(asked, held, now_s, inputs, pot_deg, s);
+        if let commission::Said::Step(report) = said {
+            self.say(Notice::StepDone { report, t_s: now_s });
         }
-    }
-
-    /// Each change of the sensors that steer, or of why, while autonomous is a notice
-    /// (the console's line, the GUI's, the record's event): GNSS's fall-backs, and the
-    /// camera alone's gaps and search for its first plants.
-    fn say_steering(&mut self, steer: &SteerCommand, now_s: f64) {
-        let autonomous = self.status.mode == Mode::Autonomous && steer.mode == Mode::Autonomous;
-        // The camera alone says only what it lacks: a gap, the first plants not seen yet.
-        let camera_alone = self.settings.sources.source == SteerSource::Camera;
-        if !autonomous || (camera_alone && steer.sources.why.is_none()) {
-            self.steering_said = None;
-            return;
+        if self.commissioning.running() == Some(TestStep::Voltmeter) {
+            return asked;
         }
-        let (steering, why) = (steer.sources.steering, steer.sources.why);
-        if self.steering_said != Some((steering, why)) {
-            self.steering_said = Some((steering, why));
-            self.say(Notice::Steering {
-                steering,
-                why: steer.sources.why,
-                t_s: now_s,
-            });
-        }
+        let test = &self.settings.test;
+        guard_steering(test_mode::hold_to_run(asked, held, test, measured), inputs)
     }
 
     /// Publish a notice for the operator and keep it for the report.

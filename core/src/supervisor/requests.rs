@@ -2,13 +2,14 @@
 //! script, the command line): the same refusal rules the GUI greys its buttons with
 //! (modes.rs), then the change, all between two ticks.
 
+use crate::state::commission::TestStep;
 use crate::state::modes::{Gains, Mode, Refusal, Request};
 use crate::state::status::{Notice, PowerState};
 
 use super::rules::{mode_refusal, power_up_refusal, remote_refusal};
 
 use super::Supervisor;
-use super::test_mode;
+use super::{commission, test_mode};
 
 impl Supervisor {
     /// Act on a request; `from_bus`: it came from another program over the bus, and a
@@ -65,6 +66,7 @@ impl Supervisor {
                     Mode::Halt if st.mode == Mode::Test => {
                         self.status.power = PowerState::Off;
                         self.test_hold = test_mode::Hold::RELEASED;
+                        self.commissioning.stop();
                     }
                     Mode::Joystick | Mode::Autonomous if st.mode == Mode::Halt => {
                         self.start_driving()
@@ -104,7 +106,36 @@ impl Supervisor {
                 self.test_hold.panel(held, st.t_s);
                 Ok(())
             }
+            Request::TestStep(step) => self.start_step(step),
         }
+    }
+
+    /// A commissioning step (commission.rs): an actuator's needs motor power on, the
+    /// voltmeter's needs it off.
+    fn start_step(&mut self, step: TestStep) -> Result<(), Refusal> {
+        let st = &self.status;
+        if st.mode != Mode::Test {
+            return Err(Refusal::NotInTest);
+        }
+        let running = self.commissioning.running();
+        match step {
+            TestStep::Stop => {}
+            _ if running.is_some() => return Err(Refusal::StepRunning),
+            TestStep::Actuator(_) if st.power != PowerState::On => return Err(Refusal::NotPowered),
+            TestStep::Voltmeter if st.power != PowerState::Off || st.inputs.motor_power_present => {
+                return Err(Refusal::ContactorClosed);
+            }
+            TestStep::Voltmeter => {
+                let reading = commission::meter_reading(&self.settings);
+                let t_s = st.t_s;
+                self.say(Notice::Voltmeter { reading, t_s });
+            }
+            TestStep::Actuator(_) => {}
+        }
+        let st = &self.status;
+        let pot_deg = st.measured.pot_angle_filtered_rad.to_degrees();
+        self.commissioning.start(step, st.t_s, &st.inputs, pot_deg);
+        Ok(())
     }
 
     fn set_gains(&mut self, gains: &Gains) {

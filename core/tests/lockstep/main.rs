@@ -7,6 +7,7 @@ mod common;
 
 mod camera_gaps;
 mod cards_closed_loop;
+mod commission;
 mod config_errors;
 mod decoder_props;
 mod drive_guards;

@@ -115,6 +115,10 @@ pub struct Wiring {
     pub end_switch_left: Switch,
     pub end_switch_right: Switch,
     pub joystick_enable: Switch,
+    /// The dead-man's second contact, if it has one: normally closed, true = let go.
+    /// The dead-man is held only while its contacts disagree that way, so that a
+    /// broken wire on either reads as let go (`inputs`).
+    pub joystick_released: Option<Switch>,
     pub enc_left_counts: Encoder,
     pub enc_right_counts: Encoder,
     pub enc_steer_counts: Encoder,
@@ -218,8 +222,10 @@ impl Wiring {
         ]
     }
 
-    /// The six switch inputs, with their robot.ini keys.
-    pub(crate) fn switch_inputs(&self) -> [(&'static str, Switch); 6] {
+    /// The switch inputs, with their robot.ini keys: six, and the dead-man's second
+    /// contact where it has one.
+    pub(crate) fn switch_inputs(&self) -> impl Iterator<Item = (&'static str, Switch)> {
+        let released = self.joystick_released.map(|s| ("joystick_released", s));
         [
             ("estop_front_released", self.estop_front_released),
             ("estop_back_released", self.estop_back_released),
@@ -228,6 +234,8 @@ impl Wiring {
             ("end_switch_right", self.end_switch_right),
             ("joystick_enable", self.joystick_enable),
         ]
+        .into_iter()
+        .chain(released)
     }
 
     /// The four switched outputs, with their robot.ini keys.
@@ -270,7 +278,7 @@ impl Wiring {
     /// True if a switch input is on the DAS08 (then its status must be read).
     pub(crate) fn reads_das08_inputs(&self) -> bool {
         let on_das08 = |(_, s): &(&str, Switch)| matches!(s.bit, Bit::Das08In(_));
-        self.switch_inputs().iter().any(on_das08)
+        self.switch_inputs().any(|input| on_das08(&input))
     }
 
     /// The 8255 directions: every bit that carries a switched output or the watchdog.
@@ -310,7 +318,9 @@ impl Wiring {
             motor_power_present: on(self.motor_power_present),
             end_switch_left: on(self.end_switch_left),
             end_switch_right: on(self.end_switch_right),
-            joystick_enable: on(self.joystick_enable),
+            // Held: its open contact closed and, on a two-contact button, its closed
+            // contact open.
+            joystick_enable: on(self.joystick_enable) && !self.joystick_released.is_some_and(on),
             enc_left_counts: counts(self.enc_left_counts),
             enc_right_counts: counts(self.enc_right_counts),
             enc_steer_counts: counts(self.enc_steer_counts),
@@ -335,61 +345,13 @@ impl Wiring {
         }
         c
     }
-
-    /// For the emulated robot: what the wires carry for these physical inputs.
-    pub(crate) fn wires_for(&self, inputs: &Inputs) -> CardInputs {
-        let mut c = CardInputs::default();
-        let volts = [
-            inputs.pot_v,
-            inputs.joystick_steer_v,
-            inputs.joystick_speed_v,
-            inputs.battery_v,
-        ];
-        for (a, v) in self.analog_inputs().into_iter().zip(volts) {
-            c.das08_ai_v[usize::from(a.channel % 8)] = v / a.scale;
-        }
-        let on = [
-            inputs.estop_front_released,
-            inputs.estop_back_released,
-            inputs.motor_power_present,
-            inputs.end_switch_left,
-            inputs.end_switch_right,
-            inputs.joystick_enable,
-        ];
-        for ((_, s), signal) in self.switch_inputs().into_iter().zip(on) {
-            set_level(s.bit, s.level(signal), &mut c.das08_ip, &mut c.dda06_ports);
-        }
-        let counts = [
-            inputs.enc_left_counts,
-            inputs.enc_right_counts,
-            inputs.enc_steer_counts,
-        ];
-        for (e, n) in self.encoders().into_iter().zip(counts) {
-            c.quad04_counts[usize::from(e.channel.clamp(1, 4) - 1)] = n * e.sign;
-        }
-        c
-    }
-
-    /// For the emulated robot: the physical outputs that these card outputs mean.
-    pub(crate) fn outputs_from(&self, c: &CardOutputs) -> Outputs {
-        let volts = |a: AnalogOut| c.dda06_ao_v[usize::from(a.channel % 6)] / a.scale;
-        let on = |s: Switch| s.signal(get_level(s.bit, c.das08_op, &c.dda06_ports));
-        Outputs {
-            amp_left_v: volts(self.amp_left_v),
-            amp_right_v: volts(self.amp_right_v),
-            amp_steer_v: volts(self.amp_steer_v),
-            main_power_on: on(self.main_power_on),
-            brake_release_left: on(self.brake_release_left),
-            brake_release_right: on(self.brake_release_right),
-            tool_on: on(self.tool_on),
-        }
-    }
 }
 
+mod emulated;
 mod parse;
 pub use parse::{
-    check, parse_analog_in, parse_analog_out, parse_encoder, parse_switch_in, parse_switch_out,
-    parse_watchdog,
+    check, parse_analog_in, parse_analog_out, parse_encoder, parse_second_contact, parse_switch_in,
+    parse_switch_out, parse_watchdog,
 };
 
 #[cfg(test)]

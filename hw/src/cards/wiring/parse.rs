@@ -195,6 +195,16 @@ pub fn parse_switch_out(text: &str) -> Result<Switch, String> {
     Ok(switch(place, opt))
 }
 
+/// The dead-man's second contact: a switch input, or `none` for a one-contact button.
+pub fn parse_second_contact(text: &str) -> Result<Option<Switch>, String> {
+    if text.trim().eq_ignore_ascii_case("none") {
+        return Ok(None);
+    }
+    parse_switch_in(text)
+        .map(Some)
+        .map_err(|e| format!("{e}; or none for a dead-man with one contact"))
+}
+
 /// The watchdog line: a switched output, or `none` for no watchdog output.
 pub fn parse_watchdog(text: &str) -> Result<Option<Switch>, String> {
     if text.trim().eq_ignore_ascii_case("none") {
@@ -223,6 +233,9 @@ const ONE_DIRECTION: &str = "a group (port a, port b, port c bits 4..7, port c b
 /// watchdog, added last, is the key blamed for its clashes.
 pub fn check(wiring: &Wiring) -> Vec<(&'static str, String)> {
     let mut places = wiring.places().to_vec();
+    if let Some(s) = wiring.joystick_released {
+        places.push(("joystick_released", Place::Bit(s.bit)));
+    }
     if let Some(w) = wiring.watchdog {
         places.push(("watchdog", Place::Bit(w.bit)));
     }
@@ -250,7 +263,7 @@ pub fn check(wiring: &Wiring) -> Vec<(&'static str, String)> {
         let same_group = |(_, input): &(&str, Switch)| {
             group(input.bit).is_some() && group(input.bit) == group(w.bit)
         };
-        if let Some((in_key, _)) = wiring.switch_inputs().into_iter().find(same_group) {
+        if let Some((in_key, _)) = wiring.switch_inputs().find(same_group) {
             let place = Place::Bit(w.bit);
             problems.push((
                 "watchdog",

@@ -31,6 +31,7 @@ pub(crate) fn robot() -> Wiring {
         brake_release_left: sw_out("das08 op 2, active high"),
         brake_release_right: sw_out("das08 op 3, active high"),
         tool_on: sw_out("das08 op 4, active high"),
+        joystick_released: None,
         watchdog: parse_watchdog("dda06 port b bit 0, active high").unwrap(),
     }
 }
@@ -318,6 +319,50 @@ fn the_watchdog_is_a_free_output_line_or_none() {
         problems[0].1.starts_with(
             "dda06 port a bit 7 is in the same 8255 port group as the input end_switch_left"
         ),
+        "{problems:?}"
+    );
+}
+
+#[test]
+fn a_two_contact_dead_man_is_held_only_while_its_contacts_disagree_and_a_broken_wire_lets_go() {
+    let one_contact = robot();
+    let two_contacts = Wiring {
+        joystick_released: parse_second_contact("dda06 port a bit 3, active high").unwrap(),
+        ..robot()
+    };
+    // Port A bit 2: the open contact (1 = closed); bit 3: the closed contact (1 = closed).
+    let read = |w: &Wiring, open_contact: bool, closed_contact: bool| {
+        let mut c = CardInputs::default();
+        c.dda06_ports[0] = u8::from(open_contact) << 2 | u8::from(closed_contact) << 3;
+        w.inputs(&c).joystick_enable
+    };
+    assert!(read(&two_contacts, true, false), "held");
+    assert!(!read(&two_contacts, false, true), "let go");
+    // A broken wire leaves its input floating, high or low: never "held".
+    assert!(!read(&two_contacts, true, true));
+    assert!(!read(&two_contacts, false, false));
+    // One contact, active high: a broken wire that floats high reads as held.
+    assert!(read(&one_contact, true, false));
+    // The emulated robot's wires for "held" read back as held.
+    let held = Inputs {
+        joystick_enable: true,
+        ..Inputs::default()
+    };
+    let back = two_contacts.inputs(&two_contacts.wires_for(&held));
+    assert!(back.joystick_enable);
+    assert!(
+        !two_contacts
+            .inputs(&two_contacts.wires_for(&Inputs::default()))
+            .joystick_enable
+    );
+    // It shares no bit with another signal.
+    let clash = Wiring {
+        joystick_released: parse_second_contact("dda06 port a bit 2, active high").unwrap(),
+        ..robot()
+    };
+    let problems = check(&clash);
+    assert!(
+        problems.iter().any(|(key, _)| *key == "joystick_released"),
         "{problems:?}"
     );
 }
