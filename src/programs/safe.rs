@@ -39,13 +39,7 @@ pub fn program(args: SafeArgs) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    let ports = CardPorts::open(
-        &only.cards,
-        &only.io,
-        Path::new(PCI_DEVICES),
-        Path::new(DEV_PORT),
-    );
-    match write_safe(ports, &only) {
+    match write_safe(open_ports(&only), &only) {
         Ok(line) => {
             println!("{line}");
             ExitCode::SUCCESS
@@ -64,6 +58,12 @@ pub(crate) fn cards_only(file: Option<&Path>) -> Result<CardsOnly, Vec<ConfigErr
         Some(path) => CardsOnly::load(&path),
         None => CardsOnly::parse("built-in robot.ini", DEFAULT_INI),
     }
+}
+
+/// The cards of this computer, found as [hw] says.
+fn open_ports(only: &CardsOnly) -> Result<CardPorts, OpenError> {
+    let (pci_root, dev_port) = (Path::new(PCI_DEVICES), Path::new(DEV_PORT));
+    CardPorts::open(&only.cards, &only.io, pci_root, dev_port)
 }
 
 /// Start the cards that `ports` opened: starting writes their safe outputs, and a card
@@ -97,13 +97,7 @@ pub(crate) fn after_refusal(file: Option<&Path>, only_with_cards: bool) {
     if only_with_cards && only.backend != Backend::Cards {
         return;
     }
-    let ports = CardPorts::open(
-        &only.cards,
-        &only.io,
-        Path::new(PCI_DEVICES),
-        Path::new(DEV_PORT),
-    );
-    match write_safe(ports, &only) {
+    match write_safe(open_ports(&only), &only) {
         Ok(line) => eprintln!("{line}, although the settings are refused"),
         Err(why) => eprintln!("{why}"),
     }

@@ -72,3 +72,13 @@ pub fn assert_no_cross_track_in_summary(summary: &mut std::process::Command, wha
         "{what}: a cross-track figure: {said}"
     );
 }
+
+/// This computer has Measurement Computing cards (PCI vendor 0x1307): tests that would
+/// open them stay off a real robot's cards.
+pub fn has_mcc_cards() -> bool {
+    std::fs::read_dir("/sys/bus/pci/devices").is_ok_and(|dir| {
+        dir.flatten().any(|d| {
+            std::fs::read_to_string(d.path().join("vendor")).is_ok_and(|v| v.trim() == "0x1307")
+        })
+    })
+}

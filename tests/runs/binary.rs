@@ -200,19 +200,9 @@ fn camsim_serves_a_robot_computer_over_tcp() {
     }
 }
 
-/// True if this computer has any Measurement Computing card (then the tests below,
-/// written for a machine without them, do not apply).
-fn has_mcc_cards() -> bool {
-    std::fs::read_dir("/sys/bus/pci/devices").is_ok_and(|dir| {
-        dir.flatten().any(|d| {
-            std::fs::read_to_string(d.path().join("vendor")).is_ok_and(|v| v.trim() == "0x1307")
-        })
-    })
-}
-
 #[test]
 fn probe_on_a_computer_without_the_cards_says_so_and_fails() {
-    if has_mcc_cards() {
+    if common::has_mcc_cards() {
         return;
     }
     let out = mechweed().arg("probe").output().unwrap();
@@ -239,7 +229,7 @@ fn probe_on_a_computer_without_the_cards_says_so_and_fails() {
 
 #[test]
 fn run_on_the_cards_without_them_refuses_to_start() {
-    if has_mcc_cards() {
+    if common::has_mcc_cards() {
         return;
     }
     let out = mechweed()

@@ -19,17 +19,9 @@ fn broken_outside_hw_and_io(dir: &std::path::Path) -> std::path::PathBuf {
     path
 }
 
-fn has_mcc_cards() -> bool {
-    std::fs::read_dir("/sys/bus/pci/devices").is_ok_and(|dir| {
-        dir.flatten().any(|d| {
-            std::fs::read_to_string(d.path().join("vendor")).is_ok_and(|v| v.trim() == "0x1307")
-        })
-    })
-}
-
 #[test]
 fn safe_run_and_probe_go_to_the_cards_from_a_file_broken_outside_hw_and_io() {
-    if has_mcc_cards() {
+    if common::has_mcc_cards() {
         eprintln!("skipped: this computer has the robot's cards, which these runs would open");
         return;
     }

@@ -11,8 +11,8 @@
 //!
 //! The voltmeter step writes `METER_V` on AO0..AO2 with the relay forced open and the
 //! brakes on, while motor power is absent: the amplifiers are unpowered, so nothing can
-//! move and no hold is needed. It goes on until stopped, so that a meter can be
-//! moved from one output to the next.
+//! move and no hold is needed. It goes on until stopped (or the relay is switched on),
+//! so that a meter can be moved from one output to the next.
 
 use mechweed_hw::{EncoderId, Inputs, Outputs};
 
@@ -43,12 +43,6 @@ struct Running {
 #[derive(Debug, Default)]
 pub(crate) struct Commissioning {
     running: Option<Running>,
-}
-
-/// What happened in this tick.
-pub(crate) enum Said {
-    Nothing,
-    Step(StepReport),
 }
 
 impl Commissioning {
@@ -93,8 +87,8 @@ impl Commissioning {
         }
     }
 
-    /// The outputs of the step running over the panel's `asked`; with what happened.
-    /// `held`: someone holds a control now.
+    /// The outputs of the step running over the panel's `asked`, and the report of a
+    /// step that ended in this tick. `held`: someone holds a control now.
     pub fn outputs(
         &mut self,
         asked: Outputs,
@@ -103,9 +97,9 @@ impl Commissioning {
         inputs: &Inputs,
         pot_deg: f64,
         s: &Settings,
-    ) -> (Outputs, Said) {
+    ) -> (Outputs, Option<StepReport>) {
         let Some(run) = self.running else {
-            return (asked, Said::Nothing);
+            return (asked, None);
         };
         let for_s = now_s - run.since_s;
         match run.step {
@@ -115,25 +109,26 @@ impl Commissioning {
                     self.running = None;
                     let verdict = (volts_on && !held).then_some(StepVerdict::LetGo);
                     let report = report(&run, actuator, inputs, pot_deg, s, verdict);
-                    return (step_outputs(asked, actuator, 0.0), Said::Step(report));
+                    return (step_outputs(asked, actuator, 0.0), Some(report));
                 }
                 let volts = if volts_on { STEP_V } else { 0.0 };
-                (step_outputs(asked, actuator, volts), Said::Nothing)
+                (step_outputs(asked, actuator, volts), None)
             }
             // [io]'s scales take these volts to the card (meter_reading says what comes out).
-            TestStep::Voltmeter if !inputs.motor_power_present => {
+            TestStep::Voltmeter if !inputs.motor_power_present && !asked.main_power_on => {
                 let outputs = Outputs {
                     amp_left_v: METER_V,
                     amp_right_v: METER_V,
                     amp_steer_v: METER_V,
                     ..Outputs::SAFE
                 };
-                (outputs, Said::Nothing)
+                (outputs, None)
             }
-            // Motor power came on: the amplifiers would drive; the step ends.
+            // Motor power came on, or the panel's relay switch asks for it: the
+            // amplifiers would drive what the step writes, so it ends.
             TestStep::Voltmeter | TestStep::Stop => {
                 self.running = None;
-                (Outputs::SAFE, Said::Nothing)
+                (Outputs::SAFE, None)
             }
         }
     }

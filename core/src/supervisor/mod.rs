@@ -335,7 +335,7 @@ impl Supervisor {
         let (asked, said) = self
             .commissioning
             .outputs(asked, held, now_s, inputs, pot_deg, s);
-        if let commission::Said::Step(report) = said {
+        if let Some(report) = said {
             self.say(Notice::StepDone { report, t_s: now_s });
         }
         if self.commissioning.running() == Some(TestStep::Voltmeter) {

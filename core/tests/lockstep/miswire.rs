@@ -241,3 +241,22 @@ fn at_a_closed_end_switch_only_motion_the_encoder_confirms_is_off_it_goes_on() {
     assert!(after_s < 1.0, "{after_s}");
     assert_eq!(sim.robot.outputs(), Outputs::SAFE);
 }
+
+#[test]
+fn a_drive_that_cannot_reach_its_reference_is_too_slow_by_name() {
+    // Motors a sixth as strong as the controller's model: 0.2 m/s at 10 V, asked 0.5.
+    let s = settings_with("", &["sim.motor_gain_mps_per_v=0.02"]);
+    let mut sim = Lockstep::new(&s, Mode::Autonomous);
+    while sim.now_s() < 15.0 && sim.supervisor.status().fault.is_none() {
+        sim.tick();
+    }
+    let cause = sim.supervisor.status().fault.map(|f| f.cause);
+    let Some(FaultCause::DriveSpeed {
+        speed_mps, ref_mps, ..
+    }) = cause
+    else {
+        panic!("{cause:?}");
+    };
+    assert!(speed_mps < ref_mps - 0.25, "{speed_mps} {ref_mps}");
+    assert!(cause.unwrap().to_string().contains("too slow"));
+}

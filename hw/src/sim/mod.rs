@@ -7,9 +7,10 @@
 //! One file per idea: `drive` (a drive wheel and its brake), `steering` (the steered
 //! wheel and its sensors), `body` (the bicycle model), `field` (the row), `tool` (the
 //! tool's path along the row), `sight` (what the camera sees), `camera` (the camera
-//! computer), `robot` (all of it together), `realtime` (on the wall clock), plus
-//! `params`, `events`, `pipe`, `crosstrack` (the plant's figures) and `crosstrack_ticks`
-//! (a run's, from its ticks); `field_tier` adds what real fields add.
+//! computer), `robot` (all of it together; `robot_events`, what the scripted events do
+//! to it; `miswire`, how it is wired), `realtime` (on the wall clock), plus `params`,
+//! `events`, `pipe`, `crosstrack` (the plant's figures) and `crosstrack_ticks` (a run's,
+//! from its ticks); `field_tier` adds what real fields add.
 
 pub mod camera;
 pub mod crosstrack;

@@ -3,7 +3,7 @@
 use super::*;
 use crate::Side;
 use crate::camproto::{CMD_START, Decoder, Frame};
-use crate::sim::events::parse_events;
+use crate::sim::events::{EventAction, parse_events};
 use crate::sim::params::RowShape;
 use crate::sim::pipe::byte_pipe;
 
