@@ -189,7 +189,7 @@ pub fn text(status: &Value) -> String {
             .map_or(String::new(), |pid| format!("pid {pid}"));
         let exit = p["exit"]
             .as_str()
-            .map_or(String::new(), |e| format!("last exit: {e}"));
+            .map_or(String::new(), |e| format!(", last exit: {e}"));
         let _ = writeln!(
             out,
             "  {:<14} {:<10} {:<11} {:<10} restarts {}{exit}",
@@ -223,4 +223,20 @@ pub fn text(status: &Value) -> String {
         let _ = writeln!(out, "  (rates not counted: {why})");
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn a_process_s_restarts_and_its_last_exit_are_two_things() {
+        let status = serde_json::json!({
+            "processes": [{"process": "camsim", "machine": "camera", "state": "running",
+                           "pid": 42, "restarts": 1, "exit": "killed by SIGKILL"}],
+        });
+        let said = super::text(&status);
+        assert!(
+            said.contains("restarts 1, last exit: killed by SIGKILL"),
+            "{said}"
+        );
+    }
 }

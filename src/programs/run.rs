@@ -159,6 +159,11 @@ fn start_mode(args: &RunArgs, settings: &Settings) -> Mode {
         ),
         Backend::Cards => crate::say!("mechweed on the I/O cards; start mode {start_mode}"),
     }
+    if settings.backend == Backend::Cards
+        && settings.watchdog_relay == crate::config::WatchdogRelay::NoneAccepted
+    {
+        crate::say!("{}", crate::config::NO_RELAY);
+    }
     if !crate::state::cross_track::CrossTrackMeaning::of(settings).meaningful() {
         crate::say!(
             "camera: {}; {}",

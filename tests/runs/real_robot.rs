@@ -91,3 +91,34 @@ fn check_config_real_robot_refuses_a_file_on_the_simulated_robot_and_takes_one_s
     assert_eq!(code, Some(0), "{said}");
     assert!(said.contains("ok: set up for the real robot"), "{said}");
 }
+
+#[test]
+fn a_start_on_the_cards_without_a_watchdog_relay_says_so_and_a_file_without_the_words_is_refused() {
+    let cards = [
+        ("hw", "backend", "cards"),
+        ("camera", "port", "/dev/ttyS0"),
+        ("io", "watchdog", "none"),
+    ];
+    let refused = File::new(shipped_with(&cards));
+    let out = Command::new(env!("CARGO_BIN_EXE_mechweed"))
+        .args(["run", "--headless", "--duration", "1", "--config"])
+        .arg(&refused.path)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("[io] watchdog = none"), "{stderr}");
+    let mut accepted = cards.to_vec();
+    accepted.push(("io", "watchdog_relay", "none_accepted"));
+    let file = File::new(shipped_with(&accepted));
+    let out = Command::new(env!("CARGO_BIN_EXE_mechweed"))
+        .args(["run", "--headless", "--duration", "1", "--config"])
+        .arg(&file.path)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("no watchdog relay ([io] watchdog_relay = none_accepted)"),
+        "{stdout}"
+    );
+}

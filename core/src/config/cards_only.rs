@@ -37,6 +37,8 @@ impl CardsOnly {
             cards: io::cards(&mut r),
             io: io::wiring(&mut r),
         };
+        // Read so that it is a known key here too; the safe outputs do not need it.
+        let _ = super::watchdog_relay::load(&mut r);
         let errors = r.finish(&["hw", "io"]);
         if errors.is_empty() {
             Ok(only)

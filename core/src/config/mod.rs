@@ -13,6 +13,7 @@ mod io;
 mod joystick;
 mod lines;
 mod motion_faults;
+mod pid;
 mod reader;
 mod real_robot;
 mod record;
@@ -22,6 +23,7 @@ mod sim;
 mod source;
 mod steer;
 mod test_panel;
+mod watchdog_relay;
 
 use std::path::Path;
 
@@ -36,6 +38,7 @@ pub use gnss::{GnssPort, GnssSettings, MapSource, SourceSettings, SteerSource};
 pub use joystick::{GamepadDevice, GamepadSettings, JoystickSettings, JoystickSource};
 pub use lines::{parse_seconds, read_text};
 pub use motion_faults::MotionFaultSettings;
+pub use pid::{PdSettings, PiSettings};
 
 pub use gui::{GuiSettings, Theme};
 pub use reader::{ConfigError, Place, Reader, override_parts};
@@ -44,6 +47,7 @@ pub use ros2::{Distro, MAX_DOMAIN_ID, Ros2Settings, parse_namespace, parse_route
 pub use source::SettingsSource;
 pub use steer::{SteerLaw, SteerSettings};
 pub use test_panel::TestSettings;
+pub use watchdog_relay::{NO_RELAY, WatchdogRelay};
 
 /// The settings file shipped with the program, used when no file is given and
 /// config/robot.ini is not in the working directory.
@@ -119,30 +123,6 @@ pub struct FaultSettings {
     pub motion: MotionFaultSettings,
 }
 
-/// PI speed regulator of one drive wheel, with feed-forward.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PiSettings {
-    /// Proportional gain, V per m/s of speed error.
-    pub kp: f64,
-    /// Integral gain, V per m of accumulated speed error.
-    pub ki: f64,
-    /// Feed-forward, V per m/s of speed reference.
-    pub kff: f64,
-    pub out_max_v: f64,
-}
-
-/// PD angle regulator of the steering.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PdSettings {
-    /// Proportional gain, V per rad of angle error.
-    pub kp: f64,
-    /// Derivative gain on the measured angle, V per rad/s.
-    pub kd: f64,
-    /// Time constant of the derivative's low-pass filter, s.
-    pub d_filter_s: f64,
-    pub out_max_v: f64,
-}
-
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CameraSettings {
     pub link_timeout_s: f64,
@@ -208,6 +188,8 @@ pub struct Settings {
     pub cards: mechweed_hw::cards::CardsSettings,
     /// How the robot is wired to the cards ([io]).
     pub io: mechweed_hw::cards::wiring::Wiring,
+    /// Whether the robot has the charge-pump relay ([io] watchdog_relay).
+    pub watchdog_relay: WatchdogRelay,
     pub sim: mechweed_hw::sim::SimParams,
     /// Where and how each run is recorded.
     pub record: RecordSettings,
@@ -265,9 +247,9 @@ impl Settings {
             robot: robot(&mut r),
             supervisor: supervisor(&mut r),
             faults: faults(&mut r),
-            pid_left: pi(&mut r, "pid.left"),
-            pid_right: pi(&mut r, "pid.right"),
-            pid_steer: pd(&mut r, "pid.steer"),
+            pid_left: pid::pi(&mut r, "pid.left"),
+            pid_right: pid::pi(&mut r, "pid.right"),
+            pid_steer: pid::pd(&mut r, "pid.steer"),
             steer: steer::load(&mut r),
             sources: gnss::sources(&mut r),
             filter: filter::load(&mut r),
@@ -279,6 +261,7 @@ impl Settings {
             backend: [Backend::Sim, Backend::Cards][r.choice("hw", "backend", &["sim", "cards"])],
             cards: io::cards(&mut r),
             io: io::wiring(&mut r),
+            watchdog_relay: watchdog_relay::load(&mut r),
             sim: sim::load(&mut r),
             record: record::load(&mut r),
             bus: bus::load(&mut r),
@@ -295,6 +278,7 @@ impl Settings {
         settings.test = test_panel::load(&mut r, &settings.faults);
         checks::across(&settings, &mut r);
         real_robot::check(&settings, &mut r);
+        watchdog_relay::check(&settings, &mut r);
         test_panel::check(&settings, &mut r);
         if real_robot {
             real_robot::require_cards(&settings, &mut r);
@@ -361,24 +345,6 @@ fn faults(r: &mut Reader) -> FaultSettings {
         contactor_drop_s: r.f64(s, "contactor_drop_s", 0.02, 1.0),
         off_row_m: r.f64(s, "off_row_m", 0.02, 2.0),
         motion: motion_faults::load(r),
-    }
-}
-
-fn pi(r: &mut Reader, s: &str) -> PiSettings {
-    PiSettings {
-        kp: r.f64(s, "kp", 0.0, 1000.0),
-        ki: r.f64(s, "ki", 0.0, 10000.0),
-        kff: r.f64(s, "kff", 0.0, 1000.0),
-        out_max_v: r.f64(s, "out_max_v", 0.0, 10.0),
-    }
-}
-
-fn pd(r: &mut Reader, s: &str) -> PdSettings {
-    PdSettings {
-        kp: r.f64(s, "kp", 0.0, 10000.0),
-        kd: r.f64(s, "kd", 0.0, 1000.0),
-        d_filter_s: r.f64(s, "d_filter_s", 0.0, 1.0),
-        out_max_v: r.f64(s, "out_max_v", 0.0, 10.0),
     }
 }
 

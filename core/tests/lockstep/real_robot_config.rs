@@ -87,3 +87,43 @@ fn a_file_for_the_real_robot_must_be_on_the_cards() {
     std::fs::write(&path, real).unwrap();
     assert!(Settings::load_real_robot(&path).is_ok());
 }
+
+#[test]
+fn on_the_cards_no_watchdog_line_is_refused_unless_no_relay_is_accepted_in_words() {
+    // The unsafe state: the real robot, and nothing that stops it if the program is killed.
+    let real = cards_only().replacen("\nport = sim\n", "\nport = /dev/ttyS0\n", 1);
+    let unwatched = real.replacen(
+        "\nwatchdog = dda06 port b bit 0, active high\n",
+        "\nwatchdog = none\n",
+        1,
+    );
+    let found = errors(&unwatched);
+    let line = line_of(&unwatched, "[io]", "watchdog = none");
+    assert_eq!(found.len(), 1, "{found:#?}");
+    assert!(
+        found[0].starts_with(&format!("robot.ini line {line}: [io] watchdog = none"))
+            && found[0].contains("watchdog_relay = none_accepted"),
+        "{found:#?}"
+    );
+    // Accepted in words: taken, and the settings say so for the start line.
+    let accepted = unwatched.replacen(
+        "\nwatchdog_relay = fitted\n",
+        "\nwatchdog_relay = none_accepted\n",
+        1,
+    );
+    let settings = Settings::parse("robot.ini", &accepted, &[]).unwrap();
+    assert_eq!(
+        settings.watchdog_relay,
+        mechweed_core::config::WatchdogRelay::NoneAccepted
+    );
+    // A file from before the setting, without a watchdog line, is refused the same way;
+    // on the simulated robot nothing is asked.
+    let older = unwatched.replacen("\nwatchdog_relay = fitted\n", "\n", 1);
+    assert_eq!(errors(&older).len(), 1);
+    let sim = SHIPPED.replacen(
+        "\nwatchdog = dda06 port b bit 0, active high\n",
+        "\nwatchdog = none\n",
+        1,
+    );
+    assert_eq!(errors(&sim), Vec::<String>::new());
+}
