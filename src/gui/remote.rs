@@ -14,6 +14,7 @@ use serde_json::{Value, json};
 use zenoh::{Session, Wait};
 
 use super::remote_view::{fill_from_status, fill_from_tick};
+use super::requests::NO_ANSWER;
 use super::view::{RemoteLink, View, ViewSource};
 use crate::bus::session::{Role, open};
 use crate::record::received::parse_tick;
@@ -254,13 +255,20 @@ fn accepts_operator(session: &Session, key: &str) -> Option<bool> {
     Some(json["value"].as_str()? == "operator")
 }
 
-/// The robot's answer to a request, in its words.
+/// The robot's answer to a request, in its words; an answer that says neither yes nor
+/// why not is no answer (`NO_ANSWER`), never "refused".
 fn answer_of(body: &[u8], ok: bool) -> Result<(), String> {
     let json: Value = serde_json::from_slice(body).unwrap_or_default();
+    let why = |key: &str| {
+        json[key]
+            .as_str()
+            .map_or(NO_ANSWER.to_string(), str::to_string)
+    };
     match (ok, json["accepted"].as_bool()) {
         (true, Some(true)) => Ok(()),
-        (true, _) => Err(json["reason"].as_str().unwrap_or("refused").to_string()),
-        (false, _) => Err(json["error"].as_str().unwrap_or("refused").to_string()),
+        (true, Some(false)) => Err(why("reason")),
+        (true, None) => Err(NO_ANSWER.to_string()),
+        (false, _) => Err(why("error")),
     }
 }
 
@@ -328,5 +336,32 @@ impl ViewSource for RemoteView {
 
     fn answers_in_words(&self) -> Vec<(Request, Result<(), String>)> {
         self.answers.try_iter().collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_answer_that_says_neither_yes_nor_why_not_is_no_answer_not_a_refusal() {
+        assert_eq!(answer_of(br#"{"accepted": true}"#, true), Ok(()));
+        let refused = answer_of(
+            br#"{"accepted": false, "reason": "a fault is latched"}"#,
+            true,
+        );
+        assert_eq!(refused, Err("a fault is latched".to_string()));
+        // Before: each of these read "refused".
+        for (body, ok) in [
+            (&b"garbage"[..], true),
+            (&b"{}"[..], true),
+            (&b""[..], false),
+        ] {
+            assert_eq!(answer_of(body, ok), Err(NO_ANSWER.to_string()), "{body:?}");
+        }
+        assert_eq!(
+            answer_of(br#"{"error": "not allowed"}"#, false),
+            Err("not allowed".to_string())
+        );
     }
 }

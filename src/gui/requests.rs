@@ -10,7 +10,7 @@ use std::collections::VecDeque;
 use crossbeam_channel::{Receiver, Sender, bounded};
 
 use super::view::ViewSource;
-use crate::state::modes::Request;
+use crate::state::modes::{Mode, Request};
 use crate::state::request_channel::Answer;
 
 /// Answers the GUI can hold between two passes. The supervisor never waits to answer
@@ -18,6 +18,10 @@ use crate::state::request_channel::Answer;
 /// least while one is awaited, while the supervisor takes at most a queue's worth (16)
 /// each tick.
 const ANSWER_PLACES: usize = 64;
+
+/// What a view says of an answer that came but said neither yes nor why not (an
+/// error with no words, a body it cannot read); shown as no answer, never a refusal.
+pub const NO_ANSWER: &str = "no answer";
 /// The supervisor answers within a tick; this long without an answer, it has stopped
 /// (the console's blocking request waits as long), s.
 pub(crate) const ANSWER_WAIT_S: f64 = 1.0;
@@ -71,6 +75,17 @@ impl Default for Requests {
             feedback: None,
             last_post_s: 0.0,
         }
+    }
+}
+
+/// The words for a request that nothing answered, or whose answer could not be read:
+/// not a refusal. A HALT may well have been taken (the robot's status says).
+pub fn no_answer_text(request: &Request) -> String {
+    match request {
+        Request::Mode(Mode::Halt) => {
+            "HALT: no answer (the robot may have halted: look at its status)".to_string()
+        }
+        _ => "no answer (the robot may have taken it: look at its status)".to_string(),
     }
 }
 
@@ -157,7 +172,7 @@ impl Requests {
         while let Some(ask) = self.pending.front()
             && now_s - ask.at_s > ANSWER_WAIT_S
         {
-            let text = refused_text(&ask.request, "the supervisor did not answer");
+            let text = no_answer_text(&ask.request);
             let at_s = ask.at_s;
             self.pending.pop_front();
             self.say(text, true, at_s);
@@ -194,6 +209,7 @@ impl Requests {
         match (answer, done) {
             (Ok(()), Some(done)) => self.say(done, false, at_s),
             (Ok(()), None) => {}
+            (Err(why), _) if why == NO_ANSWER => self.say(no_answer_text(&request), true, at_s),
             (Err(why), _) => self.say(refused_text(&request, &why), true, at_s),
         }
     }
