@@ -38,14 +38,19 @@ fn check_config_refuses_the_cards_with_a_simulated_camera_receiver_and_map() {
     );
 }
 
-#[test]
-fn a_run_on_the_cards_with_the_simulated_camera_does_not_start() {
-    let file = File::new(shipped_with(&[("hw", "backend", "cards")]));
-    let out = Command::new(env!("CARGO_BIN_EXE_mechweed"))
+/// `mechweed run --headless --duration 1` with `file`.
+fn run_one_second(file: &File) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_mechweed"))
         .args(["run", "--headless", "--duration", "1", "--config"])
         .arg(&file.path)
         .output()
-        .unwrap();
+        .unwrap()
+}
+
+#[test]
+fn a_run_on_the_cards_with_the_simulated_camera_does_not_start() {
+    let file = File::new(shipped_with(&[("hw", "backend", "cards")]));
+    let out = run_one_second(&file);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(
@@ -100,22 +105,14 @@ fn a_start_on_the_cards_without_a_watchdog_relay_says_so_and_a_file_without_the_
         ("io", "watchdog", "none"),
     ];
     let refused = File::new(shipped_with(&cards));
-    let out = Command::new(env!("CARGO_BIN_EXE_mechweed"))
-        .args(["run", "--headless", "--duration", "1", "--config"])
-        .arg(&refused.path)
-        .output()
-        .unwrap();
+    let out = run_one_second(&refused);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("[io] watchdog = none"), "{stderr}");
     let mut accepted = cards.to_vec();
     accepted.push(("io", "watchdog_relay", "none_accepted"));
     let file = File::new(shipped_with(&accepted));
-    let out = Command::new(env!("CARGO_BIN_EXE_mechweed"))
-        .args(["run", "--headless", "--duration", "1", "--config"])
-        .arg(&file.path)
-        .output()
-        .unwrap();
+    let out = run_one_second(&file);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
         stdout.contains("no watchdog relay ([io] watchdog_relay = none_accepted)"),

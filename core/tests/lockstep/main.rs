@@ -19,6 +19,7 @@ mod gnss_steering;
 mod hold_to_run;
 mod miswire;
 mod no_alloc;
+mod older_file;
 mod power;
 mod real_robot_config;
 mod records;
