@@ -10,9 +10,8 @@
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::time::Duration;
 
-use crossbeam_channel::{Receiver, Sender, bounded, select};
+use crossbeam_channel::{Receiver, Sender, bounded};
 use zenoh::query::{Query, Queryable};
 use zenoh::{Session, Wait};
 
@@ -77,24 +76,14 @@ impl Inbox {
         })
     }
 
-    /// The most important query waiting, or one that comes within `wait`; with whether
-    /// it is a HALT.
-    pub fn next(&self, wait: Duration) -> Option<(Port, Query, bool)> {
-        for (i, queue) in self.queues.iter().enumerate() {
-            if let Ok((port, query)) = queue.try_recv() {
-                return Some((port, query, i == 0));
-            }
-        }
-        let [halts, requests, sets, gets, others] = &self.queues;
-        let (taken, halt) = select! {
-            recv(halts) -> q => (q, true),
-            recv(requests) -> q => (q, false),
-            recv(sets) -> q => (q, false),
-            recv(gets) -> q => (q, false),
-            recv(others) -> q => (q, false),
-            default(wait) => return None,
-        };
-        taken.ok().map(|(port, query)| (port, query, halt))
+    /// The most important query waiting.
+    pub fn try_next(&self) -> Option<(Port, Query)> {
+        self.queues.iter().find_map(|queue| queue.try_recv().ok())
+    }
+
+    /// The queues, for a wait on them and on something else (gateway/child.rs).
+    pub fn queues(&self) -> &[Receiver<(Port, Query)>] {
+        &self.queues
     }
 
     /// Queries dropped because their queue was full.

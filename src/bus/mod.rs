@@ -3,6 +3,8 @@
 //! estimates in), queries for requests and settings, and liveliness tokens for who is
 //! there. The control loops never wait for it: the bus thread reads protected objects
 //! and a queue that drops (thread.rs), and every publisher drops rather than queues.
+//! The robot's session lives in a process of its own (gateway/), so that the network's
+//! library cannot take the controller down.
 //!
 //! Keys (ROBOT = `[bus] robot`): ROBOT/status, ROBOT/tick, ROBOT/event, ROBOT/request,
 //! ROBOT/config/SECTION/KEY, ROBOT/camera/row, ROBOT/alive/NAME. The bus is never a
@@ -10,6 +12,9 @@
 //! link's time-out and fault like a camera computer's.
 
 pub mod acl;
+pub mod gate;
+pub mod gateway;
+pub mod hearing;
 pub mod identities;
 pub mod inbox;
 pub mod keys;
@@ -34,6 +39,8 @@ pub enum BusState {
     #[default]
     Off,
     Running,
+    /// The bus process ended; it is started again after a wait.
+    Restarting,
     /// The run has ended.
     Closed,
 }
@@ -64,14 +71,16 @@ pub struct BusFigures {
     pub security: Label,
     /// The identities linked so far, and those refused (secured bus only).
     pub identities: Label,
+    /// How often the bus process ended and was started again.
+    pub process_restarts: u32,
 }
 
-/// The run's session: None when the bus is off, or when it could not start and the
-/// run does not need it (a warning says why). An error when `[bus] required = yes` or
-/// the camera's rows come from the bus.
+/// The run's bus process, its session open: None when the bus is off, or when it could
+/// not start and the run does not need it (a warning says why). An error when `[bus]
+/// required = yes` or the camera's rows come from the bus.
 pub(crate) fn open_for_run(
     s: &crate::config::Settings,
-) -> Result<Option<zenoh::Session>, BusError> {
+) -> Result<Option<gateway::supervise::Gateway>, BusError> {
     if !s.bus.enabled {
         return Ok(None);
     }
@@ -79,8 +88,8 @@ pub(crate) fn open_for_run(
         setting: "[bus] robot and tls_ca",
         why,
     })?;
-    match session::open(Role::Robot(&s.bus), s.bus.tls.as_ref()) {
-        Ok(session) => {
+    match gateway::supervise::Gateway::start(s) {
+        Ok(gateway) => {
             crate::say!(
                 "bus: {}, keys {}/...; requests accepted: {}; {}",
                 s.bus.endpoints(),
@@ -99,9 +108,11 @@ pub(crate) fn open_for_run(
                     s.bus.endpoints()
                 );
             }
-            Ok(Some(session))
+            Ok(Some(gateway))
         }
-        Err(e) if s.bus.required || s.camera_port == crate::config::CameraPort::Bus => Err(e),
+        Err(why) if s.bus.required || s.camera_port == crate::config::CameraPort::Bus => {
+            Err(BusError::Process(why))
+        }
         Err(e) => {
             tracing::warn!("{e}; the robot runs without the bus ([bus] required = no)");
             Ok(None)
@@ -144,6 +155,15 @@ impl BusFigures {
                 ""
             },
         );
+        if self.process_restarts > 0 {
+            line += &format!(
+                "; the bus process was started again {} times",
+                self.process_restarts
+            );
+        }
+        if self.state == BusState::Restarting {
+            line += "; the bus process is away, starting again";
+        }
         line += &format!("; {}", self.security.as_str());
         if !self.identities.as_str().is_empty() {
             line += &format!("; identities: {}", self.identities.as_str());

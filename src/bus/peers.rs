@@ -43,8 +43,19 @@ impl Peers {
         })
     }
 
+    /// The tokens present, as their keys, the newest changes taken.
+    pub fn present(&mut self) -> Vec<String> {
+        self.take_changes();
+        self.present.iter().cloned().collect()
+    }
+
     /// How many other programs are present (every token but this program's own).
     pub fn others(&mut self, own: &str) -> u32 {
+        self.take_changes();
+        self.present.iter().filter(|k| *k != own).count() as u32
+    }
+
+    fn take_changes(&mut self) {
         while let Ok((appeared, key)) = self.changes.try_recv() {
             if appeared {
                 if self.present.len() < MAX_PRESENT {
@@ -54,6 +65,5 @@ impl Peers {
                 self.present.remove(&key);
             }
         }
-        self.present.iter().filter(|k| *k != own).count() as u32
     }
 }

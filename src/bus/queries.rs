@@ -7,9 +7,6 @@
 //! wrong and changes nothing; every refusal names the rule that refused.
 
 use serde_json::{Value, json};
-use zenoh::Wait;
-use zenoh::bytes::Encoding;
-use zenoh::query::Query;
 
 use crate::config::{AcceptRequests, Backend, PiSettings, Settings, SteerSettings};
 use crate::state::Reader;
@@ -26,8 +23,8 @@ const LIVE_SECTIONS: [&str; 4] = ["pid.left", "pid.right", "pid.steer", "steer"]
 const START_ONLY: [(&str, &str); 2] = [("steer", "rate_hz"), ("steer", "endswitch_back_deg")];
 
 /// Where a query came in.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Port {
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum Port {
     /// ROBOT/request: HALT for every identity that may stop the robot (and, on a bus
     /// that is not secured, every request, as before the keys were split).
     Halt,
@@ -64,69 +61,52 @@ impl Queries {
         }
     }
 
-    /// Answer `query`, which came in at `port`, counted in `figures`. Every answer is
-    /// JSON; an error answer is `{"error": WHY}`. Returns a refusal's words, for the
-    /// console (bus/refusals.rs says them at most once a second).
-    pub fn serve(&mut self, query: &Query, port: Port, figures: &mut BusFigures) -> Option<String> {
-        let payload = query.payload().map(|p| p.to_bytes().into_owned());
-        let key = query.key_expr().as_str();
-        let answer = match port {
-            Port::Halt | Port::Operator => {
-                self.request(payload.as_deref().unwrap_or_default(), port)
-            }
+    /// Answer what came in at `port` under `key`. Every answer is JSON; the bus
+    /// process sends an error answer as `{"error": WHY}`.
+    /// `asker`: the identity that asked, by the roster, where the bus tells it.
+    pub fn answer(
+        &mut self,
+        key: &str,
+        payload: Option<&[u8]>,
+        port: Port,
+        asker: Option<&str>,
+    ) -> Answer {
+        // Said on the robot's console: the operator there sees who stopped or moved it.
+        let by = asker.map_or("another program".to_string(), |name| format!("'{name}'"));
+        match port {
+            Port::Halt | Port::Operator => self.request(payload.unwrap_or_default(), port, &by),
             Port::Get | Port::Set => {
                 let prefix =
                     self.settings
                         .bus
                         .key(if port == Port::Get { "config/" } else { "set/" });
                 let path = key.strip_prefix(&prefix).unwrap_or(key);
-                self.config(path, payload.as_deref(), port)
+                self.config(path, payload, port, &by)
             }
-        };
-        Self::reply(query, answer, figures).map(|why| format!("{key}: {why}"))
-    }
-
-    /// Refuse `query` at once without asking anyone (a flood's excess); counted.
-    pub(crate) fn refuse(query: &Query, why: &str, figures: &mut BusFigures) {
-        let _ = Self::reply(query, Self::refused(why.to_string()), figures);
-    }
-
-    fn reply(query: &Query, answer: Answer, figures: &mut BusFigures) -> Option<String> {
-        figures.queries_answered += 1;
-        let mut refusal = None;
-        let sent = match answer {
-            Ok(reply) => {
-                if reply.get("accepted") == Some(&Value::Bool(false)) {
-                    figures.queries_refused += 1;
-                    refusal = reply["reason"].as_str().map(str::to_string);
-                }
-                query
-                    .reply(query.key_expr().clone(), reply.to_string())
-                    .encoding(Encoding::APPLICATION_JSON)
-                    .wait()
-            }
-            Err(why) => {
-                figures.queries_refused += 1;
-                let sent = query
-                    .reply_err(json!({ "error": why }).to_string())
-                    .encoding(Encoding::APPLICATION_JSON)
-                    .wait();
-                refusal = Some(why);
-                sent
-            }
-        };
-        if let Err(e) = sent {
-            tracing::debug!("bus: the answer could not be sent: {e}");
         }
+    }
+
+    /// Count `answer` in `figures`; a refusal's words, for the console (bus/refusals.rs
+    /// says them at most once a second).
+    pub(crate) fn count(answer: &Answer, figures: &mut BusFigures) -> Option<String> {
+        figures.queries_answered += 1;
+        let refusal = match answer {
+            Ok(reply) if reply.get("accepted") == Some(&Value::Bool(false)) => {
+                Some(reply["reason"].as_str().unwrap_or("refused").to_string())
+            }
+            Ok(_) => None,
+            Err(why) => Some(why.clone()),
+        };
+        figures.queries_refused += u64::from(refusal.is_some());
         refusal
     }
 
-    fn refused(reason: String) -> Answer {
+    pub(crate) fn refused(reason: String) -> Answer {
         Ok(json!({ "accepted": false, "reason": reason }))
     }
 
-    /// A request with `payload`, which came in at `port`.
-    pub fn request(&self, payload: &[u8], port: Port) -> Answer {
+    /// A request with `payload`, which came in at `port`, asked `by` (in words).
+    pub fn request(&self, payload: &[u8], port: Port, by: &str) -> Answer {
         let request = parse_request(payload)?;
         let what = match request {
             Request::Mode(Mode::Halt) => "halt".to_string(),
@@ -157,10 +137,9 @@ impl Queries {
                     .to_string(),
             );
         }
-        // Said on the robot's console: the operator there sees who stopped or moved it.
         match self.supervisor.request_from_bus(request) {
             Ok(()) => {
-                tracing::info!("bus: {what} requested by another program: accepted");
+                tracing::info!("bus: {what} requested by {by}: accepted");
                 Ok(json!({ "accepted": true }))
             }
             Err(reason) => Self::refused(reason),
@@ -170,7 +149,7 @@ impl Queries {
     /// A settings port: `path` is SECTION/KEY; no payload gets the setting,
     /// `{"set": VALUE}` sets it (at `Port::Set`, or at `Port::Get` on a bus that is
     /// not secured).
-    pub fn config(&mut self, path: &str, payload: Option<&[u8]>, port: Port) -> Answer {
+    pub fn config(&mut self, path: &str, payload: Option<&[u8]>, port: Port, by: &str) -> Answer {
         let Some((section, key)) = path.rsplit_once('/') else {
             return Err(format!(
                 "'{path}' is not SECTION/KEY (for example config/pid.left/kp)"
@@ -223,7 +202,7 @@ impl Queries {
         *in_force = new;
         match self.supervisor.request(Request::Tuning(gains, law)) {
             Ok(()) => {
-                tracing::info!("bus: {name} set to {new_value} by another program");
+                tracing::info!("bus: {name} set to {new_value} by {by}");
                 self.settings = checked;
                 Ok(
                     json!({ "accepted": true, "setting": format!("{section}.{key}"), "value": new_value }),
@@ -349,7 +328,7 @@ mod tests {
         });
         let (_, tuning) = shared((Gains::from_settings(&settings), settings.steer));
         let queries = Queries::new(&settings, handle, tuning);
-        let answer = queries.request(br#"{"request": "power_up"}"#, Port::Operator);
+        let answer = queries.request(br#"{"request": "power_up"}"#, Port::Operator, "a test");
         answering.join().unwrap();
         answer
     }

@@ -1,6 +1,6 @@
 //! Row estimates from the bus (`[camera] port = bus`): a vision program on any machine
-//! publishes `ROBOT/camera/row`, and the camera link thread reads them as it reads a
-//! camera computer's bytes. Each estimate that passes the checks of payload.rs becomes
+//! publishes `ROBOT/camera/row`, the bus process hands each on, and the camera link
+//! thread reads them as it reads a camera computer's bytes. Each estimate that passes the checks of payload.rs becomes
 //! the ROW frame the camera computer would have sent, so the link's decoder, counters
 //! (sequence gaps, duplicates), quality rule and freshness time-out are the very same:
 //! a vision program that stops publishing stops the robot with the link's fault.
@@ -10,11 +10,10 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-use crossbeam_channel::{Receiver, bounded};
+use crossbeam_channel::{Receiver, Sender, bounded};
 use mechweed_hw::camproto::{FRAME_LEN, encode_row};
-use zenoh::{Session, Wait};
 
-use super::payload::{parse_row, wall_s};
+use super::payload::parse_row;
 use super::row_clock::{RowClock, Verdict};
 
 /// Counts of what came in on `ROBOT/camera/row`.
@@ -35,38 +34,30 @@ pub(crate) struct BusRows {
     read_timeout: Duration,
     counts: Arc<RowCounts>,
     key: String,
-    _subscriber: zenoh::pubsub::Subscriber<()>,
 }
 
 /// Estimates waiting for the link thread; it reads every 10 ms, so a few are plenty, and
-/// a full queue drops the newest rather than wait in zenoh's callback.
+/// a full queue drops the newest rather than wait in the bus thread.
 const QUEUE_ROWS: usize = 8;
 
 impl BusRows {
-    /// Subscribe to `key`; zenoh's callback only hands each payload on.
+    /// The rows that come in under `key`, and where the bus thread puts them.
     /// `max_age_s`: a row older than this by its capture time is stale (row_clock.rs).
-    pub(crate) fn subscribe(
-        session: &Session,
+    pub(crate) fn new(
         key: &str,
         read_timeout: Duration,
         max_age_s: f64,
         counts: Arc<RowCounts>,
-    ) -> zenoh::Result<BusRows> {
+    ) -> (BusRows, Sender<(Vec<u8>, f64)>) {
         let (tx, payloads) = bounded(QUEUE_ROWS);
-        let subscriber = session
-            .declare_subscriber(key)
-            .callback(move |sample| {
-                let _ = tx.try_send((sample.payload().to_bytes().into_owned(), wall_s()));
-            })
-            .wait()?;
-        Ok(BusRows {
+        let rows = BusRows {
             payloads,
             clock: RowClock::new(max_age_s),
             read_timeout,
             counts,
             key: key.to_string(),
-            _subscriber: subscriber,
-        })
+        };
+        (rows, tx)
     }
 
     /// The frame for one payload, or None for one refused (counted, and the first few

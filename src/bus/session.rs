@@ -32,6 +32,9 @@ pub enum BusError {
     },
     #[error("the bus could not start ({setting}): {why}")]
     Other { setting: &'static str, why: String },
+    /// What the bus process said, in its own words (one of the above).
+    #[error("{0}")]
+    Process(String),
 }
 
 /// Who opens the session.

@@ -13,10 +13,11 @@ use crossbeam_channel::{Receiver, Sender, bounded};
 use serde_json::{Value, json};
 use zenoh::{Session, Wait};
 
+use crate::bus::hearing::{Ear, Hearing};
+
 use super::remote_view::{fill_from_status, fill_from_tick};
 use super::requests::NO_ANSWER;
 use super::view::{RemoteLink, View, ViewSource};
-use crate::bus::session::{Role, open};
 use crate::record::received::parse_tick;
 use crate::state::modes::{Mode, Request};
 use crate::state::request_channel::Answer;
@@ -43,8 +44,7 @@ pub struct RemoteView {
     robot: String,
     endpoint: String,
     /// None: fed by hand (`feed`), as the tests do.
-    session: Option<Session>,
-    _subscribers: Vec<zenoh::pubsub::Subscriber<()>>,
+    hearing: Option<Hearing<Flow>>,
     arrived: Receiver<(Flow, Vec<u8>, Instant)>,
     arrive: Sender<(Flow, Vec<u8>, Instant)>,
     /// What the robot said of `[bus] accept_requests`: `UNKNOWN` until it answers.
@@ -97,8 +97,7 @@ impl RemoteView {
         RemoteView {
             robot: robot.to_string(),
             endpoint: endpoint.to_string(),
-            session: None,
-            _subscribers: Vec::new(),
+            hearing: None,
             arrived,
             arrive,
             operator: Arc::new(AtomicU8::new(UNKNOWN)),
@@ -120,28 +119,18 @@ impl RemoteView {
         tls: Option<&crate::config::TlsFiles>,
     ) -> Result<RemoteView, String> {
         let mut remote = RemoteView::offline(robot, endpoint);
-        let session = open(
-            Role::Tool {
-                connect: vec![endpoint.to_string()],
-                wait: true,
-            },
-            tls,
-        )
-        .map_err(|e| e.to_string())?;
-        for (flow, key) in [(Flow::Status, "status"), (Flow::Tick, "tick")] {
-            let arrive = remote.arrive.clone();
-            let subscriber = session
-                .declare_subscriber(format!("{robot}/{key}"))
-                .callback(move |sample| {
-                    let bytes = sample.payload().to_bytes().into_owned();
-                    let _ = arrive.try_send((flow, bytes, Instant::now()));
-                })
-                .wait()
-                .map_err(|e| e.to_string())?;
-            remote._subscribers.push(subscriber);
-        }
-        let (asker, operator, quit) = (
-            session.clone(),
+        let hearing = Hearing::start(Ear {
+            endpoint: endpoint.to_string(),
+            robot: robot.to_string(),
+            tls: tls.cloned(),
+            token: format!("alive/watch-{}", std::process::id()),
+            flows: vec![(Flow::Status, "status"), (Flow::Tick, "tick")],
+            program: "watch",
+            queue: QUEUE,
+        })?;
+        remote.arrived = hearing.rx.clone();
+        let (sessions, operator, quit) = (
+            hearing.sessions(),
             remote.operator.clone(),
             remote.quit.clone(),
         );
@@ -150,7 +139,7 @@ impl RemoteView {
             .name("watch-operator".into())
             .spawn(move || {
                 while !quit.load(Ordering::Relaxed) {
-                    if let Some(taken) = accepts_operator(&asker, &key) {
+                    if let Some(taken) = accepts_operator(&sessions.lock().clone(), &key) {
                         let value = if taken { OPERATOR } else { HALT_ONLY };
                         operator.store(value, Ordering::Relaxed);
                     }
@@ -158,7 +147,7 @@ impl RemoteView {
                 }
             })
             .map_err(|e| format!("cannot start a thread: {e}"))?;
-        remote.session = Some(session);
+        remote.hearing = Some(hearing);
         Ok(remote)
     }
 
@@ -208,6 +197,9 @@ impl RemoteView {
                 }),
             };
             if let Err(why) = read {
+                if let Some(hearing) = &self.hearing {
+                    hearing.unreadable();
+                }
                 let link = self.view.remote.get_or_insert_default();
                 link.refused += 1;
                 if link.refused <= SAY_BAD {
@@ -225,6 +217,10 @@ impl RemoteView {
             link.age_s = age_s;
             link.waited_s = now.saturating_duration_since(self.opened).as_secs_f64();
             link.operator = operator_of(self.operator.load(Ordering::Relaxed));
+            if let Some(hearing) = &self.hearing {
+                link.wrong_key = hearing.counts.wrong_key.load(Ordering::Relaxed);
+                link.reopened = hearing.counts.reopened.load(Ordering::Relaxed);
+            }
         }
         view
     }
@@ -243,6 +239,23 @@ impl RemoteView {
             link.fault_came_back_after_s = json["fault_came_back_after_s"].as_f64();
         }
         Ok(())
+    }
+}
+
+/// A request on its way. Zenoh lets go of a query's callback when the query is over: one
+/// that no answer reached (nothing answered within the wait, or no robot was there to
+/// ask) is then said as no answer, never as a refusal and never as nothing.
+struct Unanswered {
+    to: Sender<Said>,
+    request: Request,
+    answered: AtomicBool,
+}
+
+impl Drop for Unanswered {
+    fn drop(&mut self) {
+        if !self.answered.load(Ordering::Relaxed) {
+            let _ = self.to.try_send((self.request, Err(NO_ANSWER.to_string())));
+        }
     }
 }
 
@@ -304,12 +317,16 @@ impl ViewSource for RemoteView {
                 );
             }
         };
-        let Some(session) = &self.session else {
+        let Some(session) = self.hearing.as_ref().map(Hearing::session) else {
             // Fed by hand: nothing to send it to; the tests read what would have gone.
             self.sent.lock().push(payload.to_string());
             return Ok(());
         };
-        let answer = self.answer.clone();
+        let answer = Unanswered {
+            to: self.answer.clone(),
+            request,
+            answered: AtomicBool::new(false),
+        };
         // HALT on the key every identity that may stop the robot may ask; the others on
         // the operator's own (bus/acl.rs).
         let key = match request {
@@ -326,7 +343,8 @@ impl ViewSource for RemoteView {
                     Ok(sample) => answer_of(&sample.payload().to_bytes(), true),
                     Err(error) => answer_of(&error.payload().to_bytes(), false),
                 };
-                let _ = answer.try_send((request, said));
+                answer.answered.store(true, Ordering::Relaxed);
+                let _ = answer.to.try_send((request, said));
             })
             .wait()
             .map_err(|e| format!("cannot ask {} at {}: {e}", self.robot, self.endpoint))

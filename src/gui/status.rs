@@ -332,8 +332,8 @@ pub fn show(ui: &mut egui::Ui, view: &View, requests: &mut Requests) {
         Some(link) => {
             ui.label(super::header::remote_line(link));
             ui.label(format!(
-                "{}; messages that could not be read: {}",
-                view.bus_endpoints, link.refused
+                "{}; messages that could not be read: {}, under the wrong key: {}; session opened again {} times",
+                view.bus_endpoints, link.refused, link.wrong_key, link.reopened
             ));
         }
         None => {

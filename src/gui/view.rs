@@ -89,6 +89,10 @@ pub struct RemoteLink {
     pub inputs_seen: bool,
     /// Messages on the flows that could not be read (the first few are logged).
     pub refused: u64,
+    /// Messages under a key their subscriber was not for (not taken), and times the
+    /// view's session was opened again (bus/hearing.rs).
+    pub wrong_key: u64,
+    pub reopened: u64,
 }
 
 /// Older than this, the robot's status is stale: what the window shows goes grey, s.

@@ -89,6 +89,9 @@ pub enum Command {
     /// The cluster's certificates: who may do what on the bus and the cluster.
     #[command(subcommand)]
     Keys(keys::KeysCommand),
+    /// The bus process of a run: started by `mechweed run` itself, its link on stdin.
+    #[command(hide = true)]
+    BusGateway,
 }
 
 pub(crate) fn print_errors(errors: &[ConfigError]) {

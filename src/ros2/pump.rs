@@ -4,16 +4,11 @@
 //! messages (flows.rs), and /diagnostics once a second, for `send` to put on the ROS
 //! router or into a bag.
 
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use zenoh::Wait;
-use zenoh::liveliness::LivelinessToken;
-use zenoh::pubsub::Subscriber;
-
 use super::flows::{Converter, Counts, Outgoing};
-use crate::bus::session::{self, Role};
+use crate::bus::hearing::{Ear, Hearing};
 use crate::config::TlsFiles;
 
 /// Messages waiting for the loop; beyond this they are dropped here and counted.
@@ -32,13 +27,8 @@ enum Flow {
 pub struct Robot {
     /// The robot's name on its bus.
     pub name: String,
-    /// Each flow's message and when it arrived.
-    rx: crossbeam_channel::Receiver<(Flow, Vec<u8>, Instant)>,
-    dropped_here: Arc<AtomicU64>,
-    _subscribers: Vec<Subscriber<()>>,
-    _alive: LivelinessToken,
-    /// Last: dropped after what it declared.
-    _session: zenoh::Session,
+    /// Each flow's message and when it arrived, from a session that mends itself.
+    hearing: Hearing<Flow>,
 }
 
 /// What a pump did.
@@ -50,6 +40,9 @@ pub struct Pumped {
     pub failed: u64,
     /// Flows the queue had no room for.
     pub dropped_here: u64,
+    /// Messages under a wrong key (not taken), and times the session was opened again.
+    pub wrong_key: u64,
+    pub reopened: u64,
 }
 
 impl Pumped {
@@ -57,8 +50,16 @@ impl Pumped {
     pub fn line(&self, robot: &str, what: &str) -> String {
         let c = self.counts;
         format!(
-            "{} ticks, {} statuses and {} events of {robot} made {} {what} ({} not taken, {} dropped on this computer, {} refused)",
-            c.ticks, c.statuses, c.events, self.sent, self.failed, self.dropped_here, c.bad
+            "{} ticks, {} statuses and {} events of {robot} made {} {what} ({} not taken, {} dropped on this computer, {} refused, {} under the wrong key; the session opened again {} times)",
+            c.ticks,
+            c.statuses,
+            c.events,
+            self.sent,
+            self.failed,
+            self.dropped_here,
+            c.bad,
+            self.wrong_key,
+            self.reopened
         )
     }
 }
@@ -72,47 +73,22 @@ impl Robot {
         tls: Option<&TlsFiles>,
         who: &str,
     ) -> Result<Robot, String> {
-        // A tool's session: it connects to the robot program and listens on nothing.
-        session::check_robot(tls, name)?;
-        let role = Role::Tool {
-            connect: vec![endpoint.to_string()],
-            wait: true,
-        };
-        let zenoh = session::open(role, tls).map_err(|e| session::plain_words(&e))?;
-        let key = |what: &str| format!("{name}/{what}");
-        let (tx, rx) = crossbeam_channel::bounded(QUEUE);
-        let dropped_here = Arc::new(AtomicU64::new(0));
-        let mut subscribers = Vec::new();
-        for (flow, what) in [
-            (Flow::Tick, "tick"),
-            (Flow::Status, "status"),
-            (Flow::Event, "event"),
-        ] {
-            let (tx, dropped) = (tx.clone(), dropped_here.clone());
-            let subscriber = zenoh
-                .declare_subscriber(key(what))
-                .callback(move |sample| {
-                    let bytes = sample.payload().to_bytes().into_owned();
-                    if tx.try_send((flow, bytes, Instant::now())).is_err() {
-                        dropped.fetch_add(1, Ordering::Relaxed);
-                    }
-                })
-                .wait()
-                .map_err(|e| e.to_string())?;
-            subscribers.push(subscriber);
-        }
-        let alive = zenoh
-            .liveliness()
-            .declare_token(key(&format!("alive/{who}-{}", std::process::id())))
-            .wait()
-            .map_err(|e| e.to_string())?;
+        let hearing = Hearing::start(Ear {
+            endpoint: endpoint.to_string(),
+            robot: name.to_string(),
+            tls: tls.cloned(),
+            token: format!("alive/{who}-{}", std::process::id()),
+            flows: vec![
+                (Flow::Tick, "tick"),
+                (Flow::Status, "status"),
+                (Flow::Event, "event"),
+            ],
+            program: "ros2",
+            queue: QUEUE,
+        })?;
         Ok(Robot {
             name: name.to_string(),
-            _session: zenoh,
-            rx,
-            dropped_here,
-            _subscribers: subscribers,
-            _alive: alive,
+            hearing,
         })
     }
 
@@ -141,7 +117,9 @@ impl Robot {
                 );
                 made.push(converter.diagnostics(now, &figures).map(|m| vec![m]));
             }
-            if let Ok((flow, bytes, arrived)) = self.rx.recv_timeout(Duration::from_millis(50)) {
+            if let Ok((flow, bytes, arrived)) =
+                self.hearing.rx.recv_timeout(Duration::from_millis(50))
+            {
                 made.push(match flow {
                     Flow::Tick => converter.tick(&bytes),
                     Flow::Status => converter.status(&bytes, arrived),
@@ -165,6 +143,7 @@ impl Robot {
                     }
                     Err(why) => {
                         converter.counts.bad += 1;
+                        self.hearing.unreadable();
                         if converter.counts.bad <= SAY_BAD {
                             eprintln!(
                                 "{say}: a message of the robot that cannot be made a ROS message: {why}"
@@ -175,7 +154,10 @@ impl Robot {
             }
         }
         pumped.counts = converter.counts;
-        pumped.dropped_here = self.dropped_here.load(Ordering::Relaxed);
+        let counts = &self.hearing.counts;
+        pumped.dropped_here = counts.dropped_here.load(Ordering::Relaxed);
+        pumped.wrong_key = counts.wrong_key.load(Ordering::Relaxed);
+        pumped.reopened = counts.reopened.load(Ordering::Relaxed);
         pumped
     }
 }

@@ -16,7 +16,8 @@ use mechweed_hw::Hw;
 use mechweed_hw::sim::{SimControl, TruthHandle};
 
 use crate::bus::BusFigures;
-use crate::bus::rows::{BusRows, RowCounts};
+use crate::bus::gateway::supervise::Gateway;
+use crate::bus::rows::BusRows;
 use crate::bus::thread::BusWires;
 use crate::camlink::thread::{LinkThread, READ_TIMEOUT};
 use crate::camlink::{LinkCore, LinkStatus};
@@ -90,7 +91,7 @@ struct Opened {
     panics: Arc<PanicFlag>,
     record_tap: RecordTap,
     recorder: Recorder,
-    bus_session: Option<zenoh::Session>,
+    bus: Option<Gateway>,
 }
 
 /// Steps 1 and 2 of a run: each fails before any thread starts.
@@ -105,7 +106,7 @@ fn open(s: &Settings, stop: &Arc<AtomicBool>) -> Result<Opened, RunError> {
     let panics = Arc::new(PanicFlag::default());
     health::watch_this_thread(&panics, ThreadName::Console);
     let (record_tap, recorder) = record::start_for_run(s, robot.truth.clone());
-    let bus_session = crate::bus::open_for_run(s).map_err(RunError::Bus)?;
+    let bus = crate::bus::open_for_run(s).map_err(RunError::Bus)?;
     Ok(Opened {
         hw: robot.hw,
         truth: robot.truth,
@@ -119,7 +120,7 @@ fn open(s: &Settings, stop: &Arc<AtomicBool>) -> Result<Opened, RunError> {
         panics,
         record_tap,
         recorder,
-        bus_session,
+        bus,
     })
 }
 
@@ -136,7 +137,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
     let mut w = wire(
         s,
         &o.truth,
-        o.bus_session.is_some(),
+        o.bus.is_some(),
         gnss_status,
         o.record_tap,
         &o.panics,
@@ -152,7 +153,7 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
     let link = LinkThread::new(LinkCore::new(&s.camera), o.camera_port, o.clock, w.link)
         .with_priority(priority(s.rt.camlink_priority))
         .with_injection(opts.inject);
-    let link = with_rows_from_the_bus(link, s, o.bus_session.as_ref(), &w.row_counts)?;
+    let link = with_rows_from_the_bus(link, s, w.bus.as_mut());
     let (hw, gamepad, gamepad_thread) = with_gamepad(o.hw, s, &o.panics, &stop);
     let rate_hz = s.supervisor.rate_hz;
     let gauge = Arc::new(LoadGauge::default());
@@ -163,8 +164,8 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
 
     // 5. Start them.
     let threads = Threads {
-        bus: (o.bus_session.zip(w.bus))
-            .map(|(session, wires)| start_bus(session, s.clone(), wires, o.panics.clone())),
+        bus: (o.bus.zip(w.bus))
+            .map(|(gateway, wires)| start_bus(gateway, s.clone(), wires, o.panics.clone())),
         supervisor: spawn("supervisor", move || supervisor.run()),
         steer: spawn("steer", move || steer.run()),
         link: spawn("camlink", move || link.run()),
@@ -213,25 +214,23 @@ pub fn start(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<(Handles, Runni
 }
 
 /// With `[camera] port = bus`, the camera link reads its rows from the bus instead of a
-/// port; a subscription that fails is the run's error.
+/// port: the bus thread hands them on as the bus process receives them.
 fn with_rows_from_the_bus(
     link: LinkThread,
     s: &Settings,
-    session: Option<&zenoh::Session>,
-    row_counts: &Arc<RowCounts>,
-) -> Result<LinkThread, RunError> {
-    let (CameraPort::Bus, Some(session)) = (&s.camera_port, session) else {
-        return Ok(link);
+    bus: Option<&mut BusWires>,
+) -> LinkThread {
+    let (CameraPort::Bus, Some(bus)) = (&s.camera_port, bus) else {
+        return link;
     };
-    let rows = BusRows::subscribe(
-        session,
+    let (rows, to_link) = BusRows::new(
         &s.bus.key("camera/row"),
         READ_TIMEOUT,
         s.camera.link_timeout_s,
-        row_counts.clone(),
-    )
-    .map_err(|e| RunError::BusRows(e.to_string()))?;
-    Ok(link.with_stream(Box::new(rows), row_counts.rivals.clone()))
+        bus.rows.clone(),
+    );
+    bus.rows_to_link = Some(to_link);
+    link.with_stream(Box::new(rows), bus.rows.rivals.clone())
 }
 
 /// A gamepad in place of the wired joystick ([joystick] source = gamepad): its thread
@@ -258,19 +257,16 @@ fn with_gamepad(
     }
 }
 
-/// The bus thread; a bus that stops with an error is said, and its figures are zero.
+/// The bus thread, with the run's first bus process.
 fn start_bus(
-    session: zenoh::Session,
+    gateway: Gateway,
     settings: Settings,
     wires: BusWires,
     panics: Arc<PanicFlag>,
 ) -> JoinHandle<BusFigures> {
     spawn("bus", move || {
         health::watch_this_thread(&panics, ThreadName::Bus);
-        crate::bus::thread::run(session, &settings, wires).unwrap_or_else(|e| {
-            tracing::error!("the bus stopped: {e}");
-            BusFigures::default()
-        })
+        crate::bus::thread::run(gateway, &settings, wires)
     })
 }
 

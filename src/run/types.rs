@@ -89,8 +89,6 @@ pub enum RunError {
     SimulatedCameraOnRealRobot,
     #[error("{0}")]
     Bus(crate::bus::BusError),
-    #[error("cannot subscribe to the row estimates on the bus: {0}")]
-    BusRows(String),
     #[error("{0}")]
     Gnss(#[from] crate::gnss::run::GnssRunError),
 }

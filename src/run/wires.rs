@@ -154,6 +154,7 @@ impl Wired {
             tuning,
             figures,
             rows: self.row_counts.clone(),
+            rows_to_link: None,
             stop: stop.clone(),
         }
     }

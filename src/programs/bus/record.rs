@@ -6,12 +6,10 @@
 //! that many fewer rows than the robot's own. This file is the recorder's bus side (its
 //! subscribers and its loop); what it does with a received tick is record/off_board.rs.
 
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use zenoh::Wait;
-
+use crate::bus::hearing::{Ear, Hearing};
 use crate::config::{Backend, CameraPort, RecordSettings};
 use crate::programs::bus::tools::Tool;
 use crate::record::off_board::{Recording, RobotSays};
@@ -37,13 +35,15 @@ pub struct Options {
 /// Record until `stop` (Ctrl-C) or `seconds`; returns the closing summary.
 pub fn record(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
     let tool = Tool::connect(&opts.connect, &opts.robot, true, opts.tls.as_ref())?;
-    let (rx, dropped_here, _subscribers) = subscribe(&tool)?;
-    let _alive = tool
-        .session()
-        .liveliness()
-        .declare_token(tool.key(&format!("alive/record-{}", std::process::id())))
-        .wait()
-        .map_err(|e| e.to_string())?;
+    let hearing = Hearing::start(Ear {
+        endpoint: opts.connect.clone(),
+        robot: opts.robot.clone(),
+        tls: opts.tls.clone(),
+        token: format!("alive/record-{}", std::process::id()),
+        flows: vec![(true, "tick"), (false, "event")],
+        program: "off-board recorder",
+        queue: QUEUE,
+    })?;
     println!(
         "off-board recorder: waiting for the ticks of {} at {}",
         opts.robot, opts.connect
@@ -67,7 +67,7 @@ pub fn record(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
     };
     let mut recording = Recording::new(&mut ask, &opts.record);
     while !stop.load(Ordering::Relaxed) && end.is_none_or(|end| Instant::now() < end) {
-        let Ok((is_tick, bytes)) = rx.recv_timeout(Duration::from_millis(100)) else {
+        let Ok((is_tick, bytes, _)) = hearing.rx.recv_timeout(Duration::from_millis(100)) else {
             continue;
         };
         let parsed = if is_tick {
@@ -77,6 +77,7 @@ pub fn record(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
         };
         if let Err(why) = parsed {
             recording.counts.bad += 1;
+            hearing.unreadable();
             if recording.counts.bad <= SAY_BAD {
                 let what = if is_tick { "a tick" } else { "an event" };
                 eprintln!("off-board recorder: {what} that cannot be recorded: {why}");
@@ -95,48 +96,15 @@ pub fn record(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
         c.files.join(", ")
     };
     Ok(format!(
-        "off-board record of {}: {} ticks and {} events into {files}; {} ticks missing between those received (the network or the robot's bus queue dropped them), {} dropped on this computer, {} messages refused",
+        "off-board record of {}: {} ticks and {} events into {files}; {} ticks missing between those received (the network or the robot's bus queue dropped them), {} dropped on this computer, {} messages refused{}",
         opts.robot,
         c.ticks,
         c.events,
         c.missing,
-        dropped_here.load(Ordering::Relaxed),
-        c.bad
+        hearing.counts.dropped_here.load(Ordering::Relaxed),
+        c.bad,
+        hearing.line()
     ))
-}
-
-/// The robot's ticks and events, queued for the recorder as they arrive; the count of
-/// those a full queue dropped here; and the subscriptions, kept while recording.
-#[allow(clippy::type_complexity)]
-fn subscribe(
-    tool: &Tool,
-) -> Result<
-    (
-        crossbeam_channel::Receiver<(bool, Vec<u8>)>,
-        Arc<AtomicU64>,
-        Vec<zenoh::pubsub::Subscriber<()>>,
-    ),
-    String,
-> {
-    let (tx, rx) = crossbeam_channel::bounded::<(bool, Vec<u8>)>(QUEUE);
-    let dropped_here = Arc::new(AtomicU64::new(0));
-    let mut subscribers = Vec::new();
-    for (is_tick, key) in [(true, "tick"), (false, "event")] {
-        let (tx, dropped) = (tx.clone(), dropped_here.clone());
-        let subscriber = tool
-            .session()
-            .declare_subscriber(tool.key(key))
-            .callback(move |sample| {
-                let bytes = sample.payload().to_bytes().into_owned();
-                if tx.try_send((is_tick, bytes)).is_err() {
-                    dropped.fetch_add(1, Ordering::Relaxed);
-                }
-            })
-            .wait()
-            .map_err(|e| e.to_string())?;
-        subscribers.push(subscriber);
-    }
-    Ok((rx, dropped_here, subscribers))
 }
 
 /// The robot's cross-track meaning from its `[hw] backend` and `[camera] port`, by the

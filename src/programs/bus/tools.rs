@@ -234,8 +234,9 @@ impl Tool {
         Ok(ages_s)
     }
 
-    /// What the robot's status says of its bus: secured and by whom, who came.
-    fn robot_says_of_its_bus(&self) -> Option<String> {
+    /// What the robot's status says of its bus: secured and by whom, who came; and the
+    /// programs' tokens the robot sees.
+    fn robot_says_of_its_bus(&self) -> Option<(String, Vec<String>)> {
         let subscriber = self
             .session
             .declare_subscriber(self.key("status"))
@@ -249,7 +250,10 @@ impl Tool {
         if let Some(ids) = bus["identities"].as_str().filter(|i| !i.is_empty()) {
             line += &format!("; identities: {ids}");
         }
-        Some(line)
+        let present = (bus["present"].as_array().into_iter().flatten())
+            .filter_map(|name| Some(name.as_str()?.to_string()))
+            .collect();
+        Some((line, present))
     }
 
     /// Who is present (liveliness tokens) and which flows carry messages, with their
@@ -263,8 +267,9 @@ impl Tool {
             .timeout(ANSWER_WAIT)
             .wait()
             .map_err(|e| plain_words(&e))?;
-        let mut out = match self.robot_says_of_its_bus() {
-            Some(line) => format!("the robot's bus: {line}\n"),
+        let robot_says = self.robot_says_of_its_bus();
+        let mut out = match &robot_says {
+            Some((line, _)) => format!("the robot's bus: {line}\n"),
             None => "the robot's bus: no status within 3 s\n".to_string(),
         };
         out += &format!(
@@ -276,13 +281,16 @@ impl Tool {
             }
         );
         out += "present:\n";
-        let mut present = Vec::new();
+        // The robot's session does not pass the other programs' tokens on to this one:
+        // the robot's status names those it sees.
+        let mut present = robot_says.map(|(_, present)| present).unwrap_or_default();
         while let Ok(reply) = replies.recv() {
             if let Ok(sample) = reply.result() {
                 present.push(sample.key_expr().as_str().to_string());
             }
         }
         present.sort();
+        present.dedup();
         if present.is_empty() {
             out += "  nobody\n";
         }

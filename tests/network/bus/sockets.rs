@@ -59,7 +59,14 @@ fn with_the_shipped_settings_nothing_listens_but_loopback() {
     let mut sockets = Vec::new();
     for _ in 0..40 {
         std::thread::sleep(Duration::from_millis(100));
-        sockets = listening(&socket_inodes(robot.pid()));
+        // The robot program and its bus process, which holds the session.
+        let processes = [vec![robot.pid()], super::process::children_of(robot.pid())].concat();
+        sockets = listening(
+            &processes
+                .into_iter()
+                .flat_map(socket_inodes)
+                .collect::<Vec<_>>(),
+        );
         if !sockets.is_empty() {
             break;
         }

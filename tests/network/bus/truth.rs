@@ -120,3 +120,33 @@ fn a_flow_the_robot_does_not_have_is_refused_with_the_ones_it_has() {
     );
     assert!(said.contains("status, tick, event, camera/row"), "{said}");
 }
+
+/// `bus list` names every program on the robot's bus, not only the robot program: a
+/// tool's session sees the robot's token alone, so the robot's status names the rest.
+#[test]
+fn bus_list_names_every_program_present() {
+    let _machine = crate::shared_machine();
+    let robot = Robot::start(&["--duration", "10"]);
+    let mut camsim = mechweed()
+        .args(["camsim", "--bus", "--connect", &robot.endpoint])
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut echo = robot
+        .bus_command(&["echo", "tick", "--seconds", "8"])
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let echo_token = format!("mechweed/alive/echo-{}", echo.id());
+    let from = Instant::now();
+    let said = loop {
+        let said = text(&robot.bus(&["list", "--seconds", "0.5"]).stdout);
+        if said.contains("mechweed/alive/camsim") && said.contains(&echo_token) {
+            break said;
+        }
+        assert!(from.elapsed().as_secs() < 8, "{said}");
+    };
+    assert!(said.contains("mechweed/alive/controller"), "{said}");
+    let _ = (camsim.kill(), echo.kill());
+    let _ = (camsim.wait(), echo.wait());
+}
