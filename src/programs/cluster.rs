@@ -91,7 +91,21 @@ fn launcher_admission(
             "launcher {machine}: its identity must be its machine's name (--as {machine}), not {name}: the access rules give a launcher the plan of its own machine alone"
         ));
     }
+    // The name the links know: the certificate's own, whatever its file is called.
+    let certified = crate::bus::keys::certificate_name(&tls.cert)?;
+    if certified != machine {
+        return Err(format!(
+            "launcher {machine}: the certificate {} is {certified}'s, not {machine}'s: the master and the access rules would take this launcher for {certified}; use {machine}'s own files (keys add DIR launcher {machine})",
+            tls.cert.display()
+        ));
+    }
     let roster = crate::bus::keys::Roster::read(&tls.roster())?;
+    if roster.role_of(machine) != Some(crate::bus::keys::Role::Launcher) {
+        return Err(format!(
+            "launcher {machine}: the roster {} gives {machine} no launcher's role (revoked, or never added: keys add DIR launcher {machine})",
+            tls.roster().display()
+        ));
+    }
     let dir = tls.folder();
     Ok(crate::cluster::admit::Admission {
         allowed,

@@ -197,3 +197,18 @@ fn make_identity(
     write_new(&cert_path, &cert.pem(), false)?;
     Ok(vec![format!("{name}.pem"), format!("{name}.key")])
 }
+
+/// The name a certificate file carries (its common name): the name the links and the
+/// access rules know it by, whatever its file is called.
+pub fn certificate_name(cert: &Path) -> Result<String, String> {
+    let pem = std::fs::read(cert)
+        .map_err(|e| format!("cannot read the certificate {}: {e}", cert.display()))?;
+    let not_one =
+        |e: &dyn std::fmt::Display| format!("{} is not a certificate: {e}", cert.display());
+    let (_, pem) = x509_parser::pem::parse_x509_pem(&pem).map_err(|e| not_one(&e))?;
+    let parsed = pem.parse_x509().map_err(|e| not_one(&e))?;
+    let name = parsed.subject().iter_common_name().next();
+    name.and_then(|n| n.as_str().ok())
+        .map(str::to_string)
+        .ok_or_else(|| format!("the certificate {} names nobody", cert.display()))
+}

@@ -199,4 +199,31 @@ fn a_launcher_refuses_a_plain_master_beyond_this_computer_and_a_name_not_its_mac
         "{}",
         text(&other.stderr)
     );
+    // The laptop's certificate under robot-pc's file names: refused at once, by the
+    // name inside it (before, it waited for ever for a plan the rules kept from it).
+    let keys = folder.join("keys");
+    for ending in ["pem", "key"] {
+        let laptop = keys.join(format!("laptop.{ending}"));
+        std::fs::copy(&laptop, keys.join(format!("robot-pc.{ending}"))).unwrap();
+    }
+    let started = std::time::Instant::now();
+    let borrowed = launcher(&[
+        "--connect",
+        "tls/127.0.0.1:7450",
+        "--keys",
+        "keys",
+        "--as",
+        "robot-pc",
+    ]);
+    assert!(!borrowed.status.success());
+    assert!(
+        started.elapsed() < Duration::from_secs(5),
+        "{:?}",
+        started.elapsed()
+    );
+    assert!(
+        text(&borrowed.stderr).contains("is laptop's, not robot-pc's"),
+        "{}",
+        text(&borrowed.stderr)
+    );
 }
