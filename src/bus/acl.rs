@@ -56,6 +56,8 @@ fn rules_of(role: Role, name: &str, robot: &str) -> Vec<Rule> {
     // Who is there: every program of the cluster may look.
     let mut rules = vec![rule(&[WATCH, LOOK], &[r("alive/**"), c("**")])];
     let own_token = |rules: &mut Vec<Rule>| rules.push(rule(&[TOKEN], &[r("alive/*")]));
+    // What a receiver gets, reported to the robot, which names it in its status.
+    let heard = rule(&[PUT], &[r("heard/*")]);
     match role {
         Role::Robot => {
             rules.push(rule(&[PUT], &flows));
@@ -63,7 +65,7 @@ fn rules_of(role: Role, name: &str, robot: &str) -> Vec<Rule> {
                 &[QUERYABLE, REPLY],
                 &[r("request"), r("request/**"), r("config/**"), r("set/**")],
             ));
-            rules.push(rule(&[SUBSCRIBE], &[r("camera/row")]));
+            rules.push(rule(&[SUBSCRIBE], &[r("camera/row"), r("heard/*")]));
             own_token(&mut rules);
         }
         Role::Camera => {
@@ -82,17 +84,20 @@ fn rules_of(role: Role, name: &str, robot: &str) -> Vec<Rule> {
                     c("status"),
                 ],
             ));
+            rules.push(heard);
             own_token(&mut rules);
         }
         Role::Viewer => {
             rules.push(rule(&[SUBSCRIBE], &flows));
             // Not the cluster's status: it holds every machine's command lines.
             rules.push(rule(&[QUERY], &[r("request"), r("config/**")]));
+            rules.push(heard);
             own_token(&mut rules);
         }
         Role::Recorder => {
             rules.push(rule(&[SUBSCRIBE], &flows));
             rules.push(rule(&[QUERY], &[r("config/**")]));
+            rules.push(heard);
             own_token(&mut rules);
         }
         Role::Master => {

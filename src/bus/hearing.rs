@@ -25,12 +25,52 @@ use crate::config::TlsFiles;
 const QUIET: Duration = Duration::from_secs(3);
 /// How often the session is looked at.
 const LOOK_EVERY: Duration = Duration::from_millis(250);
+/// A status this long after the one before it is said as coming again, ms.
+const COMES_AGAIN_MS: u64 = 1500;
 /// Messages under a wrong key said at most this many times (all are counted).
 const SAY_WRONG: u64 = 3;
+
+/// How often a hearing tells the robot what it gets.
+const REPORT_EVERY: Duration = Duration::from_secs(1);
+
+/// What a receiver gets, as it tells the robot on `ROBOT/heard/NAME` once a second;
+/// the robot names its receivers in its status with this, and `cluster status` shows
+/// them.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct HeardReport {
+    pub program: String,
+    /// How long ago its newest status came, s (None: none yet).
+    pub status_age_s: Option<f64>,
+    pub received: u64,
+    pub dropped_here: u64,
+    pub wrong_key: u64,
+    pub reopened: u64,
+}
+
+impl HeardReport {
+    /// A report as another program sent it, checked: a name that prints as itself, a
+    /// finite age.
+    pub fn read(bytes: &[u8]) -> Result<HeardReport, String> {
+        let report: HeardReport =
+            serde_json::from_slice(bytes).map_err(|e| format!("not a report ({e})"))?;
+        if report.program.len() > 32 || report.program.chars().any(char::is_control) {
+            return Err("a program's name longer than 32 or with control characters".into());
+        }
+        if report
+            .status_age_s
+            .is_some_and(|s| !s.is_finite() || s < 0.0)
+        {
+            return Err("status_age_s is not an age".into());
+        }
+        Ok(report)
+    }
+}
 
 /// What a hearing counts, for the program's own lines and its closing summary.
 #[derive(Debug, Default)]
 pub struct HearCounts {
+    /// Messages taken (the status heard as the heartbeat too).
+    pub received: AtomicU64,
     /// Messages the program's queue had no room for (this computer fell behind).
     pub dropped_here: AtomicU64,
     /// Messages that came under a key their subscriber was not for.
@@ -159,8 +199,25 @@ struct Mender<F> {
 impl<F: Copy + Send + Sync + 'static> Mender<F> {
     fn run(self, mut opened: Opened) {
         let mut since = Instant::now();
+        let mut status_ms = 0;
+        let mut next_report = Instant::now();
         while !self.quit.load(Ordering::Relaxed) {
             std::thread::sleep(LOOK_EVERY);
+            if Instant::now() >= next_report {
+                next_report += REPORT_EVERY;
+                self.report(&opened.session);
+            }
+            // A status after a silence: said, so that a person (and a test) sees the
+            // flows come back after a cut.
+            let newest_ms = self.counts.status_ms.load(Ordering::Relaxed);
+            if status_ms > 0 && newest_ms >= status_ms + COMES_AGAIN_MS {
+                eprintln!(
+                    "{}: the robot's status comes again after {:.1} s",
+                    self.ear.program,
+                    (newest_ms - status_ms) as f64 / 1000.0
+                );
+            }
+            status_ms = newest_ms;
             let why = self.why_mend(&opened.session, since);
             let Some(why) = why else {
                 continue;
@@ -176,6 +233,28 @@ impl<F: Copy + Send + Sync + 'static> Mender<F> {
                 Err(e) => eprintln!("{}: the session could not open: {e}", self.ear.program),
             }
             since = Instant::now();
+        }
+    }
+
+    /// Tell the robot what this program gets (dropped if it cannot be sent).
+    fn report(&self, session: &Session) {
+        let c = &self.counts;
+        let status_ms = c.status_ms.load(Ordering::Relaxed);
+        let report = HeardReport {
+            program: self.ear.program.to_string(),
+            status_age_s: (status_ms > 0).then(|| {
+                let at = self.began + Duration::from_millis(status_ms);
+                at.elapsed().as_secs_f64()
+            }),
+            received: c.received.load(Ordering::Relaxed),
+            dropped_here: c.dropped_here.load(Ordering::Relaxed),
+            wrong_key: c.wrong_key.load(Ordering::Relaxed),
+            reopened: c.reopened.load(Ordering::Relaxed),
+        };
+        let name = self.ear.token.trim_start_matches("alive/");
+        let key = format!("{}/heard/{name}", self.ear.robot);
+        if let Ok(json) = serde_json::to_string(&report) {
+            let _ = session.put(key, json).wait();
         }
     }
 
@@ -239,6 +318,7 @@ fn hear<F: Copy + Send + Sync + 'static>(
                     }
                     return;
                 }
+                counts.received.fetch_add(1, Ordering::Relaxed);
                 if is_status {
                     let ms = began.elapsed().as_millis() as u64;
                     counts.status_ms.store(ms, Ordering::Relaxed);

@@ -254,6 +254,7 @@ impl Served<'_> {
             "security": self.figures.security.as_str(),
             "identities": self.figures.identities.as_str(),
             "present": self.this_life.present,
+            "receivers": self.this_life.receivers,
         });
         status
     }

@@ -7,7 +7,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use crossbeam_channel::{Receiver, bounded};
 use serde_json::{Value, json};
@@ -28,6 +28,9 @@ struct Table {
     reports: BTreeMap<(String, String), ProcessReport>,
     /// Machines whose launcher is there.
     launchers: BTreeSet<String>,
+    /// Each machine's launcher by its session, and when it took its plan: a second one
+    /// for a machine is refused while the first is linked.
+    holders: BTreeMap<String, (String, Instant)>,
 }
 
 /// Serve `graph` until `stop` (Ctrl-C), then stop the cluster.
@@ -87,6 +90,7 @@ pub fn serve(graph: &Graph, stop: &Arc<AtomicBool>) -> Result<(), String> {
     let mut table = Table {
         reports: BTreeMap::new(),
         launchers: BTreeSet::new(),
+        holders: BTreeMap::new(),
     };
     while !stop.load(Ordering::Relaxed) {
         table.follow_launchers(graph, &launchers);
@@ -94,7 +98,10 @@ pub fn serve(graph: &Graph, stop: &Arc<AtomicBool>) -> Result<(), String> {
         while let Ok(query) = queries.try_recv() {
             let key = query.key_expr().as_str().to_string();
             let result = match key.rsplit_once("/plan/") {
-                Some((_, machine)) => plan(graph, machine),
+                Some((_, machine)) => {
+                    let asker = crate::bus::inbox::requester(&query);
+                    (table.admit(&session, machine, &asker)).and_then(|()| plan(graph, machine))
+                }
                 None => Ok(table.status(graph)),
             };
             answer(&query, result);
@@ -107,6 +114,33 @@ pub fn serve(graph: &Graph, stop: &Arc<AtomicBool>) -> Result<(), String> {
 }
 
 impl Table {
+    /// Whether the launcher of session `asker` may have `machine`'s plan: not while
+    /// another launcher of that machine, which took it first, is linked.
+    fn admit(&mut self, session: &Session, machine: &str, asker: &str) -> Result<(), String> {
+        // A launcher that does not name its session (an older one) is taken as before.
+        if asker.is_empty() {
+            return Ok(());
+        }
+        if let Some((holder, since)) = self.holders.get(machine)
+            && holder != asker
+            && session
+                .info()
+                .peers_zid()
+                .wait()
+                .any(|z| z.to_string() == *holder)
+        {
+            let why = format!(
+                "a launcher of {machine} runs already (session {holder}, which took the plan {:.0} s ago): one launcher for each machine; stop that one first",
+                since.elapsed().as_secs_f64()
+            );
+            eprintln!("master: a second launcher of {machine} (session {asker}) refused: {why}");
+            return Err(why);
+        }
+        let taken = (asker.to_string(), Instant::now());
+        self.holders.insert(machine.to_string(), taken);
+        Ok(())
+    }
+
     /// Launchers that came or went, of the graph's machines only (whoever declares a
     /// launcher's token).
     fn follow_launchers(&mut self, graph: &Graph, launchers: &Receiver<(bool, String)>) {

@@ -103,7 +103,8 @@ pub fn ask(
     payload: Option<Value>,
     wait: Duration,
 ) -> Result<Value, String> {
-    let mut get = session.get(key).timeout(wait);
+    // Named, so that the master tells two launchers of one machine apart.
+    let mut get = (session.get(key).timeout(wait)).attachment(session.zid().to_string());
     if let Some(payload) = payload {
         get = get.payload(payload.to_string());
     }

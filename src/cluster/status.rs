@@ -1,6 +1,7 @@
 //! `mechweed cluster status`: the cluster as the master knows it (machines, their
-//! launchers, processes and their states), and each flow's rate, counted where the
-//! flows are: at the controller's endpoint, not at the master.
+//! launchers, processes and their states), each flow's rate, counted where the flows
+//! are: at the controller's endpoint, not at the master; and what each receiver says it
+//! gets, as the controller's status names them.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -37,12 +38,15 @@ pub(crate) fn fetch(
         ask(&session, &keys.status(), None, Duration::from_secs(3)).map_err(|why| {
             format!("the cluster master of robot '{robot}' at {master} does not answer: {why}")
         })?;
-    status["rates"] = match status["controller_endpoint"].as_str() {
+    (status["rates"], status["receivers"]) = match status["controller_endpoint"].as_str() {
         Some(endpoint) => match rates(endpoint, &status, seconds, tls) {
-            Ok(rates) => json!(rates),
-            Err(why) => json!({ "error": why }),
+            Ok((rates, receivers)) => (json!(rates), receivers),
+            Err(why) => (json!({ "error": why }), Value::Null),
         },
-        None => json!({ "error": "the graph has no controller" }),
+        None => (
+            json!({ "error": "the graph has no controller" }),
+            Value::Null,
+        ),
     };
     Ok(status)
 }
@@ -50,13 +54,14 @@ pub(crate) fn fetch(
 /// Each flow's rate over `seconds`, counted at the controller's `endpoint`: a flow out
 /// of the controller by its messages; the rows into it by the frames its camera link
 /// took (from its status); any other flow does not pass the controller and is not
-/// counted (its reason instead of a number).
+/// counted (its reason instead of a number). With the receivers the controller's newest
+/// status names.
 fn rates(
     endpoint: &str,
     status: &Value,
     seconds: f64,
     tls: Option<&crate::config::TlsFiles>,
-) -> Result<BTreeMap<String, Value>, String> {
+) -> Result<(BTreeMap<String, Value>, Value), String> {
     let session = open(
         Role::Tool {
             connect: vec![endpoint.to_string()],
@@ -85,12 +90,14 @@ fn rates(
     }
     let end = Instant::now() + Duration::from_secs_f64(seconds);
     let (mut first, mut last) = (None, None);
+    let mut receivers = Value::Null;
     while let Ok((name, bytes)) = rx.recv_deadline(end) {
         if let Some(Value::Number(n)) = rates.get_mut(&name) {
             *n = serde_json::Number::from_f64(n.as_f64().unwrap_or(0.0) + 1.0).unwrap_or(0.into());
         }
         if name.is_empty() {
             let status: Value = serde_json::from_slice(&bytes).unwrap_or_default();
+            receivers = status["bus"]["receivers"].clone();
             let frames = status["camera"]["counters"]["frames_ok"].as_f64();
             if let (Some(t_s), Some(frames)) = (status["t_s"].as_f64(), frames) {
                 first.get_or_insert((t_s, frames));
@@ -110,7 +117,7 @@ fn rates(
         };
         rates.insert(name, rate);
     }
-    Ok(rates)
+    Ok((rates, receivers))
 }
 
 /// Which of the graph's flows can be counted at the controller's endpoint: the
@@ -222,7 +229,41 @@ pub fn text(status: &Value) -> String {
     if let Some(why) = rates["error"].as_str() {
         let _ = writeln!(out, "  (rates not counted: {why})");
     }
+    receivers_text(&status["receivers"], &mut out);
     out
+}
+
+/// What each receiver says it gets: "watch-4242 (watch): status 0.1 s old, 5120
+/// messages, 0 dropped there, 0 under the wrong key, session opened again 0 times".
+fn receivers_text(receivers: &Value, out: &mut String) {
+    let Some(receivers) = receivers.as_array() else {
+        out.push_str("receivers: not known (no status from the controller)\n");
+        return;
+    };
+    out.push_str("receivers (as each says, about once a second):\n");
+    if receivers.is_empty() {
+        out.push_str("  none\n");
+    }
+    for r in receivers {
+        let report = &r["report"];
+        let n = |key: &str| report[key].as_u64().unwrap_or(0);
+        let age = report["status_age_s"]
+            .as_f64()
+            .map_or("no status yet".to_string(), |s| {
+                format!("newest status {s:.1} s old")
+            });
+        let _ = writeln!(
+            out,
+            "  {} ({}): {age}, {} messages, {} dropped there, {} under the wrong key, session opened again {} times (said {:.1} s ago)",
+            r["name"].as_str().unwrap_or("?"),
+            report["program"].as_str().unwrap_or("?"),
+            n("received"),
+            n("dropped_here"),
+            n("wrong_key"),
+            n("reopened"),
+            r["reported_s_ago"].as_f64().unwrap_or(0.0)
+        );
+    }
 }
 
 #[cfg(test)]
@@ -238,5 +279,21 @@ mod tests {
             said.contains("restarts 1, last exit: killed by SIGKILL"),
             "{said}"
         );
+    }
+
+    #[test]
+    fn each_receiver_is_shown_with_what_it_says_it_gets() {
+        let status = serde_json::json!({
+            "receivers": [{"name": "watch-77", "reported_s_ago": 0.4, "report": {
+                "program": "watch", "status_age_s": 0.1, "received": 5120,
+                "dropped_here": 2, "wrong_key": 3, "reopened": 1}}],
+        });
+        let said = super::text(&status);
+        assert!(
+            said.contains("watch-77 (watch): newest status 0.1 s old, 5120 messages, 2 dropped there, 3 under the wrong key, session opened again 1 times (said 0.4 s ago)"),
+            "{said}"
+        );
+        let unknown = super::text(&serde_json::json!({}));
+        assert!(unknown.contains("receivers: not known"), "{unknown}");
     }
 }

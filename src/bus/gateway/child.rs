@@ -21,7 +21,8 @@ use zenoh::qos::CongestionControl;
 use zenoh::query::Query;
 use zenoh::{Session, Wait};
 
-use super::{Down, ProcessFigures, QueryIn, Up, receive, send};
+use super::{Down, ProcessFigures, QueryIn, ReceiverSeen, Up, receive, send};
+use crate::bus::hearing::HeardReport;
 use crate::bus::identities::{Identities, LinkChange, watch_links};
 use crate::bus::inbox::{Inbox, requester};
 use crate::bus::payload::wall_s;
@@ -38,6 +39,10 @@ const FIGURES_PERIOD: Duration = Duration::from_millis(100);
 /// A query the controller has not answered in this long is dropped (its asker times out
 /// as for a full queue), so that one lost answer does not stop every later query.
 const ANSWER_WITHIN: Duration = Duration::from_secs(5);
+/// Receivers kept at most (their names are theirs to choose), and how long a report
+/// counts.
+const MAX_RECEIVERS: usize = 32;
+const REPORT_COUNTS: Duration = Duration::from_secs(10);
 
 /// The program: exit 0 when the controller closed the link, 1 when it could not start.
 pub fn program() -> ExitCode {
@@ -139,10 +144,14 @@ struct Flows {
     peers: Peers,
     identities: Option<Identities>,
     links: Receiver<LinkChange>,
+    /// Receivers' reports as they come, and the newest of each.
+    heard: Receiver<(String, Vec<u8>)>,
+    receivers: std::collections::BTreeMap<String, (HeardReport, Instant)>,
     _keep: (
         zenoh::liveliness::LivelinessToken,
         zenoh::session::LinkEventsListener<()>,
         Option<zenoh::pubsub::Subscriber<()>>,
+        zenoh::pubsub::Subscriber<()>,
     ),
     figures: ProcessFigures,
 }
@@ -175,6 +184,15 @@ impl Flows {
             None
         };
         let (links, listener) = watch_links(session)?;
+        let (heard_tx, heard) = bounded(64);
+        let reports = session
+            .declare_subscriber(bus.key("heard/*"))
+            .callback(move |sample| {
+                let name = sample.key_expr().as_str().rsplit('/').next().unwrap_or("");
+                let bytes = sample.payload().to_bytes().into_owned();
+                let _ = heard_tx.try_send((name.to_string(), bytes));
+            })
+            .wait()?;
         Ok(Flows {
             _session: session.clone(),
             status: publisher("status")?,
@@ -188,7 +206,9 @@ impl Flows {
                 .and_then(|tls| crate::bus::keys::Roster::read(&tls.roster()).ok())
                 .map(Identities::new),
             links,
-            _keep: (token, listener, rows),
+            heard,
+            receivers: std::collections::BTreeMap::new(),
+            _keep: (token, listener, rows, reports),
             figures: ProcessFigures::default(),
         })
     }
@@ -269,8 +289,9 @@ impl Flows {
         }
     }
 
-    /// Who is there, and who is linked.
+    /// Who is there, what the receivers get, and who is linked.
     fn look(&mut self) {
+        self.take_reports();
         let f = &mut self.figures;
         f.peers = self.peers.others(&self.own_token);
         f.present = self.peers.present();
@@ -294,6 +315,35 @@ impl Flows {
         }
         f.rivals = rivals;
         f.identities = ids.summary();
+    }
+}
+
+impl Flows {
+    /// The receivers' newest reports; one that cannot be read is left out (said at debug
+    /// level: its sender is not this program's to judge aloud).
+    fn take_reports(&mut self) {
+        while let Ok((name, bytes)) = self.heard.try_recv() {
+            let printable = name.len() <= 64 && !name.chars().any(char::is_control);
+            let full = self.receivers.len() >= MAX_RECEIVERS;
+            if !printable || (full && !self.receivers.contains_key(&name)) {
+                continue;
+            }
+            match HeardReport::read(&bytes) {
+                Ok(report) => {
+                    self.receivers.insert(name, (report, Instant::now()));
+                }
+                Err(why) => tracing::debug!("bus: a receiver's report from {name}: {why}"),
+            }
+        }
+        self.receivers
+            .retain(|_, (_, at)| at.elapsed() < REPORT_COUNTS);
+        self.figures.receivers = (self.receivers.iter())
+            .map(|(name, (report, at))| ReceiverSeen {
+                name: name.clone(),
+                report: report.clone(),
+                reported_s_ago: at.elapsed().as_secs_f64(),
+            })
+            .collect();
     }
 }
 

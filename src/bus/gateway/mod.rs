@@ -102,6 +102,16 @@ pub struct ProcessFigures {
     pub identities: String,
     /// Two programs with the camera's identity are linked: no row is taken.
     pub rivals: bool,
+    /// What each receiver said it gets, newest first heard (bus/hearing.rs).
+    pub receivers: Vec<ReceiverSeen>,
+}
+
+/// A receiver's report, with its name (`ROBOT/heard/NAME`) and its age.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ReceiverSeen {
+    pub name: String,
+    pub report: super::hearing::HeardReport,
+    pub reported_s_ago: f64,
 }
 
 /// Write one message as a line.

@@ -3,11 +3,13 @@
 //! ports of its own.
 
 use crate::common;
+mod flap;
 mod flood;
 mod gnss;
 mod guards;
 mod hearing;
 mod input;
+mod netns;
 mod process;
 pub mod secured;
 mod sockets;

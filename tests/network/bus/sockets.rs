@@ -1,9 +1,9 @@
 //! Where the robot program listens, and a slow link between machines.
 
-use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use super::Robot;
+use super::netns::Netns;
 
 /// The inodes of the sockets process `pid` holds.
 fn socket_inodes(pid: u32) -> Vec<String> {
@@ -83,104 +83,10 @@ fn with_the_shipped_settings_nothing_listens_but_loopback() {
     }
 }
 
-/// Runs `args` as root tools do; false if it fails.
-fn sh(args: &[&str]) -> bool {
-    Command::new(args[0])
-        .args(&args[1..])
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success())
-}
-
-/// A network namespace joined to this one by a veth pair with 200 ms and 256 kbit/s
-/// each way, or why the machine cannot make one. Taken down when dropped.
-struct SlowLink {
-    netns: String,
-    host_veth: String,
-}
-
-impl SlowLink {
-    fn make() -> Result<SlowLink, String> {
-        if unsafe { libc::geteuid() } != 0 {
-            return Err("needs root".into());
-        }
-        if !sh(&["ip", "-V"]) {
-            return Err("needs the ip command".into());
-        }
-        let id = std::process::id() % 10_000;
-        let link = SlowLink {
-            netns: format!("mwbus{id}"),
-            host_veth: format!("mwh{id}"),
-        };
-        let peer = format!("mwp{id}");
-        let ns = link.netns.as_str();
-        let steps: [&[&str]; 7] = [
-            &["ip", "netns", "add", ns],
-            &[
-                "ip",
-                "link",
-                "add",
-                &link.host_veth,
-                "type",
-                "veth",
-                "peer",
-                "name",
-                &peer,
-            ],
-            &["ip", "link", "set", &peer, "netns", ns],
-            &["ip", "addr", "add", "10.231.0.1/24", "dev", &link.host_veth],
-            &["ip", "link", "set", &link.host_veth, "up"],
-            &[
-                "ip",
-                "netns",
-                "exec",
-                ns,
-                "ip",
-                "addr",
-                "add",
-                "10.231.0.2/24",
-                "dev",
-                &peer,
-            ],
-            &["ip", "netns", "exec", ns, "ip", "link", "set", &peer, "up"],
-        ];
-        for step in steps {
-            if !sh(step) {
-                return Err(format!(
-                    "`{}` failed (no network namespaces here?)",
-                    step.join(" ")
-                ));
-            }
-        }
-        let netem = ["netem", "delay", "200ms", "rate", "256kbit"];
-        let host: Vec<&str> = ["tc", "qdisc", "add", "dev", &link.host_veth, "root"].into();
-        let far: Vec<&str> = [
-            "ip", "netns", "exec", ns, "tc", "qdisc", "add", "dev", &peer, "root",
-        ]
-        .into();
-        for mut cmd in [host, far] {
-            cmd.extend(netem);
-            if !sh(&cmd) {
-                return Err("tc netem is not available (the kernel lacks sch_netem)".into());
-            }
-        }
-        sh(&["ip", "netns", "exec", ns, "ip", "link", "set", "lo", "up"]);
-        Ok(link)
-    }
-}
-
-impl Drop for SlowLink {
-    fn drop(&mut self) {
-        sh(&["ip", "link", "del", &self.host_veth]);
-        sh(&["ip", "netns", "del", &self.netns]);
-    }
-}
-
 #[test]
 fn over_a_slow_link_the_receiver_s_newest_status_is_never_a_second_old() {
     let _machine = crate::shared_machine();
-    let link = match SlowLink::make() {
+    let link = match Netns::make(2, Some(&["netem", "delay", "200ms", "rate", "256kbit"])) {
         Ok(link) => link,
         Err(why) => {
             eprintln!("skipped: a 200 ms, 256 kbit/s link between namespaces: {why}");
@@ -188,15 +94,15 @@ fn over_a_slow_link_the_receiver_s_newest_status_is_never_a_second_old() {
         }
     };
     let port = super::free_port();
-    let listen = format!("tcp/10.231.0.1:{port}");
+    let listen = format!("tcp/{}:{port}", link.host);
     let robot = Robot::spawn(
         Some(listen.clone()),
         &["--mode", "autonomous", "--duration", "20"],
     );
     std::thread::sleep(Duration::from_secs(2));
     // The laptop at the field's edge, across the slow link; it drops what it cannot take.
-    let receiver = Command::new("ip")
-        .args(["netns", "exec", &link.netns, env!("CARGO_BIN_EXE_mechweed")])
+    let receiver = link
+        .command(env!("CARGO_BIN_EXE_mechweed"))
         .args([
             "bus",
             "echo",

@@ -150,3 +150,48 @@ fn bus_list_names_every_program_present() {
     let _ = (camsim.kill(), echo.kill());
     let _ = (camsim.wait(), echo.wait());
 }
+
+/// A receiver says what it gets, and the robot's status names it with that: the
+/// off-board recorder here, whose figures `cluster status` then shows.
+#[test]
+fn the_robots_status_names_each_receiver_with_what_it_gets() {
+    let _machine = crate::shared_machine();
+    let robot = Robot::start(&["--duration", "10"]);
+    let folder = tempfile::tempdir().unwrap();
+    let mut recorder = mechweed()
+        .args([
+            "record",
+            "--bus",
+            "--connect",
+            &robot.endpoint,
+            "--seconds",
+            "8",
+        ])
+        .arg("--set")
+        .arg(format!("record.folder={}", folder.path().display()))
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let name = format!("record-{}", recorder.id());
+    let from = Instant::now();
+    let seen = loop {
+        let status = json_lines(&robot.bus(&["echo", "status", "--count", "1"]));
+        let receivers = status[0]["payload"]["bus"]["receivers"].clone();
+        let mine = (receivers.as_array().into_iter().flatten())
+            .find(|r| r["name"] == name.as_str())
+            .cloned();
+        if let Some(mine) = mine.filter(|m| m["report"]["received"].as_u64() > Some(10)) {
+            break mine;
+        }
+        assert!(from.elapsed() < Duration::from_secs(8), "{receivers}");
+        std::thread::sleep(Duration::from_millis(200));
+    };
+    assert_eq!(seen["report"]["program"], "off-board recorder", "{seen}");
+    assert!(
+        seen["report"]["status_age_s"].as_f64().unwrap() < 2.0,
+        "{seen}"
+    );
+    assert_eq!(seen["report"]["wrong_key"], 0, "{seen}");
+    let _ = recorder.kill();
+    let _ = recorder.wait();
+}

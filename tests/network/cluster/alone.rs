@@ -173,3 +173,57 @@ fn any_executable_runs_with_the_robots_name_and_endpoint_in_its_environment() {
         assert!(mine.is_empty(), "the shell's sleep still runs: {mine:?}");
     }
 }
+
+/// Two launchers for one machine would both run its processes, and the master would see
+/// that machine's states flip twice a second: the second is refused, naming the first.
+#[test]
+fn a_second_launcher_for_a_machine_is_refused() {
+    let _machine = crate::shared_machine();
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path();
+    let (master, robot) = (free_port(), free_port());
+    let graph = folder.join("one.ini");
+    std::fs::write(
+        &graph,
+        format!(
+            "[cluster]\nrobot = mechweed\nmaster = tcp/127.0.0.1:{master}\nmaster_lost = run_on\n\
+             [machine robot-pc]\nendpoint = tcp/127.0.0.1:{robot}\n\
+             [process waiter]\nmachine = robot-pc\nprogram = sh\nargs = -c \"touch started; sleep 60\"\n"
+        ),
+    )
+    .unwrap();
+    let launcher = || {
+        let mut cmd = mechweed_in(folder);
+        cmd.args([
+            "cluster",
+            "launcher",
+            "--machine",
+            "robot-pc",
+            "--allow",
+            "sh",
+        ])
+        .args(["--connect", &format!("tcp/127.0.0.1:{master}")]);
+        cmd
+    };
+    let mut started = Started(Vec::new());
+    let mut master_cmd = mechweed_in(folder);
+    master_cmd
+        .args(["cluster", "master"])
+        .arg(&graph)
+        .stdout(Stdio::null());
+    started.0.push(master_cmd.spawn().unwrap());
+    started
+        .0
+        .push(launcher().stdout(Stdio::null()).spawn().unwrap());
+    wait_for("the first launcher's process", 30.0, || {
+        folder.join("started").exists().then_some(())
+    });
+    let second = launcher().output().unwrap();
+    let said = text(&second.stderr);
+    assert!(!second.status.success(), "{said}");
+    assert!(
+        said.contains("a launcher of robot-pc runs already (session "),
+        "{said}"
+    );
+    assert!(said.contains("stop that one first"), "{said}");
+}
