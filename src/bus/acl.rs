@@ -69,7 +69,9 @@ fn rules_of(role: Role, name: &str, robot: &str) -> Vec<Rule> {
             own_token(&mut rules);
         }
         Role::Camera => {
-            rules.push(rule(&[PUT], &[r("camera/row")]));
+            rules.push(rule(&[PUT], &[r("camera/row"), r("heard/*")]));
+            // The robot's status as the heartbeat of its session (bus/hearing.rs).
+            rules.push(rule(&[SUBSCRIBE], &[r("status")]));
             own_token(&mut rules);
         }
         Role::Operator => {

@@ -7,10 +7,9 @@ use std::time::{Duration, Instant};
 
 use zenoh::{Session, Wait};
 
-use crate::bus::payload::{row_json, wall_s};
+use crate::bus::payload::wall_s;
 use crate::bus::session::{Role, open, plain_words};
 use crate::config::TlsFiles;
-use crate::programs::camsim::computer::{CamSim, CamSimOptions};
 
 /// Where the robot program listens with the shipped settings ([bus] listen), the tools'
 /// --connect when none is given (a test in programs/bus/mod.rs keeps the two equal).
@@ -336,52 +335,6 @@ impl Tool {
             );
         }
         Ok(out)
-    }
-
-    /// `camsim --bus`: publish the simulated camera's rows on ROBOT/camera/row, with a
-    /// line a second of what went out, until the program is stopped.
-    pub(crate) fn publish_rows(&self, options: CamSimOptions) -> Result<(), String> {
-        let key = self.key("camera/row");
-        let publisher = self
-            .session
-            .declare_publisher(&key)
-            .encoding(zenoh::bytes::Encoding::APPLICATION_JSON)
-            .wait()
-            .map_err(|e| plain_words(&e))?;
-        let _alive = self
-            .session
-            .liveliness()
-            .declare_token(self.key("alive/camsim"))
-            .wait()
-            .map_err(|e| plain_words(&e))?;
-        println!(
-            "simulated camera publishing row estimates on {key} (via {})",
-            self.endpoint
-        );
-        let mut sim = CamSim::new(options);
-        sim.receive(mechweed_hw::camproto::CMD_START, 0.0);
-        let clock = Instant::now();
-        let (mut next_line_s, mut sent_before) = (1.0, 0);
-        loop {
-            let now_s = clock.elapsed().as_secs_f64();
-            while let Some(row) = sim.next_row(now_s) {
-                // Stamped with this computer's clock, as a vision program stamps its
-                // capture time: the robot takes its age from it where the clocks agree.
-                let payload = row_json(&row, wall_s()).to_string();
-                publisher.put(payload).wait().map_err(|e| plain_words(&e))?;
-            }
-            if now_s >= next_line_s {
-                next_line_s += 1.0;
-                let sent = sim.sent.row_frames;
-                println!(
-                    "{now_s:8.3} s  published {} row estimates ({} left out by --drop so far)",
-                    sent - sent_before,
-                    sim.sent.dropped
-                );
-                sent_before = sent;
-            }
-            std::thread::sleep(Duration::from_millis(5));
-        }
     }
 }
 

@@ -2,6 +2,7 @@
 //! port that takes one robot computer at a time. It prints every command it receives, and
 //! once a second what it sent.
 
+mod bus;
 pub mod computer;
 
 use std::net::TcpListener;
@@ -199,14 +200,8 @@ pub fn run(args: CamsimArgs) -> Result<(), String> {
         corrupt: args.corrupt,
     };
     if args.bus {
-        // The robot program may start after the camera: keep trying to reach it.
-        let tool = crate::programs::bus::tools::Tool::connect(
-            &args.connect,
-            &args.robot,
-            true,
-            args.identity.files().as_ref(),
-        )?;
-        return tool.publish_rows(options);
+        // The robot program may start after the camera: its session keeps trying.
+        return bus::publish_rows(&args.connect, &args.robot, args.identity.files(), options);
     }
     match (args.port, args.listen) {
         (Some(device), _) => on_serial(&device, args.baud, options),
