@@ -98,27 +98,66 @@ pub(crate) fn print_errors(errors: &[ConfigError]) {
     errors.iter().for_each(|e| eprintln!("{e}"));
 }
 
-/// The settings file: the one named, else config/robot.ini here, else the built-in copy.
+/// Where the settings are looked for when no --config names a file: in the folder the
+/// program is started in, then the robot PC's own (the package installs it), then the
+/// built-in copy.
+pub const HERE_INI: &str = "config/robot.ini";
+pub const SYSTEM_INI: &str = "/etc/mechweed/robot.ini";
+/// Another place for the robot PC's file (the tests point it where nothing is, so that
+/// a robot PC's own settings never reach them).
+pub const SYSTEM_INI_VAR: &str = "MECHWEED_SYSTEM_INI";
+
+fn system_ini() -> PathBuf {
+    std::env::var_os(SYSTEM_INI_VAR).map_or(PathBuf::from(SYSTEM_INI), PathBuf::from)
+}
+
+/// The settings file as `settings_file` finds it, said on stderr: every start says
+/// which settings it runs with.
 pub(crate) fn load_settings(
     file: Option<&Path>,
     overrides: &[String],
 ) -> Result<Settings, Vec<ConfigError>> {
-    match settings_file(file) {
+    let (found, said) = find_settings(file, Path::new(HERE_INI), &system_ini());
+    eprintln!("{said}");
+    match found {
         Some(path) => Settings::load(&path, overrides),
-        None => {
-            eprintln!("no config/robot.ini here: using the built-in settings");
-            Settings::parse("built-in robot.ini", DEFAULT_INI, overrides)
-        }
+        None => Settings::parse("built-in robot.ini", DEFAULT_INI, overrides),
     }
 }
 
 /// Which file the settings come from (None: the built-in copy).
 pub fn settings_file(file: Option<&Path>) -> Option<PathBuf> {
-    let default = Path::new("config/robot.ini");
+    find_settings(file, Path::new(HERE_INI), &system_ini()).0
+}
+
+/// The file named, else `here`, else `system`, else none (the built-in copy); with
+/// the words that say which.
+pub fn find_settings(file: Option<&Path>, here: &Path, system: &Path) -> (Option<PathBuf>, String) {
     match file {
-        Some(path) => Some(path.to_path_buf()),
-        None if default.exists() => Some(default.to_path_buf()),
-        None => None,
+        Some(path) => (
+            Some(path.to_path_buf()),
+            format!("settings: {} (--config)", path.display()),
+        ),
+        None if here.exists() => (
+            Some(here.to_path_buf()),
+            format!("settings: {} (in this folder)", here.display()),
+        ),
+        None if system.exists() => (
+            Some(system.to_path_buf()),
+            format!(
+                "settings: {} (no {} in this folder)",
+                system.display(),
+                here.display()
+            ),
+        ),
+        None => (
+            None,
+            format!(
+                "no {} here and no {}: using the built-in settings",
+                here.display(),
+                system.display()
+            ),
+        ),
     }
 }
 
@@ -164,5 +203,35 @@ pub(crate) fn parse_metres(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {
         Ok(m) if m.is_finite() && m >= 0.0 => Ok(m),
         _ => Err(format!("'{text}' is not a distance in m (0 or more)")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::find_settings;
+    use std::path::Path;
+
+    #[test]
+    fn settings_are_found_here_then_on_the_robot_pc_then_built_in_and_said() {
+        let dir = tempfile::tempdir().unwrap();
+        let (here, system) = (dir.path().join("here.ini"), dir.path().join("etc.ini"));
+        let named = Path::new("field.ini");
+        let find = |file| find_settings(file, &here, &system);
+        // Neither there: the built-in copy, and the start says so.
+        let (found, said) = find(None);
+        assert_eq!(found, None);
+        assert!(said.ends_with("using the built-in settings"), "{said}");
+        std::fs::write(&system, "").unwrap();
+        let (found, said) = find(None);
+        assert_eq!(found.as_deref(), Some(system.as_path()));
+        assert!(said.contains("etc.ini (no "), "{said}");
+        std::fs::write(&here, "").unwrap();
+        let (found, said) = find(None);
+        assert_eq!(found.as_deref(), Some(here.as_path()));
+        assert!(said.ends_with("here.ini (in this folder)"), "{said}");
+        // A file named wins over both.
+        let (found, said) = find(Some(named));
+        assert_eq!(found.as_deref(), Some(named));
+        assert_eq!(said, "settings: field.ini (--config)");
     }
 }

@@ -28,6 +28,8 @@ pub fn test_run_settings(folder: &std::path::Path) -> Vec<String> {
 pub fn mechweed() -> std::process::Command {
     let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_mechweed"));
     cmd.current_dir(env!("CARGO_MANIFEST_DIR"));
+    // A robot PC's own settings never reach a test.
+    cmd.env("MECHWEED_SYSTEM_INI", "/nonexistent/robot.ini");
     cmd
 }
 

@@ -26,6 +26,8 @@ pub fn free_port() -> u16 {
 pub fn mechweed_in(folder: &Path) -> Command {
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_mechweed"));
     cmd.current_dir(folder);
+    // A robot PC's own settings never reach a test.
+    cmd.env("MECHWEED_SYSTEM_INI", "/nonexistent/robot.ini");
     cmd
 }
 
