@@ -10,6 +10,7 @@ pub mod bus;
 pub mod camsim;
 pub mod check_config;
 pub mod cluster;
+pub mod config;
 pub mod gnsssim;
 pub mod keys;
 pub mod probe;
@@ -89,6 +90,9 @@ pub enum Command {
     /// The cluster's certificates: who may do what on the bus and the cluster.
     #[command(subcommand)]
     Keys(keys::KeysCommand),
+    /// Settings files of older releases brought up to this one.
+    #[command(subcommand)]
+    Config(config::ConfigCommand),
     /// The bus process of a run: started by `mechweed run` itself, its link on stdin.
     #[command(hide = true)]
     BusGateway,
@@ -96,6 +100,18 @@ pub enum Command {
 
 pub(crate) fn print_errors(errors: &[ConfigError]) {
     errors.iter().for_each(|e| eprintln!("{e}"));
+    // A file of an older release: one command adds what it lacks (no guess at start).
+    let older =
+        |e: &ConfigError| e.what.ends_with(" is missing") || e.what.starts_with("missing section");
+    if let Some(file) = errors
+        .iter()
+        .filter(|e| older(e))
+        .find_map(|e| e.place.file())
+    {
+        eprintln!(
+            "{file} is of an older release: `mechweed config upgrade {file}` adds every missing setting with its comment and the value that keeps the older behaviour (`--check` only lists them)"
+        );
+    }
 }
 
 /// Where the settings are looked for when no --config names a file: in the folder the

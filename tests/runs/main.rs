@@ -13,6 +13,7 @@ mod camera_link;
 mod cards_watchdog;
 mod check_config;
 mod config_safety;
+mod config_upgrade;
 mod docs_references;
 mod fault_advice;
 mod first_hour;

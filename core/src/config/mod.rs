@@ -23,6 +23,7 @@ mod sim;
 mod source;
 mod steer;
 mod test_panel;
+pub mod upgrade;
 mod watchdog_relay;
 
 use std::path::Path;
