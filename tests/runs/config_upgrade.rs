@@ -36,10 +36,15 @@ fn shipped_files() -> Option<Vec<(String, String)>> {
 
 #[test]
 fn every_shipped_robot_ini_upgrades_to_one_check_config_takes() {
-    let Some(files) = shipped_files().filter(|f| !f.is_empty()) else {
-        eprintln!("skipped: no git history here to take the shipped robot.ini files from");
+    let files = shipped_files().unwrap_or_default();
+    // A source archive has no history, a shallow clone only its newest commits.
+    if files.len() < 20 {
+        eprintln!(
+            "skipped: {} shipped robot.ini files in the git history here (a shallow clone or no checkout); the project has shipped 47",
+            files.len()
+        );
         return;
-    };
+    }
     let dir = tempfile::tempdir().unwrap();
     let mut upgraded = 0;
     for (commit, older) in &files {
