@@ -148,6 +148,8 @@ impl Served<'_> {
                 Ok(Up::Figures(f)) => {
                     self.w.rows.rivals.store(f.rivals, Ordering::Relaxed);
                     self.this_life = f;
+                    // In the next status at once: who is linked.
+                    self.merge_figures();
                 }
                 Ok(Up::Ready | Up::Failed { .. }) | Err(RecvTimeoutError::Timeout) => {}
                 Err(RecvTimeoutError::Disconnected) => return false,
@@ -290,6 +292,15 @@ impl Served<'_> {
 
     /// The figures as the GUI and the report read them: the processes' counts added up.
     fn publish_figures(&mut self) {
+        self.merge_figures();
+        if self.figures.state == BusState::Restarting {
+            self.say_dropped(None);
+        }
+        self.w.figures.publish(&self.figures);
+    }
+
+    /// The processes' counts added up into the figures.
+    fn merge_figures(&mut self) {
         let (ended, life, f) = (&self.ended_lives, &self.this_life, &mut self.figures);
         f.status_published = ended.status_published + life.status_published;
         f.ticks_published = ended.ticks_published + life.ticks_published;
@@ -302,9 +313,5 @@ impl Served<'_> {
         }
         f.rows_received = self.w.rows.received.load(Ordering::Relaxed);
         f.rows_rejected = self.w.rows.rejected.load(Ordering::Relaxed);
-        if self.figures.state == BusState::Restarting {
-            self.say_dropped(None);
-        }
-        self.w.figures.publish(&self.figures);
     }
 }

@@ -150,16 +150,47 @@ pub fn replay(opts: &ReplayOptions) -> Result<Outcome, String> {
     })
 }
 
-/// The run's settings with `set`, and the notes a reader of the replay needs.
+/// The run's settings with `set`, and the notes a reader of the replay needs. A record
+/// made before a setting existed has its settings upgraded as `config upgrade` would
+/// (the values that keep the older behaviour), and the replay says so.
 fn settings_and_notes(rec: &Recorded, set: &[String]) -> Result<(Settings, Vec<String>), String> {
-    let settings = rec.header.settings(set).map_err(|errors| {
+    let unusable = |errors: Vec<crate::config::ConfigError>| {
         let lines: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
         format!(
             "the run's settings with --set are not usable:\n{}",
             lines.join("\n")
         )
-    })?;
+    };
     let mut notes = rec.notes.clone();
+    let settings = match rec.header.settings(set) {
+        Ok(settings) => settings,
+        Err(errors)
+            if errors.iter().any(|e| {
+                e.what.ends_with(" is missing") || e.what.starts_with("missing section")
+            }) =>
+        {
+            let Ok((text, added)) = crate::config::upgrade::upgrade(&rec.header.settings_text)
+            else {
+                return Err(unusable(errors));
+            };
+            let upgraded = crate::record::header::RunHeader {
+                settings_text: text,
+                ..rec.header.clone()
+            };
+            let settings = upgraded.settings(set).map_err(unusable)?;
+            let names: Vec<String> = (added.iter().take(4))
+                .map(|a| format!("[{}] {} = {}", a.section, a.key, a.value))
+                .collect();
+            notes.push(format!(
+                "the record's settings are of an older release: {} settings it lacked were taken as `mechweed config upgrade` gives them ({}{})",
+                added.len(),
+                names.join(", "),
+                if added.len() > 4 { ", ..." } else { "" }
+            ));
+            settings
+        }
+        Err(errors) => return Err(unusable(errors)),
+    };
     if rec.header.program != program() {
         notes.push(format!(
             "recorded by {}, replayed by {}: a difference may be a change of the code",

@@ -154,3 +154,48 @@ fn a_start_with_missing_settings_names_the_upgrade_and_the_file_before_is_kept()
         older
     );
 }
+
+/// A record made before a setting existed: its settings lack [steer] law (as a record of
+/// an older release would); the replay upgrades them as `config upgrade` does, says so,
+/// and gives the same outputs.
+#[test]
+fn a_record_of_an_older_release_replays_with_its_settings_upgraded() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = mechweed()
+        .args([
+            "run",
+            "--headless",
+            "--mode",
+            "autonomous",
+            "--duration",
+            "3",
+        ])
+        .args(crate::common::test_run_settings(dir.path()))
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let csv = (std::fs::read_dir(dir.path()).unwrap())
+        .map(|e| e.unwrap().path())
+        .find(|p| {
+            p.extension().is_some_and(|e| e == "csv")
+                && !p.to_string_lossy().ends_with(".events.csv")
+        })
+        .expect("a record");
+    let header = mechweed::record::header::RunHeader::beside(&csv).unwrap();
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&header).unwrap()).unwrap();
+    let older: String = (json["settings_text"].as_str().unwrap().lines())
+        .filter(|l| !l.trim_start().starts_with("law ="))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    json["settings_text"] = older.into();
+    std::fs::write(&header, serde_json::to_string_pretty(&json).unwrap()).unwrap();
+    let replay = mechweed().arg("replay").arg(&csv).output().unwrap();
+    let said = format!("{}{}", text(&replay.stdout), text(&replay.stderr));
+    assert!(replay.status.success(), "{said}");
+    assert!(
+        said.contains("the record's settings are of an older release: 1 settings it lacked were taken as `mechweed config upgrade` gives them ([steer] law = pursuit)"),
+        "{said}"
+    );
+    assert!(said.contains("outputs identical to the record"), "{said}");
+}

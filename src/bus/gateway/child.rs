@@ -224,6 +224,8 @@ impl Flows {
             if asked.is_none()
                 && let Some((port, query)) = self.inbox.try_next()
             {
+                // The asker's link may have come a moment ago: its name first.
+                self.follow_links();
                 next_id += 1;
                 let asker = requester(&query);
                 let asker_name = (self.identities.as_ref())
@@ -245,18 +247,24 @@ impl Flows {
             }
             let mut select = Select::new();
             select.recv(down);
+            // A link that comes or goes is told at once (who is linked, rival cameras).
+            select.recv(&self.links);
             if asked.is_none() {
                 self.inbox.queues().iter().for_each(|q| {
                     select.recv(q);
                 });
             }
             let wait = next_figures.saturating_duration_since(Instant::now());
-            if let Ok(0) = select.ready_timeout(wait) {
-                match down.try_recv() {
+            match select.ready_timeout(wait) {
+                Ok(0) => match down.try_recv() {
                     Ok(message) => self.take(message, &mut asked),
                     Err(TryRecvError::Disconnected) => return,
                     Err(TryRecvError::Empty) => {}
+                },
+                Ok(1) if self.follow_links() => {
+                    let _ = up.try_send(Up::Figures(self.figures.clone()));
                 }
+                _ => {}
             }
             if asked
                 .as_ref()
@@ -297,8 +305,16 @@ impl Flows {
         f.present = self.peers.present();
         f.status_receivers = (self.status.matching_status().wait()).is_ok_and(|m| m.matching());
         f.queries_dropped = f.queries_dropped.max(self.inbox.dropped());
+        self.follow_links();
+    }
+
+    /// Take the links that came and went: who is linked, and rival cameras said. Whether
+    /// anything changed.
+    fn follow_links(&mut self) -> bool {
+        let f = &mut self.figures;
         let Some(ids) = &mut self.identities else {
-            return;
+            // Not secured: nobody's name is known; the changes are only taken.
+            return self.links.try_iter().count() > 0;
         };
         let look = ids.take(self.links.try_iter());
         for name in &look.newly_refused {
@@ -313,8 +329,10 @@ impl Flows {
                 look.rival_cameras.join(" and ")
             );
         }
-        f.rivals = rivals;
-        f.identities = ids.summary();
+        let summary = ids.summary();
+        let changed = f.rivals != rivals || f.identities != summary;
+        (f.rivals, f.identities) = (rivals, summary);
+        changed
     }
 }
 

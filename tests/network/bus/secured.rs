@@ -254,9 +254,14 @@ fn an_operator_powers_up_and_drives() {
         said.contains("this program: TLS, as operator (operator)"),
         "{said}"
     );
-    let (stdout, _, _) = robot.finish();
+    let (stdout, stderr, _) = robot.finish();
     assert!(stdout.contains("mode: halt -> autonomous"), "{stdout}");
     assert!(stdout.contains("identities: operator x"), "{stdout}");
+    // The robot's console names the identity that asked.
+    assert!(
+        stderr.contains("bus: mode autonomous requested by 'operator': accepted"),
+        "{stderr}"
+    );
 }
 
 /// camsim on the bus as `name`, for `seconds`: its output.
