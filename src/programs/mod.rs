@@ -100,12 +100,18 @@ pub enum Command {
 
 pub(crate) fn print_errors(errors: &[ConfigError]) {
     errors.iter().for_each(|e| eprintln!("{e}"));
-    // A file of an older release: one command adds what it lacks (no guess at start).
-    let older =
-        |e: &ConfigError| e.what.ends_with(" is missing") || e.what.starts_with("missing section");
-    if let Some(file) = errors
-        .iter()
-        .filter(|e| older(e))
+    // A file of an older release: one command adds what it lacks (no guess at start);
+    // a setting it no longer has is among them.
+    let older = |e: &ConfigError| {
+        e.what.ends_with(" is missing")
+            || e.what.starts_with("missing section")
+            || e.what.ends_with(" is not a known setting")
+    };
+    // Only when nothing else is wrong: a broken heading also leaves a section missing,
+    // and an upgrade would not mend it.
+    let all_missing = errors.iter().all(older);
+    if let Some(file) = (errors.iter())
+        .filter(|_| all_missing)
         .find_map(|e| e.place.file())
     {
         eprintln!(

@@ -81,7 +81,10 @@ fn serve() -> Result<(), String> {
     let session = match open(Role::Robot(&settings.bus), settings.bus.tls.as_ref()) {
         Ok(session) => session,
         Err(e) => {
-            let _ = send(&mut output, &Up::Failed { why: e.to_string() });
+            // Said once, by the controller, in these words.
+            if send(&mut output, &Up::Failed { why: e.to_string() }).is_ok() {
+                std::process::exit(1);
+            }
             return Err(e.to_string());
         }
     };
