@@ -112,7 +112,12 @@ pub(crate) fn print_errors(errors: &[ConfigError]) {
     let all_missing = errors.iter().all(older);
     if let Some(file) = (errors.iter())
         .filter(|_| all_missing)
-        .find_map(|e| e.place.file())
+        .find_map(|e| match &e.place {
+            crate::config::Place::Line { file, .. } | crate::config::Place::File(file) => {
+                Some(file)
+            }
+            crate::config::Place::Override(_) => None,
+        })
     {
         eprintln!(
             "{file} is of an older release: `mechweed config upgrade {file}` adds every missing setting with its comment and the value that keeps the older behaviour (`--check` only lists them)"

@@ -19,16 +19,6 @@ pub enum Place {
     File(String),
 }
 
-impl Place {
-    /// The file this place is in (None for a `--set`).
-    pub fn file(&self) -> Option<&str> {
-        match self {
-            Place::Line { file, .. } | Place::File(file) => Some(file),
-            Place::Override(_) => None,
-        }
-    }
-}
-
 impl fmt::Display for Place {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
