@@ -30,6 +30,7 @@ fn main() -> ExitCode {
         Some(Command::Watch(args)) => watch::watch(args),
         Some(Command::Ros2(args)) => ros2::run(args),
         Some(Command::Keys(command)) => said(keys::run(command)),
+        Some(Command::Doctor(args)) => mechweed::programs::doctor::doctor(args),
         Some(Command::Config(command)) => mechweed::programs::config::config(command),
         Some(Command::BusGateway) => mechweed::bus::gateway::child::program(),
     }

@@ -5,6 +5,7 @@
 
 pub mod log_style;
 pub mod report;
+pub mod systemd;
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
@@ -29,8 +30,19 @@ pub fn run(opts: &RunOptions, stop: Arc<AtomicBool>) -> Result<RunOutcome, RunEr
     if let Some(warning) = &handles.not_realtime {
         crate::say!("{warning}");
     }
+    // Under systemd: READY, STATUS and its watchdog, fed while the supervisor's status
+    // is as fresh as the supervisor's own heartbeat check asks of the other threads.
+    let notifier = systemd::Notifier::from_env().map(|n| {
+        let fresh_s = opts.settings.rt.heartbeat_timeout_s.max(0.5);
+        let status = handles.supervisor.status.clone();
+        n.start(status, handles.clock, fresh_s, stop.clone())
+    });
     operate(opts, &handles, &stop, || running.any_thread_ended());
-    Ok(running.finish())
+    let outcome = running.finish();
+    if let Some(thread) = notifier {
+        let _ = thread.join();
+    }
+    Ok(outcome)
 }
 
 const POLL: Duration = Duration::from_millis(10);

@@ -11,6 +11,7 @@ pub mod camsim;
 pub mod check_config;
 pub mod cluster;
 pub mod config;
+pub mod doctor;
 pub mod gnsssim;
 pub mod keys;
 pub mod probe;
@@ -90,6 +91,9 @@ pub enum Command {
     /// The cluster's certificates: who may do what on the bus and the cluster.
     #[command(subcommand)]
     Keys(keys::KeysCommand),
+    /// Whether this PC can run the robot: each check ok, warning or fail, with the fix
+    /// (exit 1 if any fails).
+    Doctor(doctor::DoctorArgs),
     /// Settings files of older releases brought up to this one.
     #[command(subcommand)]
     Config(config::ConfigCommand),
@@ -134,7 +138,7 @@ pub const SYSTEM_INI: &str = "/etc/mechweed/robot.ini";
 /// a robot PC's own settings never reach them).
 pub const SYSTEM_INI_VAR: &str = "MECHWEED_SYSTEM_INI";
 
-fn system_ini() -> PathBuf {
+pub(crate) fn system_ini() -> PathBuf {
     std::env::var_os(SYSTEM_INI_VAR).map_or(PathBuf::from(SYSTEM_INI), PathBuf::from)
 }
 

@@ -30,6 +30,7 @@ mod replay_words;
 mod row_end;
 mod safe_outputs;
 mod sensors_down;
+mod service;
 mod teach;
 mod test_mode;
 mod threads;

@@ -14,6 +14,7 @@ use thread_priority::{
 
 pub mod health;
 pub mod inject;
+pub mod latency;
 pub mod load;
 
 use crate::config::RtSettings;
@@ -252,6 +253,22 @@ fn capability_in(status: &str, bit: u32) -> bool {
 /// Lock the process's memory, so that no page fault delays a tick. Returns a warning
 /// saying what to change when the system refuses.
 pub fn lock_memory() -> Option<String> {
+    if let Some(refusal) = memlock_too_small() {
+        return Some(refusal);
+    }
+    // SAFETY: mlockall takes flags only.
+    let rc = unsafe { libc::mlockall(libc::MCL_CURRENT | libc::MCL_FUTURE) };
+    (rc != 0).then(|| {
+        format!(
+            "memory not locked ({}): allow it with 'ulimit -l unlimited', a memlock line in /etc/security/limits.conf, or LimitMEMLOCK=infinity in the systemd unit",
+            std::io::Error::last_os_error()
+        )
+    })
+}
+
+/// Why this process may not lock its memory safely (the memlock limit, without
+/// CAP_IPC_LOCK), or None: `mechweed doctor` asks without locking.
+pub fn memlock_too_small() -> Option<String> {
     let mut limit = libc::rlimit {
         rlim_cur: 0,
         rlim_max: 0,
@@ -268,14 +285,7 @@ pub fn lock_memory() -> Option<String> {
             limit.rlim_cur >> 20
         ));
     }
-    // SAFETY: mlockall takes flags only.
-    let rc = unsafe { libc::mlockall(libc::MCL_CURRENT | libc::MCL_FUTURE) };
-    (rc != 0).then(|| {
-        format!(
-            "memory not locked ({}): allow it with 'ulimit -l unlimited', a memlock line in /etc/security/limits.conf, or LimitMEMLOCK=infinity in the systemd unit",
-            std::io::Error::last_os_error()
-        )
-    })
+    None
 }
 
 /// Give the calling thread SCHED_FIFO `priority` (0 = leave it normal) and pin it to
