@@ -224,3 +224,47 @@ fn keep_that_is_not_a_number_is_an_error_before_the_run() {
     );
     assert_eq!(names(&folder), before);
 }
+
+#[test]
+fn keep_gb_removes_the_oldest_records_until_the_rest_fit() {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path().join("records");
+    std::fs::create_dir_all(&folder).unwrap();
+    // Sparse files: their size counts, the disk holds none of it.
+    let sized = |name: &str, mb: u64| {
+        let file = std::fs::File::create(folder.join(name)).unwrap();
+        file.set_len(mb * 1_000_000).unwrap();
+    };
+    sized("2000-01-01T00-00-00.csv", 600);
+    sized("2000-01-02T00-00-00.mcap", 600);
+    sized("2000-01-03T00-00-00.csv", 300);
+    touch(&folder, "notes.txt");
+    let out = mechweed()
+        .args(["run", "--headless", "--duration", "1", "--set"])
+        .arg(folder_setting(&folder))
+        .args(["--set", "record.keep=all", "--set", "record.keep_gb=1"])
+        .output()
+        .unwrap();
+    let stdout = text(&out.stdout);
+    assert!(out.status.success(), "{stdout}\n{}", text(&out.stderr));
+    let removed: Vec<&str> = (stdout.lines())
+        .filter(|l| l.contains("removed old record"))
+        .collect();
+    let said = format!(
+        "removed old record {}: keeping the newest within 1 GB",
+        folder.join("2000-01-01T00-00-00").display()
+    );
+    assert_eq!(removed, [said], "{stdout}");
+    let after = names(&folder);
+    assert!(!after.contains(&"2000-01-01T00-00-00.csv".to_string()));
+    for kept in [
+        "2000-01-02T00-00-00.mcap",
+        "2000-01-03T00-00-00.csv",
+        "notes.txt",
+    ] {
+        assert!(
+            after.contains(&kept.to_string()),
+            "{kept} was removed: {after:?}"
+        );
+    }
+}

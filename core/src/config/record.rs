@@ -32,6 +32,8 @@ pub struct RecordSettings {
     pub formats: RecordFormats,
     /// How many records the folder keeps, the newest (None: all of them).
     pub keep_records: Option<usize>,
+    /// How much the folder's records may take, GB, the newest kept (None: no limit).
+    pub keep_gb: Option<f64>,
 }
 
 const FORMATS: [(&str, RecordFormats); 3] = [
@@ -57,6 +59,18 @@ pub(super) fn load(r: &mut Reader) -> RecordSettings {
         every_n_ticks: r.u64(s, "every_n_ticks", 1, 10_000),
         formats: FORMATS[r.choice(s, "formats", &names)].1,
         keep_records: r.parsed(s, "keep", parse_keep).flatten(),
+        keep_gb: r.parsed(s, "keep_gb", parse_keep_gb).flatten(),
+    }
+}
+
+/// `keep_gb = 20` (GB) or `0` (no limit in space).
+fn parse_keep_gb(text: &str) -> Result<Option<f64>, String> {
+    match text.parse::<f64>() {
+        Ok(0.0) => Ok(None),
+        Ok(gb) if gb.is_finite() && gb > 0.0 => Ok(Some(gb)),
+        _ => Err(format!(
+            "'{text}' is not a size in GB (for example 20, or 0 for no limit in space)"
+        )),
     }
 }
 

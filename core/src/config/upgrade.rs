@@ -13,12 +13,20 @@ use super::lines::scan;
 
 /// Settings whose shipped value changes what an older robot did: the value that keeps
 /// the older behaviour, and why.
-const OLDER: &[(&str, &str, &str, &str)] = &[(
-    "steer",
-    "law",
-    "pursuit",
-    "the steering law of every release before [steer] law was a setting",
-)];
+const OLDER: &[(&str, &str, &str, &str)] = &[
+    (
+        "steer",
+        "law",
+        "pursuit",
+        "the steering law of every release before [steer] law was a setting",
+    ),
+    (
+        "record",
+        "keep_gb",
+        "0",
+        "no limit in space, as every release before [record] keep_gb",
+    ),
+];
 
 /// Settings of older releases that a setting of this one replaced, with the same
 /// meaning and unit: (section, key, the section and key that took its place).

@@ -131,6 +131,47 @@ pub(crate) fn remove_oldest(folder: &Path, keep: usize, current: &str) -> Vec<St
     lines
 }
 
+/// Delete the oldest records until the rest take at most `keep_gb` GB, never the one
+/// named `current`. Returns one line per record deleted, or per file that could not be.
+pub(crate) fn remove_beyond_size(folder: &Path, keep_gb: f64, current: &str) -> Vec<String> {
+    let size = |g: &RecordGroup| -> u64 {
+        (g.files.iter())
+            .filter_map(|f| std::fs::metadata(f).ok())
+            .map(|m| m.len())
+            .sum()
+    };
+    let groups = records_in(folder);
+    let limit_bytes = (keep_gb * 1e9) as u64;
+    let mut total: u64 = groups.iter().map(size).sum();
+    let mut lines = Vec::new();
+    for group in groups.iter().filter(|g| g.name != current) {
+        if total <= limit_bytes {
+            break;
+        }
+        let before = size(group);
+        let mut failed = false;
+        for file in &group.files {
+            if let Err(e) = std::fs::remove_file(file) {
+                failed = true;
+                lines.push(format!(
+                    "could not remove old record file {}: {}",
+                    file.display(),
+                    e.kind()
+                ));
+            }
+        }
+        // What is gone: all of it, or without the files that were refused.
+        total -= before - size(group).min(before);
+        if !failed {
+            lines.push(format!(
+                "removed old record {}: keeping the newest within {keep_gb} GB",
+                folder.join(&group.name).display()
+            ));
+        }
+    }
+    lines
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -24,6 +24,7 @@ pub mod read;
 pub mod received;
 pub mod request_text;
 mod row;
+pub mod space;
 pub mod summary;
 mod tap;
 mod thread;
@@ -82,7 +83,8 @@ pub fn start_named(
     let header = RunHeader::of(run_settings);
     let every_n = settings.every_n_ticks;
     let sinks = new_sinks(settings, name, start_unix_ns, every_n, Some(&header))?;
-    start_with_sinks(sinks, settings.every_n_ticks, delivery, truth).map_err(|e| {
+    let space = Some(space::SpaceWatch::of(&settings.folder));
+    start_watched(sinks, settings.every_n_ticks, delivery, truth, space).map_err(|e| {
         RecordError::Begin {
             folder: settings.folder.clone(),
             error: e.kind(),
@@ -143,6 +145,17 @@ pub fn start_with_sinks(
     delivery: Delivery,
     truth: Option<TruthHandle>,
 ) -> std::io::Result<(RecordTap, Recorder)> {
+    start_watched(sinks, every_n_ticks, delivery, truth, None)
+}
+
+/// As `start_with_sinks`, stopping when `space` says the disk is nearly full.
+pub fn start_watched(
+    sinks: Vec<Box<dyn Sink>>,
+    every_n_ticks: u64,
+    delivery: Delivery,
+    truth: Option<TruthHandle>,
+    space: Option<space::SpaceWatch>,
+) -> std::io::Result<(RecordTap, Recorder)> {
     let (tick_tx, tick_rx) = bounded(QUEUE_TICKS);
     let (event_tx, event_rx) = bounded(QUEUE_EVENTS);
     let counters = Arc::default();
@@ -152,6 +165,7 @@ pub fn start_with_sinks(
         event_rx,
         every_n_ticks,
         Arc::clone(&counters),
+        space,
     )?;
     let tap = RecordTap::new(tick_tx, event_tx, every_n_ticks, delivery, counters, truth);
     Ok((tap, recorder))
@@ -212,14 +226,17 @@ pub fn start_for_run(run_settings: &Settings, truth: TruthHandle) -> (RecordTap,
     match start(run_settings, Some(truth), Delivery::NeverWait) {
         Ok((tap, recorder)) => {
             crate::say!("recording into {}", recorder.files().join(", "));
+            // The record just made is never deleted, even if the clock went back.
+            let current = (recorder.files().first())
+                .and_then(|f| keep::record_of(std::path::Path::new(f)))
+                .unwrap_or_default();
             if let Some(keep) = settings.keep_records {
-                // The record just made is never deleted, even if the clock went back.
-                let current = recorder
-                    .files()
-                    .first()
-                    .and_then(|f| keep::record_of(std::path::Path::new(f)));
-                let current = current.unwrap_or_default();
                 for line in keep::remove_oldest(&settings.folder, keep, &current) {
+                    crate::say!("{line}");
+                }
+            }
+            if let Some(keep_gb) = settings.keep_gb {
+                for line in keep::remove_beyond_size(&settings.folder, keep_gb, &current) {
                     crate::say!("{line}");
                 }
             }

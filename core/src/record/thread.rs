@@ -17,6 +17,7 @@ use serde::Serialize;
 use super::event::{EventKind, RecordEvent};
 use super::received::{ReceivedEvent, ReceivedTick};
 use super::row::TickSample;
+use super::space::SpaceWatch;
 use super::tap::Counters;
 
 /// One format's files. Implementations write to a buffer; `flush` puts it on disk.
@@ -112,9 +113,11 @@ pub(super) fn spawn(
     events: Receiver<RecordEvent>,
     every_n_ticks: u64,
     counters: Arc<Counters>,
+    space: Option<SpaceWatch>,
 ) -> io::Result<Recorder> {
     let mut writer = Writer {
         sinks: sinks.into_iter().map(Some).collect(),
+        space,
         outcome: RecordOutcome::default(),
         every_n_ticks: every_n_ticks.max(1),
         last_tick: None,
@@ -142,6 +145,8 @@ pub(super) fn spawn(
 struct Writer {
     /// None once a sink has failed.
     sinks: Vec<Option<Box<dyn Sink>>>,
+    /// The free space of the record's disk (None: not watched, a test's sinks).
+    space: Option<SpaceWatch>,
     outcome: RecordOutcome,
     every_n_ticks: u64,
     last_tick: Option<u64>,
@@ -162,6 +167,7 @@ impl Writer {
         let mut ended = false;
         while !ended {
             std::thread::sleep(POLL);
+            self.stop_if_disk_nearly_full();
             let mut fault = false;
             loop {
                 let sample = match ticks.try_recv() {
@@ -196,6 +202,19 @@ impl Writer {
         }
         self.each_sink(|sink| sink.finish());
         self.outcome
+    }
+
+    /// Close every file, said once, when the disk is nearly full: the queues are still
+    /// emptied, so the supervisor never notices.
+    fn stop_if_disk_nearly_full(&mut self) {
+        let Some(why) = self.space.as_mut().and_then(SpaceWatch::nearly_full) else {
+            return;
+        };
+        self.each_sink(|sink| sink.finish());
+        self.sinks.iter_mut().for_each(|slot| *slot = None);
+        self.space = None;
+        tracing::warn!("{why}");
+        self.outcome.problems.push(why);
     }
 
     /// Write one event; true if it is a fault (the files are flushed at once).

@@ -39,11 +39,8 @@ pub(super) fn record_mb_per_min(s: &Settings) -> f64 {
 fn free_bytes(folder: &Path) -> Option<(PathBuf, u64)> {
     let absolute = std::path::absolute(folder).ok()?;
     let existing = absolute.ancestors().find(|p| p.exists())?.to_path_buf();
-    let c_path = std::ffi::CString::new(existing.as_os_str().as_encoded_bytes()).ok()?;
-    // SAFETY: statvfs writes into the struct we own and reads the path we own.
-    let mut st: libc::statvfs = unsafe { std::mem::zeroed() };
-    let rc = unsafe { libc::statvfs(c_path.as_ptr(), &mut st) };
-    (rc == 0).then(|| (existing, st.f_bavail * st.f_frsize))
+    let free = crate::record::space::disk_free_bytes(&existing)?;
+    Some((existing, free))
 }
 
 /// Hours of records the disk holds: under one a field day fills it; under eight it
