@@ -32,6 +32,7 @@ fn main() -> ExitCode {
         Some(Command::Keys(command)) => said(keys::run(command)),
         Some(Command::Doctor(args)) => mechweed::programs::doctor::doctor(args),
         Some(Command::Config(command)) => mechweed::programs::config::config(command),
+        Some(Command::ManPages { dir }) => said(mechweed::programs::man_pages::write(&dir)),
         Some(Command::BusGateway) => mechweed::bus::gateway::child::program(),
     }
 }

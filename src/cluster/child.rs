@@ -66,6 +66,11 @@ impl Child {
         command
             .args(&self.launch.args)
             .envs(self.launch.env.iter().cloned())
+            // systemd's notify socket is the launcher's own: a controller it starts
+            // must not speak for the launcher's service.
+            .env_remove("NOTIFY_SOCKET")
+            .env_remove("WATCHDOG_USEC")
+            .env_remove("WATCHDOG_PID")
             .stdin(Stdio::null())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())

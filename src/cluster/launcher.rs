@@ -24,6 +24,7 @@ use super::plan::Plan;
 use super::{Keys, answer, ask};
 use crate::bus::session::{Role, open};
 use crate::config::TlsFiles;
+use crate::console::systemd;
 
 /// How long a process has to end after SIGTERM before it is killed.
 const STOP_PATIENCE: Duration = Duration::from_secs(10);
@@ -58,6 +59,10 @@ pub fn run(
         .declare_token(keys.launcher(machine))
         .wait()
         .map_err(|e| e.to_string())?;
+    // Under systemd: up once its session is open; the watchdog is fed from its loops.
+    systemd::notify(&format!(
+        "READY=1\nSTATUS=waiting for the master's plan at {master}"
+    ));
     let Some(plan) = fetch_plan(&session, &keys, machine, master, tls.is_some(), stop)? else {
         return Ok(());
     };
@@ -83,8 +88,13 @@ pub fn run(
         tokens: BTreeMap::new(),
     };
     launcher.report_all();
+    systemd::notify(&format!(
+        "STATUS=running the plan: {} processes",
+        launcher.children.len()
+    ));
     let why = launcher.watch(&queries, &masters, &plan, stop);
     println!("launcher {machine}: {why}: stopping its processes, the controller first");
+    systemd::notify(&format!("STOPPING=1\nSTATUS=stopping: {why}"));
     launcher.stop_all();
     Ok(())
 }
@@ -153,6 +163,7 @@ fn fetch_plan(
 ) -> Result<Option<Plan>, String> {
     let mut said = false;
     while !stop.load(Ordering::Relaxed) {
+        systemd::notify("WATCHDOG=1");
         match ask(session, &keys.plan(machine), None, Duration::from_secs(2)) {
             Ok(json) => {
                 return serde_json::from_value(json)
@@ -243,6 +254,7 @@ impl Launcher {
                 }
             }
             if reported.elapsed() >= REPORT_EVERY {
+                systemd::notify("WATCHDOG=1");
                 self.start_those_due();
                 self.report_all();
                 reported = Instant::now();

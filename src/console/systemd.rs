@@ -15,8 +15,8 @@
 //! delays a tick.
 
 use std::os::unix::net::UnixDatagram;
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, OnceLock};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -31,10 +31,25 @@ pub struct Notifier {
     feed_every: Option<Duration>,
 }
 
+/// The notifier of this process, read from the environment once.
+static FROM_ENV: OnceLock<Option<Notifier>> = OnceLock::new();
+
+/// Send `message` to systemd if this process runs under it (for programs with a loop
+/// of their own, such as the launcher: "READY=1", "WATCHDOG=1", "STATUS=...").
+pub fn notify(message: &str) {
+    if let Some(notifier) = Notifier::from_env() {
+        notifier.send(message);
+    }
+}
+
 impl Notifier {
     /// The notifier systemd asks for through the environment, or None outside systemd.
-    /// A socket that cannot be reached is said once and the run goes on without it.
-    pub fn from_env() -> Option<Notifier> {
+    /// A socket that cannot be reached is said once and the program goes on without it.
+    pub fn from_env() -> Option<&'static Notifier> {
+        FROM_ENV.get_or_init(Notifier::read_env).as_ref()
+    }
+
+    fn read_env() -> Option<Notifier> {
         let path = std::env::var_os("NOTIFY_SOCKET")?;
         let watchdog_usec = std::env::var("WATCHDOG_USEC").ok();
         let watchdog_pid = std::env::var("WATCHDOG_PID").ok();
@@ -88,7 +103,7 @@ impl Notifier {
     /// supervisor's first tick, STATUS on each change, WATCHDOG while the status is
     /// younger than `fresh_s`, STOPPING at the end.
     pub fn start(
-        self,
+        &'static self,
         status: Reader<Status>,
         clock: Instant,
         fresh_s: f64,

@@ -47,6 +47,7 @@ fn ready_and_the_watchdog_wait_for_the_supervisors_first_tick_and_stop_when_it_f
     let (writer, reader) = shared(Status::default());
     let clock = Instant::now();
     let stop = Arc::new(AtomicBool::new(false));
+    let notifier: &'static Notifier = Box::leak(Box::new(notifier));
     let thread = notifier.start(reader, clock, 0.2, stop.clone());
 
     // No tick yet: the hardware may still be opening. Nothing is ready, nothing fed.

@@ -14,6 +14,7 @@ pub mod config;
 pub mod doctor;
 pub mod gnsssim;
 pub mod keys;
+pub mod man_pages;
 pub mod probe;
 pub mod probe_watch;
 pub mod record;
@@ -100,6 +101,9 @@ pub enum Command {
     /// The bus process of a run: started by `mechweed run` itself, its link on stdin.
     #[command(hide = true)]
     BusGateway,
+    /// Write the man pages into DIR (for the package).
+    #[command(hide = true)]
+    ManPages { dir: std::path::PathBuf },
 }
 
 pub(crate) fn print_errors(errors: &[ConfigError]) {

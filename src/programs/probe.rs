@@ -28,7 +28,7 @@ use crate::threads::backend::{DEV_PORT, PCI_DEVICES, open_cards};
 pub enum ProbeError {
     /// The cards could not be found, opened or started (every card's problem).
     #[error(
-        "the robot's I/O cards are not usable on this computer:\n{0}\nsee docs/robot-pc.md (in mechweed's source folder): giving the program its cards, step by step"
+        "the robot's I/O cards are not usable on this computer:\n{0}\nsee docs/robot-pc.md (in mechweed's source folder; /usr/share/doc/mechweed/robot-pc.md where the package is installed): giving the program its cards, step by step; mechweed doctor checks each card's file"
     )]
     NotUsable(OpenError),
     /// A card stopped answering while its inputs were read.

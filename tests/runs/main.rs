@@ -22,6 +22,7 @@ mod gamepad;
 mod gnss_link;
 mod layers;
 mod link_recovery;
+mod package_files;
 mod real_robot;
 mod record_binary;
 mod records_keep;
