@@ -15,5 +15,5 @@ fi
 cargo build --release
 rm -rf target/man
 target/release/mechweed man-pages target/man
-cargo deb --no-build --no-strip
+cargo deb --no-build
 ls -l target/debian/*.deb
