@@ -1,45 +1,71 @@
 //! The controller's door for what other programs ask: each query from the bus process
-//! is taken only within its asker's rate and everyone's together (HALT always), then
+//! is taken only within its asker's rate and its kind's together (HALT always), then
 //! answered by queries.rs with the supervisor's rules. The bus process only sorted the
 //! queries; whether one is a HALT is read again here from its own payload, so that a bus
 //! process that says otherwise gains nothing.
+//!
+//! Two allowances that nothing shares: the operator's (requests and settings changed,
+//! on keys that only an operator's identity may ask on a secured bus), and everyone
+//! else's (settings read, and requests on the HALT key that are not HALT). A recorder or
+//! a viewer reading the settings as fast as it can uses up the readers' allowance, never
+//! the operator's.
 
 use std::time::Instant;
 
 use super::BusFigures;
 use super::gateway::QueryIn;
+use super::identities::shown_name;
 use super::payload::parse_request;
 use super::queries::{Answer, Port, Queries};
 use super::refusals::{PerRequester, RateLimit, Refusals};
 use crate::state::modes::{Mode, Request};
 
-/// Requests other than HALT taken a second from each program, and settings asked a
-/// second: more are refused at once, so that nobody's flood keeps the supervisor busy.
-const REQUESTS_PER_S: f64 = 5.0;
-const SETTINGS_PER_S: f64 = 20.0;
-/// All programs together: a flood that names a new requester on every query still
+/// The operator's requests and settings changed, a second from each program and from
+/// all of them together.
+const OPERATOR_PER_S: f64 = 5.0;
+const OPERATOR_ALL_PER_S: f64 = 20.0;
+/// Settings read (and requests on the HALT key that are not HALT), a second from each
+/// program and from all together: a flood that names a new asker on every query still
 /// finds the door shut.
-const ALL_PER_S: f64 = 20.0;
+const READS_PER_S: f64 = 20.0;
+const READS_ALL_PER_S: f64 = 20.0;
 
-/// The limits on requests and settings, and the refusals said about once a second.
+/// One allowance: per asker, and for all askers together.
+struct Allowance {
+    each: PerRequester,
+    all: RateLimit,
+}
+
+impl Allowance {
+    fn new(each_per_s: f64, all_per_s: f64) -> Allowance {
+        Allowance {
+            each: PerRequester::new(each_per_s),
+            all: RateLimit::new(all_per_s, Instant::now()),
+        }
+    }
+
+    fn take(&mut self, asker: &str, now: Instant) -> bool {
+        self.each.take(asker, now) && self.all.take(now)
+    }
+}
+
+/// The allowances, and the refusals said about once a second.
 pub(crate) struct Gate {
-    request_limit: PerRequester,
-    setting_limit: PerRequester,
-    all_limit: RateLimit,
+    operator: Allowance,
+    reads: Allowance,
     refusals: Refusals,
 }
 
 impl Gate {
     pub fn new() -> Gate {
         Gate {
-            request_limit: PerRequester::new(REQUESTS_PER_S),
-            setting_limit: PerRequester::new(SETTINGS_PER_S),
-            all_limit: RateLimit::new(ALL_PER_S, Instant::now()),
+            operator: Allowance::new(OPERATOR_PER_S, OPERATOR_ALL_PER_S),
+            reads: Allowance::new(READS_PER_S, READS_ALL_PER_S),
             refusals: Refusals::default(),
         }
     }
 
-    /// Answer one query, or refuse it when its program (or all of them) asked too often;
+    /// Answer one query, or refuse it when its asker (or its kind) asked too often;
     /// HALT always goes through. A refusal is said with who asked, where the bus tells it.
     pub fn serve(
         &mut self,
@@ -51,20 +77,23 @@ impl Gate {
         let halt = q.port == Port::Halt
             && parse_request(q.payload.as_deref().unwrap_or_default())
                 == Ok(Request::Mode(Mode::Halt));
-        let limit = match q.port {
-            Port::Get | Port::Set => &mut self.setting_limit,
-            _ => &mut self.request_limit,
+        // An identity's name where the roster gives one, else the session it names.
+        let asker = q.asker_name.as_deref().unwrap_or(&q.asker);
+        let (allowance, kind) = match q.port {
+            Port::Operator | Port::Set => (&mut self.operator, "the operator's requests"),
+            Port::Get | Port::Halt => (&mut self.reads, "reads"),
         };
-        let answer = if halt || (limit.take(&q.asker, now) && self.all_limit.take(now)) {
+        let answer = if halt || allowance.take(asker, now) {
             let asker = q.asker_name.as_deref();
             answers.answer(&q.key, q.payload.as_deref(), q.port, asker)
         } else {
             Queries::refused(format!(
-                "too many requests: the bus takes {REQUESTS_PER_S} requests and {SETTINGS_PER_S} settings a second from each program, {ALL_PER_S} from all, at most (HALT always)"
+                "too many requests: the bus takes {OPERATOR_PER_S} of the operator's requests and settings changed a second from each program ({OPERATOR_ALL_PER_S} from all), and {READS_PER_S} reads ({READS_ALL_PER_S} from all), at most (HALT always); this was one of {kind}"
             ))
         };
-        let who =
-            (q.asker_name.as_ref()).map_or(String::new(), |name| format!(" (asked by {name})"));
+        let who = (q.asker_name.as_ref()).map_or(String::new(), |name| {
+            format!(" (asked by {})", shown_name(name))
+        });
         let refused = Queries::count(&answer, figures).map(|why| format!("{}: {why}{who}", q.key));
         if let Some(line) = refused.and_then(|why| self.refusals.refused(why, now)) {
             tracing::warn!("{line}");

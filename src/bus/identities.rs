@@ -34,8 +34,33 @@ pub(crate) struct Identities {
     others: u64,
 }
 
-/// A link came (true) or went, with its certificate's name and its session.
+/// A link came (true) or went, with its certificate's name (as `shown_name` shows it)
+/// and its session.
 pub(crate) type LinkChange = (bool, String, String);
+
+/// Longest certificate name shown, characters.
+const SHOWN_CHARS: usize = 48;
+
+/// A certificate's name as the robot shows it and keeps it: control characters
+/// escaped, so that no terminal escape or line break in a stranger's certificate
+/// reaches a console or `bus list`, and cut at 48 characters. The roster's names are
+/// short and plain, so a name that has rights is shown as it is; an escaped or cut one
+/// can match none of them.
+pub(crate) fn shown_name(name: &str) -> String {
+    let escaped: String = name
+        .chars()
+        .flat_map(|c| {
+            let plain = !c.is_control() && c != '\\';
+            let one = plain.then_some(c).into_iter();
+            one.chain((!plain).then(|| c.escape_default()).into_iter().flatten())
+        })
+        .collect();
+    if escaped.chars().count() <= SHOWN_CHARS {
+        return escaped;
+    }
+    let cut: String = escaped.chars().take(SHOWN_CHARS).collect();
+    format!("{cut}... ({} characters)", name.chars().count())
+}
 
 /// Listen to the session's links coming and going (those there already too); the
 /// callback only hands each change on.
@@ -51,7 +76,7 @@ pub(crate) fn watch_links(
             let link = event.link();
             if let Some(name) = link.auth_identifier() {
                 let came = event.kind() == SampleKind::Put;
-                let _ = tx.try_send((came, name.to_string(), link.zid().to_string()));
+                let _ = tx.try_send((came, shown_name(name), link.zid().to_string()));
             }
         })
         .wait()?;
@@ -156,6 +181,26 @@ impl Identities {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_certificate_name_with_escapes_or_no_end_is_shown_escaped_and_cut() {
+        assert_eq!(shown_name("operator"), "operator");
+        assert_eq!(shown_name("evil\u{1b}[2J\nroot"), "evil\\u{1b}[2J\\nroot");
+        let long = "x".repeat(500);
+        let shown = shown_name(&long);
+        assert!(
+            shown.starts_with(&"x".repeat(48)) && shown.ends_with("... (500 characters)"),
+            "{shown}"
+        );
+        // What the robot keeps of such a name has no control character left.
+        let mut ids = Identities::new(roster());
+        ids.take([(true, shown_name("a\u{7}b\rc"), "s1".to_string())]);
+        assert!(
+            !ids.summary().chars().any(char::is_control),
+            "{}",
+            ids.summary()
+        );
+    }
 
     fn roster() -> Roster {
         let text = "[cluster]\nrobot = mechweed\n[roles]\nrobot = robot\ncamera = camera\noperator = operator\n[revoked]\nlaptop-1 = yes\n";

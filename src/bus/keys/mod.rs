@@ -209,6 +209,6 @@ pub fn certificate_name(cert: &Path) -> Result<String, String> {
     let parsed = pem.parse_x509().map_err(|e| not_one(&e))?;
     let name = parsed.subject().iter_common_name().next();
     name.and_then(|n| n.as_str().ok())
-        .map(str::to_string)
+        .map(crate::bus::identities::shown_name)
         .ok_or_else(|| format!("the certificate {} names nobody", cert.display()))
 }

@@ -13,6 +13,7 @@ mod netns;
 mod process;
 pub mod secured;
 mod sockets;
+mod starve;
 mod truth;
 
 use std::process::{Child, Command, Output, Stdio};

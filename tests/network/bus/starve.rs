@@ -1,0 +1,100 @@
+//! A reader cannot starve the operator: on a secured bus a recorder's identity reads the
+//! settings flat out (ten times what the robot takes from readers) while the operator
+//! asks for modes. Before the operator's requests had an allowance of their own, 8 of 8
+//! were refused "too many requests".
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::Duration;
+
+use zenoh::Wait;
+
+use super::secured::{Keys, secured_robot};
+use crate::common::text;
+
+/// The robot's first answer on `key` to `payload`, as text ("" if none came).
+fn ask(session: &zenoh::Session, key: &str, payload: &str) -> String {
+    let replies = (session.get(key))
+        .payload(payload.to_string())
+        .timeout(Duration::from_secs(3))
+        .wait()
+        .unwrap();
+    let Ok(reply) = replies.recv() else {
+        return String::new();
+    };
+    let body = match reply.result() {
+        Ok(sample) => sample.payload().to_bytes().into_owned(),
+        Err(error) => error.payload().to_bytes().into_owned(),
+    };
+    text(&body)
+}
+
+#[test]
+fn a_recorder_reading_the_settings_flat_out_leaves_every_operator_request_answered() {
+    let _machine = crate::shared_machine();
+    let keys = Keys::new();
+    let robot = secured_robot(
+        &keys,
+        &["--duration", "20", "--set", "bus.accept_requests=operator"],
+    );
+    let stop = Arc::new(AtomicBool::new(false));
+    let refused = Arc::new(AtomicU64::new(0));
+    let flood = std::thread::spawn({
+        let (stop, refused) = (stop.clone(), refused.clone());
+        let recorder = keys.session(&robot.endpoint, "recorder");
+        move || {
+            // As mechweed's tools do: the session named in the attachment.
+            let me = recorder.zid().to_string();
+            while !stop.load(Ordering::Relaxed) {
+                let refused = refused.clone();
+                let _ = (recorder.get("mechweed/config/steer/speed_mps"))
+                    .attachment(me.clone())
+                    .timeout(Duration::from_millis(500))
+                    .callback(move |reply| {
+                        let body = match reply.result() {
+                            Ok(sample) => sample.payload().to_bytes().into_owned(),
+                            Err(error) => error.payload().to_bytes().into_owned(),
+                        };
+                        if text(&body).contains("too many requests") {
+                            refused.fetch_add(1, Ordering::Relaxed);
+                        }
+                    })
+                    .wait();
+                std::thread::sleep(Duration::from_millis(5));
+            }
+        }
+    });
+    std::thread::sleep(Duration::from_secs(2));
+    let operator = keys.session(&robot.endpoint, "operator");
+    let requests = [
+        r#"{"request": "power_up"}"#,
+        r#"{"request": "mode", "mode": "joystick"}"#,
+        r#"{"request": "mode", "mode": "halt"}"#,
+        r#"{"request": "power_up"}"#,
+        r#"{"request": "mode", "mode": "autonomous"}"#,
+        r#"{"request": "mode", "mode": "halt"}"#,
+        r#"{"request": "power_up"}"#,
+        r#"{"request": "mode", "mode": "joystick"}"#,
+    ];
+    let answers: Vec<String> = (requests.iter())
+        .map(|request| {
+            std::thread::sleep(Duration::from_millis(250));
+            ask(&operator, "mechweed/request/operator", request)
+        })
+        .collect();
+    stop.store(true, Ordering::Relaxed);
+    flood.join().unwrap();
+    let refused = refused.load(Ordering::Relaxed);
+    assert!(
+        refused > 50,
+        "the reader's flood was refused only {refused} times: no flood"
+    );
+    for (request, answer) in requests.iter().zip(&answers) {
+        assert!(!answer.is_empty(), "{request}: no answer");
+        assert!(!answer.contains("too many requests"), "{request}: {answer}");
+    }
+    let (stdout, stderr, _) = robot.finish();
+    assert!(stdout.contains("mode: halt -> joystick"), "{stdout}");
+    // The console names who was limited.
+    assert!(stderr.contains("(asked by recorder)"), "{stderr}");
+}
