@@ -35,7 +35,7 @@ fn a_recorder_reading_the_settings_flat_out_leaves_every_operator_request_answer
     let keys = Keys::new();
     let robot = secured_robot(
         &keys,
-        &["--duration", "20", "--set", "bus.accept_requests=operator"],
+        &["--duration", "9", "--set", "bus.accept_requests=operator"],
     );
     let stop = Arc::new(AtomicBool::new(false));
     let refused = Arc::new(AtomicU64::new(0));
