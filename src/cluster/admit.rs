@@ -66,6 +66,9 @@ fn identity_in(dir: &Path, roster: &Roster, role: Role) -> Option<String> {
 impl Admission {
     /// `launch` as this launcher runs it, or why it does not.
     pub(crate) fn admit(&self, mut launch: Launch) -> Result<Launch, String> {
+        if let Some(why) = super::plan_check::refusal(&launch) {
+            return Err(why);
+        }
         let command = launch.args.first().cloned().unwrap_or_default();
         if launch.program == "mechweed" && !PROGRAMS.contains(&command.as_str()) {
             return Err(format!(

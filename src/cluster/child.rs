@@ -75,6 +75,17 @@ impl Child {
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .process_group(0);
+        // A launcher that ends without stopping its processes (killed, or a panic)
+        // leaves none running unwatched: each gets SIGTERM, on which mechweed's programs
+        // stop as at Ctrl-C, the controller with its safe outputs.
+        // SAFETY: the closure runs in the child between fork and exec and only calls
+        // prctl, which is async-signal-safe.
+        unsafe {
+            command.pre_exec(|| {
+                libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGTERM);
+                Ok(())
+            });
+        }
         let mut process = command.spawn().map_err(|e| {
             format!(
                 "cannot start {} ({}): {e}",
@@ -110,7 +121,9 @@ impl Child {
             self.exit = Some(exit_words(status));
             self.state = "exited";
             if self.launch.restart {
-                let delay = Duration::from_secs_f64(self.launch.restart_delay_s);
+                // Checked when the plan came (plan_check.rs); never a panic here.
+                let delay = Duration::try_from_secs_f64(self.launch.restart_delay_s)
+                    .unwrap_or(Duration::ZERO);
                 self.restart_at = Some(Instant::now() + delay);
             }
         }

@@ -23,6 +23,7 @@ pub mod graph;
 pub mod launcher;
 pub mod master;
 pub mod plan;
+mod plan_check;
 pub mod program;
 pub mod status;
 

@@ -7,6 +7,7 @@
 mod alone;
 use crate::common;
 mod guarded;
+mod orphans;
 
 use std::fs::File;
 use std::path::{Path, PathBuf};
