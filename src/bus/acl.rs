@@ -103,7 +103,10 @@ fn rules_of(role: Role, name: &str, robot: &str) -> Vec<Rule> {
             own_token(&mut rules);
         }
         Role::Master => {
-            rules.push(rule(&[QUERYABLE, REPLY], &[c("plan/*"), c("status")]));
+            rules.push(rule(
+                &[QUERYABLE, REPLY],
+                &[c("plan/*"), c("status"), c("states")],
+            ));
             rules.push(rule(&[SUBSCRIBE], &[c("state/**")]));
             rules.push(rule(&[QUERY], &[c("stop/*")]));
             rules.push(rule(&[TOKEN], &[c("master")]));
@@ -111,9 +114,9 @@ fn rules_of(role: Role, name: &str, robot: &str) -> Vec<Rule> {
         Role::Launcher => {
             // A launcher's name is its machine's: it speaks for that machine alone.
             rules.push(rule(&[PUT], &[c(&format!("state/{name}/*"))]));
-            // Its plan, and the cluster's status (whether the processes its own wait
-            // for run).
-            rules.push(rule(&[QUERY], &[c(&format!("plan/{name}")), c("status")]));
+            // Its plan, and the processes' states (whether those its own wait for
+            // run); not the cluster's status, which holds every machine's command lines.
+            rules.push(rule(&[QUERY], &[c(&format!("plan/{name}")), c("states")]));
             rules.push(rule(&[QUERYABLE, REPLY], &[c(&format!("stop/{name}"))]));
             rules.push(rule(
                 &[TOKEN],
@@ -250,13 +253,18 @@ mod tests {
         }
         assert_eq!(
             allowed(&acl, "master", REPLY),
-            ["mechweed/cluster/plan/*", "mechweed/cluster/status"]
+            [
+                "mechweed/cluster/plan/*",
+                "mechweed/cluster/status",
+                "mechweed/cluster/states"
+            ]
         );
         assert!(allowed(&acl, "operator", REPLY).is_empty());
-        // A launcher asks for its own machine's plan, and reports its own processes.
+        // A launcher asks for its own machine's plan and the processes' states (not
+        // the status with every command line), and reports its own processes.
         assert_eq!(
             allowed(&acl, "robot-pc", QUERY),
-            ["mechweed/cluster/plan/robot-pc", "mechweed/cluster/status"]
+            ["mechweed/cluster/plan/robot-pc", "mechweed/cluster/states"]
         );
         assert_eq!(
             allowed(&acl, "robot-pc", PUT),

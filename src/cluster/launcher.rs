@@ -270,7 +270,7 @@ impl Launcher {
         }
         let Ok(cluster) = ask(
             &self.session,
-            &self.keys.status(),
+            &self.keys.states(),
             None,
             Duration::from_secs(1),
         ) else {

@@ -46,7 +46,7 @@ pub fn serve(graph: &Graph, stop: &Arc<AtomicBool>) -> Result<(), String> {
     .map_err(|e| e.to_string())?;
     let (query_tx, queries) = bounded(64);
     let mut queryables = Vec::new();
-    for key in [keys.plan("*"), keys.status()] {
+    for key in [keys.plan("*"), keys.status(), keys.states()] {
         let tx = query_tx.clone();
         let queryable = session
             .declare_queryable(key)
@@ -102,6 +102,7 @@ pub fn serve(graph: &Graph, stop: &Arc<AtomicBool>) -> Result<(), String> {
                     let asker = crate::bus::inbox::requester(&query);
                     (table.admit(&session, machine, &asker)).and_then(|()| plan(graph, machine))
                 }
+                None if key == keys.states() => Ok(table.states(graph)),
                 None => Ok(table.status(graph)),
             };
             answer(&query, result);
@@ -217,6 +218,22 @@ impl Table {
             );
         }
         self.reports.insert(id, report);
+    }
+
+    /// Each process's machine, name and state, for the launchers: a launcher may hold
+    /// any machine's identity's key, so it sees no command line (nor its tokens).
+    fn states(&self, graph: &Graph) -> Value {
+        let processes: Vec<Value> = (graph.processes.iter())
+            .map(|p| {
+                let id = (p.machine.clone(), p.name.clone());
+                let state = self
+                    .reports
+                    .get(&id)
+                    .map_or("not reported", |r| r.state.as_str());
+                json!({"machine": p.machine, "process": p.name, "state": state})
+            })
+            .collect();
+        json!({ "processes": processes })
     }
 
     /// The whole cluster, for `cluster status`.

@@ -68,6 +68,10 @@ impl Keys {
     pub fn status(&self) -> String {
         self.key("status")
     }
+    /// Each process's state alone, for the launchers (no command lines).
+    pub fn states(&self) -> String {
+        self.key("states")
+    }
     pub fn launcher(&self, machine: &str) -> String {
         self.key(&format!("launcher/{machine}"))
     }

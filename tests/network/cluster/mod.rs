@@ -214,6 +214,27 @@ fn the_one_machine_graph_drives_restarts_the_camera_and_stops_with_safe_outputs(
         );
     }
     assert_eq!(process(&cluster, "operator-view")["state"], "manual");
+    // A launcher's identity gets no command line: the cluster's status is not for it
+    // (its launcher waited for the camera through the processes' states alone).
+    let as_launcher = mechweed_in(folder)
+        .args([
+            "cluster",
+            "status",
+            "--json",
+            "--seconds",
+            "1",
+            "--connect",
+            &master,
+        ])
+        .args(["--keys", "keys", "--as", "robot-pc"])
+        .output()
+        .unwrap();
+    assert!(
+        !as_launcher.status.success(),
+        "{}",
+        text(&as_launcher.stdout)
+    );
+    assert!(!text(&as_launcher.stdout).contains("\"command\""));
     let rows_per_s = cluster["rates"]["rows"].as_f64().unwrap();
     assert!(rows_per_s > 5.0, "rows: {cluster}");
     let later = wait_for("driving on", 20.0, || {
