@@ -9,6 +9,7 @@ mod gnss;
 mod guards;
 mod hearing;
 mod input;
+mod junk;
 mod netns;
 mod process;
 pub mod secured;
