@@ -93,14 +93,55 @@ fn object(bytes: &[u8], known: &[&str]) -> Result<serde_json::Map<String, Value>
     match serde_json::from_str::<Value>(text) {
         Ok(Value::Object(map)) => match map.keys().find(|k| !known.contains(&k.as_str())) {
             Some(unknown) => Err(format!(
-                "\"{unknown}\" is not a field here (the fields are {})",
+                "\"{}\" is not a field here (the fields are {})",
+                clip(unknown),
                 known.join(", ")
             )),
-            None => Ok(map),
+            // serde_json keeps the last of a field given twice: a second one is no guess.
+            None => match given_twice(text) {
+                Some(twice) => Err(format!(
+                    "\"{}\" is given twice: give each field once",
+                    clip(&twice)
+                )),
+                None => Ok(map),
+            },
         },
-        Ok(other) => Err(format!("the payload is JSON but not an object: {other}")),
+        Ok(other) => Err(format!(
+            "the payload is JSON but not an object: {}",
+            clip(&other.to_string())
+        )),
         Err(e) => Err(format!("the payload is not JSON ({e}): {}", clip(text))),
     }
+}
+
+/// The first field of a JSON object `text` given more than once, if one is.
+fn given_twice(text: &str) -> Option<String> {
+    struct Names(Vec<String>);
+    impl<'de> serde::Deserialize<'de> for Names {
+        fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Names, D::Error> {
+            struct Each;
+            impl<'de> serde::de::Visitor<'de> for Each {
+                type Value = Names;
+                fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                    f.write_str("a JSON object")
+                }
+                fn visit_map<M: serde::de::MapAccess<'de>>(
+                    self,
+                    mut m: M,
+                ) -> Result<Names, M::Error> {
+                    let mut names = Vec::new();
+                    while let Some((name, _)) = m.next_entry::<String, serde::de::IgnoredAny>()? {
+                        names.push(name);
+                    }
+                    Ok(Names(names))
+                }
+            }
+            d.deserialize_map(Each)
+        }
+    }
+    let Names(names) = serde_json::from_str(text).ok()?;
+    let mut seen = std::collections::BTreeSet::new();
+    names.into_iter().find(|name| !seen.insert(name.clone()))
 }
 
 /// At most 80 characters of `text`, for a message.
@@ -228,6 +269,17 @@ pub(crate) fn row_json(estimate: &RowEstimate, t_s: f64) -> Value {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_field_given_twice_is_refused_and_a_huge_one_is_named_short() {
+        let twice = parse_request(br#"{"request":"halt","request":"power_up"}"#).unwrap_err();
+        assert!(twice.contains("\"request\" is given twice"), "{twice}");
+        let huge = format!(r#"{{"{}": 1}}"#, "x".repeat(100_000));
+        let why = parse_request(huge.as_bytes()).unwrap_err();
+        assert!(why.len() < 300, "{} characters", why.len());
+        let array = format!("[{}]", "1,".repeat(50_000) + "1");
+        assert!(parse_request(array.as_bytes()).unwrap_err().len() < 300);
+    }
 
     #[test]
     fn requests_parse_and_bad_ones_say_what_is_wrong() {

@@ -8,6 +8,20 @@ use std::time::{Duration, Instant};
 /// At most one line this often.
 const SAY_EVERY: Duration = Duration::from_secs(1);
 
+/// The longest refusal said on the console, characters: a stranger's value echoed
+/// whole once made a line of 120 146.
+const LONGEST_CHARS: usize = 300;
+
+/// `why`, cut at LONGEST_CHARS with how long it was.
+fn shortened(why: String) -> String {
+    let length = why.chars().count();
+    if length <= LONGEST_CHARS {
+        return why;
+    }
+    let cut: String = why.chars().take(LONGEST_CHARS).collect();
+    format!("{cut}... ({length} characters)")
+}
+
 /// A rate limit: at most `per_s` a second, with a burst of as many.
 #[derive(Debug)]
 pub(crate) struct RateLimit {
@@ -89,6 +103,7 @@ pub(crate) struct Refusals {
 impl Refusals {
     /// One refusal; the line to say now, if one is due.
     pub fn refused(&mut self, why: String, now: Instant) -> Option<String> {
+        let why = shortened(why);
         let due = self
             .last_said
             .is_none_or(|at| now.saturating_duration_since(at) >= SAY_EVERY);

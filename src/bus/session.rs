@@ -141,6 +141,9 @@ pub fn open(role: Role, tls: Option<&TlsFiles>) -> Result<Session, BusError> {
         ("transport/unicast/accept_pending", "16".to_string()),
     ];
     if let Some(files) = tls {
+        for (problem, fix) in crate::bus::keys::exposure(files) {
+            tracing::warn!("bus: {problem}: {fix}");
+        }
         settings.extend(secured(files).map_err(|why| BusError::Other { setting, why })?);
     }
     for (key, value) in settings {

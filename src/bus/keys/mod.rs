@@ -65,6 +65,44 @@ fn write_new(path: &Path, text: &str, private: bool) -> Result<(), String> {
         .map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
+/// What is wrong with how an identity's files lie, each with its fix: the authority's
+/// key beside them (whoever reads it can make identities), or the private key readable
+/// by every user of the computer.
+pub fn exposure(tls: &crate::config::TlsFiles) -> Vec<(String, String)> {
+    use std::os::unix::fs::PermissionsExt;
+    let mut found = Vec::new();
+    if let Ok(meta) = std::fs::metadata(&tls.key)
+        && meta.permissions().mode() & 0o007 != 0
+    {
+        let mode = meta.permissions().mode() & 0o777;
+        found.push((
+            format!(
+                "{} is readable by every user (mode {mode:o})",
+                tls.key.display()
+            ),
+            format!("sudo chmod 0640 {}", tls.key.display()),
+        ));
+    }
+    let ca_key = tls.ca.with_file_name("ca.key");
+    if ca_key.exists() {
+        found.push((
+            format!("{} is here: whoever reads it can make identities", ca_key.display()),
+            format!("move {} to the machine that makes the keys (mechweed keys), off the robot and the field's computers", ca_key.display()),
+        ));
+    }
+    found
+}
+
+/// The keys and certificates (`*.key`, `*.pem`) in `dir`, sorted; none if it is not there.
+fn key_files_in(dir: &Path) -> Vec<std::path::PathBuf> {
+    let mut found: Vec<_> = (std::fs::read_dir(dir).into_iter().flatten().flatten())
+        .map(|entry| entry.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "key" || e == "pem"))
+        .collect();
+    found.sort();
+    found
+}
+
 fn rcgen_error(what: &str) -> impl Fn(rcgen::Error) -> String + '_ {
     move |e| format!("cannot make {what}: {e}")
 }
@@ -78,6 +116,15 @@ pub(crate) fn new_cluster(dir: &Path, robot: &str) -> Result<Vec<String>, String
         return Err(format!(
             "{} holds a cluster's keys already: a new authority would lock out every computer that has the old one. Use keys add for one more identity, or name a new folder",
             dir.display()
+        ));
+    }
+    // Any key or certificate there: refused before anything is written, naming it,
+    // so that no half-made authority is left beside a stray file.
+    if let Some(stray) = key_files_in(dir).first() {
+        return Err(format!(
+            "{} holds {} already: keys new makes a new cluster's keys in a folder of their own; move that file away or name a new folder",
+            dir.display(),
+            stray.display()
         ));
     }
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot make {}: {e}", dir.display()))?;
@@ -211,4 +258,19 @@ pub fn certificate_name(cert: &Path) -> Result<String, String> {
     name.and_then(|n| n.as_str().ok())
         .map(crate::bus::identities::shown_name)
         .ok_or_else(|| format!("the certificate {} names nobody", cert.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn keys_new_into_a_folder_with_a_stray_key_writes_nothing_and_names_it() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("laptop.key"), "not ours").unwrap();
+        let why = super::new_cluster(dir.path(), "mechweed").unwrap_err();
+        assert!(why.contains("laptop.key"), "{why}");
+        let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().flatten().collect();
+        assert_eq!(left.len(), 1, "only the stray file: {left:?}");
+        // An empty folder, or one that is not there yet, is taken.
+        assert!(super::new_cluster(&dir.path().join("new"), "mechweed").is_ok());
+    }
 }

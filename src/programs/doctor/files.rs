@@ -2,7 +2,6 @@
 //! cluster's keys.
 
 use std::net::TcpListener;
-use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
 
 use super::{Check, Level, Machine};
@@ -173,34 +172,12 @@ pub(super) fn keys(s: &Settings) -> Check {
             Ok(_) => {}
         }
     }
-    match std::fs::metadata(&tls.key) {
-        Err(e) => problems.push((Level::Fail, format!("{}: {e}", tls.key.display()))),
-        Ok(meta) if meta.permissions().mode() & 0o007 != 0 => {
-            let mode = meta.permissions().mode() & 0o777;
-            problems.push((
-                Level::Fail,
-                format!(
-                    "{} is readable by every user (mode {mode:o})",
-                    tls.key.display()
-                ),
-            ));
-            fix.push(format!("sudo chmod 0640 {}", tls.key.display()));
-        }
-        Ok(_) => {}
+    if let Err(e) = std::fs::metadata(&tls.key) {
+        problems.push((Level::Fail, format!("{}: {e}", tls.key.display())));
     }
-    let ca_key = tls.ca.with_file_name("ca.key");
-    if ca_key.exists() {
-        problems.push((
-            Level::Fail,
-            format!(
-                "{} is here: whoever reads it can make identities",
-                ca_key.display()
-            ),
-        ));
-        fix.push(format!(
-            "move {} to the machine that makes the keys (mechweed keys), off the robot",
-            ca_key.display()
-        ));
+    for (problem, mend) in crate::bus::keys::exposure(tls) {
+        problems.push((Level::Fail, problem));
+        fix.push(mend);
     }
     if problems.is_empty() {
         return Check::ok(

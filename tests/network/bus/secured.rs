@@ -262,6 +262,11 @@ fn an_operator_powers_up_and_drives() {
         stderr.contains("bus: mode autonomous requested by 'operator': accepted"),
         "{stderr}"
     );
+    // The test's keys folder holds the authority's key beside the robot's: said.
+    assert!(
+        stderr.contains("ca.key is here: whoever reads it can make identities"),
+        "{stderr}"
+    );
 }
 
 /// camsim on the bus as `name`, for `seconds`: its output.
