@@ -178,7 +178,70 @@ pub fn bus(args: BusArgs) -> ExitCode {
         eprintln!("{why}");
         return ExitCode::FAILURE;
     }
-    let result = Tool::connect(&args.connect, &args.robot, wait, tls.as_ref()).and_then(|tool| {
+    let result = if let BusCommand::Request {
+        request: BusRequest::Halt,
+        mode: None,
+    } = &args.command
+    {
+        halt_until_answered(&args.connect, &args.robot, tls.as_ref())
+    } else {
+        command(args, wait, tls.as_ref())
+    };
+    match result {
+        Ok(text) => {
+            if !text.is_empty() {
+                println!("{}", text.trim_end());
+            }
+            ExitCode::SUCCESS
+        }
+        Err(why) => {
+            eprintln!("{why}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// How long `bus request halt` keeps trying when no answer comes.
+const HALT_TRIES_FOR: std::time::Duration = std::time::Duration::from_secs(10);
+
+/// HALT is worth asking again: a link that cannot be made now (a flood of junk
+/// connections at the robot's port, a gap in the field's Wi-Fi, a robot program still
+/// starting) may be made a moment later. Each try is said; a decision ends it.
+fn halt_until_answered(
+    connect: &str,
+    robot: &str,
+    tls: Option<&crate::config::TlsFiles>,
+) -> Result<String, String> {
+    let until = std::time::Instant::now() + HALT_TRIES_FOR;
+    let payload = request_payload(BusRequest::Halt, None)?;
+    loop {
+        let asked = Tool::connect(connect, robot, false, tls)
+            .and_then(|tool| tool.ask("request", Some(payload.clone())));
+        let why = match asked {
+            Ok(answer) => return decided(&answer),
+            Err(why) => why,
+        };
+        let left_s = until
+            .saturating_duration_since(std::time::Instant::now())
+            .as_secs_f64();
+        if left_s <= 0.0 {
+            return Err(format!(
+                "{why}; HALT was asked for {} s and not answered",
+                HALT_TRIES_FOR.as_secs()
+            ));
+        }
+        eprintln!("HALT not answered yet ({why}); asking again, for {left_s:.0} s more");
+        std::thread::sleep(std::time::Duration::from_millis(500));
+    }
+}
+
+/// Every bus command but HALT, once.
+fn command(
+    args: BusArgs,
+    wait: bool,
+    tls: Option<&crate::config::TlsFiles>,
+) -> Result<String, String> {
+    Tool::connect(&args.connect, &args.robot, wait, tls).and_then(|tool| {
         match args.command {
             BusCommand::Echo {
                 key,
@@ -213,19 +276,7 @@ pub fn bus(args: BusArgs) -> ExitCode {
             }
             BusCommand::List { seconds } => tool.list(seconds),
         }
-    });
-    match result {
-        Ok(text) => {
-            if !text.is_empty() {
-                println!("{}", text.trim_end());
-            }
-            ExitCode::SUCCESS
-        }
-        Err(why) => {
-            eprintln!("{why}");
-            ExitCode::FAILURE
-        }
-    }
+    })
 }
 
 #[cfg(test)]

@@ -113,3 +113,28 @@ fn a_plain_listen_beyond_loopback_is_refused_before_anything_starts() {
     let check = mechweed().arg("check-config").arg(&file).output().unwrap();
     assert!(check.status.success(), "{}", text(&check.stdout));
 }
+
+#[test]
+fn a_halt_asked_before_the_robot_is_there_is_asked_again_until_it_answers() {
+    let _machine = crate::shared_machine();
+    let listen = super::endpoint(super::free_port());
+    let halt = super::mechweed()
+        .args(["bus", "request", "halt", "--connect", &listen])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Past its first try (a link waits 3 s for the robot).
+    std::thread::sleep(std::time::Duration::from_secs(4));
+    let robot = super::Robot::spawn(Some(listen), &["--mode", "autonomous", "--duration", "12"]);
+    let out = halt.wait_with_output().unwrap();
+    let (said, asked_again) = (super::text(&out.stdout), super::text(&out.stderr));
+    assert!(out.status.success(), "{said}{asked_again}");
+    assert_eq!(said.trim(), "accepted", "{asked_again}");
+    assert!(
+        asked_again.contains("HALT not answered yet"),
+        "{asked_again}"
+    );
+    assert!(asked_again.contains("asking again, for"), "{asked_again}");
+    drop(robot);
+}
