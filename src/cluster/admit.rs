@@ -183,8 +183,8 @@ mod tests {
     fn a_secured_launcher_gives_each_program_its_roles_identity() {
         let dir = tempfile::tempdir().unwrap();
         let keys_dir = dir.path().join("keys");
-        crate::bus::keys::new_cluster(&keys_dir, "mechweed").unwrap();
-        crate::bus::keys::add_identity(&keys_dir, Role::Operator, "laptop-2").unwrap();
+        crate::bus::keys::new_cluster(&keys_dir, "mechweed", &[]).unwrap();
+        crate::bus::keys::add_identity(&keys_dir, Role::Operator, "laptop-2", &[]).unwrap();
         // This laptop holds laptop-2's files, not operator's.
         std::fs::remove_file(keys_dir.join("operator.pem")).unwrap();
         let roster = Roster::read(&crate::bus::keys::roster::path_in(&keys_dir)).unwrap();

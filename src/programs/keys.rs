@@ -19,6 +19,8 @@ pub enum KeysCommand {
         /// The robot's name on the bus ([bus] robot): the access rules cover its keys.
         #[arg(long, value_name = "NAME", default_value = "mechweed")]
         robot: String,
+        #[command(flatten)]
+        hosts: HostArgs,
     },
     /// Make one more identity (DIR/NAME.pem, DIR/NAME.key), e.g. a second laptop:
     /// `keys add keys operator laptop-2`. A launcher's name is its machine's name.
@@ -28,16 +30,38 @@ pub enum KeysCommand {
         #[arg(value_parser = Role::parse)]
         role: Role,
         name: String,
+        #[command(flatten)]
+        hosts: HostArgs,
     },
     /// Take an identity's rights away (a lost laptop): it leaves the roster for good.
     /// Copy DIR/roles.ini to every computer of the cluster afterwards.
     Revoke { dir: PathBuf, name: String },
 }
 
+/// The host names and addresses a certificate names besides its identity: those a
+/// standard TLS client dials the robot (or the master) by, which it checks.
+#[derive(clap::Args)]
+pub struct HostArgs {
+    /// A host name this identity is reached by, e.g. robot-pc (repeatable; for keys
+    /// new, the robot's).
+    #[arg(long = "host", value_name = "NAME")]
+    host: Vec<String>,
+    /// An address this identity is reached at, e.g. 192.168.1.10 (repeatable).
+    #[arg(long = "ip", value_name = "ADDRESS")]
+    ip: Vec<std::net::IpAddr>,
+}
+
+impl HostArgs {
+    fn names(&self) -> Vec<String> {
+        let ips = self.ip.iter().map(ToString::to_string);
+        self.host.iter().cloned().chain(ips).collect()
+    }
+}
+
 pub fn run(command: KeysCommand) -> Result<String, String> {
     match command {
-        KeysCommand::New { dir, robot } => {
-            let made = new_cluster(&dir, &robot)?;
+        KeysCommand::New { dir, robot, hosts } => {
+            let made = new_cluster(&dir, &robot, &hosts.names())?;
             Ok(format!(
                 "made in {}: {}\n\
                  private keys (*.key) are readable by their owner only. Give each computer ca.pem,\n\
@@ -47,8 +71,13 @@ pub fn run(command: KeysCommand) -> Result<String, String> {
                 made.join(", ")
             ))
         }
-        KeysCommand::Add { dir, role, name } => {
-            let made = add_identity(&dir, role, &name)?;
+        KeysCommand::Add {
+            dir,
+            role,
+            name,
+            hosts,
+        } => {
+            let made = add_identity(&dir, role, &name, &hosts.names())?;
             Ok(format!(
                 "made in {}: {} ({role}); roles.ini now names it: copy it to every computer of the cluster",
                 dir.display(),

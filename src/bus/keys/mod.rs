@@ -109,7 +109,13 @@ fn rcgen_error(what: &str) -> impl Fn(rcgen::Error) -> String + '_ {
 
 /// Make a new authority and the first identity of each role in `dir` (made if missing;
 /// refused if it holds an authority already).
-pub(crate) fn new_cluster(dir: &Path, robot: &str) -> Result<Vec<String>, String> {
+/// `robot_hosts`: host names and addresses the robot's certificate names besides its
+/// role, so that a standard TLS client that checks the name it dialled accepts it.
+pub(crate) fn new_cluster(
+    dir: &Path,
+    robot: &str,
+    robot_hosts: &[String],
+) -> Result<Vec<String>, String> {
     crate::config::parse_prefix(robot)?;
     let roster_path = roster::path_in(dir);
     if dir.join("ca.key").exists() || roster_path.exists() {
@@ -150,7 +156,12 @@ pub(crate) fn new_cluster(dir: &Path, robot: &str) -> Result<Vec<String>, String
     };
     let mut made = vec!["ca.pem".to_string(), "ca.key".to_string()];
     for role in Role::ALL {
-        made.extend(make_identity(dir, &issuer, role, role.name())?);
+        let hosts = if role == Role::Robot {
+            robot_hosts
+        } else {
+            &[]
+        };
+        made.extend(make_identity(dir, &issuer, role, role.name(), hosts)?);
         roster.roles.insert(role.name().to_string(), role);
     }
     write_new(&roster_path, &roster.to_text(), false)?;
@@ -158,8 +169,14 @@ pub(crate) fn new_cluster(dir: &Path, robot: &str) -> Result<Vec<String>, String
     Ok(made)
 }
 
-/// One more identity `name` with `role`, signed by the authority in `dir`.
-pub(crate) fn add_identity(dir: &Path, role: Role, name: &str) -> Result<Vec<String>, String> {
+/// One more identity `name` with `role`, signed by the authority in `dir`, naming
+/// `hosts` (host names, addresses) besides its name.
+pub(crate) fn add_identity(
+    dir: &Path,
+    role: Role,
+    name: &str,
+    hosts: &[String],
+) -> Result<Vec<String>, String> {
     roster::check_name(name)?;
     let roster_path = roster::path_in(dir);
     let mut roster = Roster::read(&roster_path)?;
@@ -179,7 +196,7 @@ pub(crate) fn add_identity(dir: &Path, role: Role, name: &str) -> Result<Vec<Str
         .map_err(|e| format!("{}/ca.key is not a private key: {e}", dir.display()))?;
     let issuer = Issuer::from_ca_cert_pem(&read("ca.pem")?, ca_key)
         .map_err(|e| format!("{}/ca.pem is not a certificate: {e}", dir.display()))?;
-    let made = make_identity(dir, &issuer, role, name)?;
+    let made = make_identity(dir, &issuer, role, name, hosts)?;
     roster.roles.insert(name.to_string(), role);
     replace(&roster_path, &roster.to_text())?;
     Ok(made)
@@ -212,6 +229,7 @@ fn make_identity(
     issuer: &Issuer<'_, KeyPair>,
     role: Role,
     name: &str,
+    hosts: &[String],
 ) -> Result<Vec<String>, String> {
     let (cert_path, key_path) = identity_files(dir, name);
     if cert_path.exists() || key_path.exists() {
@@ -222,9 +240,13 @@ fn make_identity(
     }
     let key = KeyPair::generate().map_err(rcgen_error("a key"))?;
     // The name as a host name too: TLS wants one, though the cluster checks the
-    // authority and the name in the roster, not addresses.
-    let mut params =
-        CertificateParams::new(vec![name.to_string()]).map_err(rcgen_error("a certificate"))?;
+    // authority and the name in the roster, not addresses. A standard client checks the
+    // host it dialled (robot-pc, 192.168.1.10): `hosts` names those (an address is taken
+    // as an IP address).
+    let names: Vec<String> = std::iter::once(name.to_string())
+        .chain(hosts.iter().cloned())
+        .collect();
+    let mut params = CertificateParams::new(names).map_err(rcgen_error("a certificate"))?;
     let mut dn = DistinguishedName::new();
     dn.push(DnType::CommonName, name);
     dn.push(DnType::OrganizationalUnitName, role.name());
@@ -266,11 +288,11 @@ mod tests {
     fn keys_new_into_a_folder_with_a_stray_key_writes_nothing_and_names_it() {
         let dir = tempfile::tempdir().unwrap();
         std::fs::write(dir.path().join("laptop.key"), "not ours").unwrap();
-        let why = super::new_cluster(dir.path(), "mechweed").unwrap_err();
+        let why = super::new_cluster(dir.path(), "mechweed", &[]).unwrap_err();
         assert!(why.contains("laptop.key"), "{why}");
         let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().flatten().collect();
         assert_eq!(left.len(), 1, "only the stray file: {left:?}");
         // An empty folder, or one that is not there yet, is taken.
-        assert!(super::new_cluster(&dir.path().join("new"), "mechweed").is_ok());
+        assert!(super::new_cluster(&dir.path().join("new"), "mechweed", &[]).is_ok());
     }
 }

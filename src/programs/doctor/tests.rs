@@ -211,7 +211,7 @@ fn the_process_holding_the_bus_port_is_named() {
 #[test]
 fn keys_readable_by_all_or_beside_the_authoritys_key_fail() {
     let dir = tempfile::tempdir().unwrap();
-    crate::bus::keys::new_cluster(dir.path(), "robot").unwrap();
+    crate::bus::keys::new_cluster(dir.path(), "robot", &[]).unwrap();
     let file = |name: &str| dir.path().join(name).display().to_string();
     let ca = format!("bus.tls_ca={}", file("ca.pem"));
     let cert = format!("bus.tls_cert={}", file("robot.pem"));

@@ -15,6 +15,7 @@ mod process;
 pub mod secured;
 mod sockets;
 mod starve;
+mod third_party;
 mod truth;
 
 use std::process::{Child, Command, Output, Stdio};
