@@ -90,3 +90,45 @@ fn a_standard_zenoh_client_joins_when_the_robots_certificate_names_its_host() {
     );
     drop((robot, old_robot));
 }
+
+#[test]
+fn the_docs_python_program_joins_as_a_viewer() {
+    let python_zenoh = std::process::Command::new("python3")
+        .args(["-c", "import zenoh"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !python_zenoh {
+        eprintln!("skipped: Python's zenoh is not installed here (pip install eclipse-zenoh)");
+        return;
+    }
+    let _machine = crate::shared_machine();
+    let (_dir, keys) = keys_for(&["--ip", "127.0.0.1"]);
+    let robot = secured_robot(&keys, &["--duration", "12"]);
+    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/lab_client.py");
+    let out = std::process::Command::new("timeout")
+        .args(["20", "python3"])
+        .arg(&script)
+        .arg(keys.path())
+        .args(["viewer", &robot.endpoint])
+        .output()
+        .unwrap();
+    let said = text(&out.stdout);
+    assert!(out.status.success(), "{said}{}", text(&out.stderr));
+    assert!(
+        said.contains("setting:") && said.contains("speed_mps"),
+        "{said}"
+    );
+    assert!(said.contains("status: {\""), "{said}");
+    drop(robot);
+}
+
+#[test]
+fn the_docs_show_the_python_program_as_it_is() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let program = std::fs::read_to_string(root.join("docs/lab_client.py")).unwrap();
+    let docs = std::fs::read_to_string(root.join("docs/bus.md")).unwrap();
+    assert!(
+        docs.contains(&format!("```python\n{program}```")),
+        "docs/bus.md and docs/lab_client.py differ"
+    );
+}
