@@ -14,7 +14,7 @@ use crate::config::TlsFiles;
 
 /// The mechweed programs a plan may start: the cluster's own (not, say, `keys` or a
 /// second `cluster launcher`).
-const PROGRAMS: [&str; 5] = ["run", "camsim", "watch", "record", "ros2"];
+pub(crate) const PROGRAMS: [&str; 5] = ["run", "camsim", "watch", "record", "ros2"];
 
 /// The launcher's own rules for what may run.
 #[derive(Debug, Clone, Default)]
@@ -24,6 +24,10 @@ pub(crate) struct Admission {
     /// On a secured cluster, the keys folder and the roster: each program gets the
     /// identity of its role that this folder holds.
     pub keys: Option<(PathBuf, Roster)>,
+    /// Each of PROGRAMS' options that take a file or folder (the command line's
+    /// definitions, given by the program that starts the launcher): a plan may name
+    /// files in them only inside the launcher's working folder.
+    pub file_options: std::collections::BTreeMap<String, Vec<String>>,
 }
 
 /// Where `program` is: a path as it is, a bare name through PATH.
@@ -66,7 +70,7 @@ fn identity_in(dir: &Path, roster: &Roster, role: Role) -> Option<String> {
 impl Admission {
     /// `launch` as this launcher runs it, or why it does not.
     pub(crate) fn admit(&self, mut launch: Launch) -> Result<Launch, String> {
-        if let Some(why) = super::plan_check::refusal(&launch) {
+        if let Some(why) = super::plan_check::refusal(&launch, &self.file_options) {
             return Err(why);
         }
         let command = launch.args.first().cloned().unwrap_or_default();
@@ -169,7 +173,7 @@ mod tests {
         assert!(why.contains("--allow PATH"), "{why}");
         let sh = Admission {
             allowed: vec!["/bin/sh".into()],
-            keys: None,
+            ..Admission::default()
         };
         let taken = sh.admit(launch("/bin/sh", &[])).unwrap();
         assert_eq!(
@@ -189,8 +193,8 @@ mod tests {
         std::fs::remove_file(keys_dir.join("operator.pem")).unwrap();
         let roster = Roster::read(&crate::bus::keys::roster::path_in(&keys_dir)).unwrap();
         let keys = Admission {
-            allowed: Vec::new(),
             keys: Some((keys_dir.clone(), roster)),
+            ..Admission::default()
         };
         let folder = keys_dir.display().to_string();
         let camsim = keys

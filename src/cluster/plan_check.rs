@@ -6,7 +6,7 @@
 //! no settings file (the launcher's machine has its own) and no identity (the launcher
 //! gives each program its role's).
 
-use clap::CommandFactory;
+use std::collections::BTreeMap;
 
 use super::plan::Launch;
 use crate::bus::identities::shown_name;
@@ -28,7 +28,10 @@ const FILE_SETTINGS: [&str; 5] = [
 const LONGEST_DELAY_S: f64 = 3600.0;
 
 /// Why `launch` must not run, or None.
-pub(crate) fn refusal(launch: &Launch) -> Option<String> {
+pub(crate) fn refusal(
+    launch: &Launch,
+    file_options: &BTreeMap<String, Vec<String>>,
+) -> Option<String> {
     let refused = |why: String| Some(format!("{} is refused: {why}", shown_name(&launch.name)));
     if let Some(bad) = std::iter::once(&launch.name)
         .chain(&launch.after)
@@ -49,7 +52,10 @@ pub(crate) fn refusal(launch: &Launch) -> Option<String> {
         return None;
     }
     let command = launch.args.first().map(String::as_str).unwrap_or_default();
-    let file_options = file_options(command);
+    let file_options = file_options
+        .get(command)
+        .map(Vec::as_slice)
+        .unwrap_or_default();
     let mut args = launch.args.iter().skip(1).peekable();
     while let Some(arg) = args.next() {
         let (option, inline) = match arg.split_once('=') {
@@ -87,26 +93,6 @@ pub(crate) fn refusal(launch: &Launch) -> Option<String> {
     None
 }
 
-/// The options of mechweed's `command` that take a file or folder, from the same
-/// definitions as --help (paths, or values named FILE, DIR or FOLDER).
-fn file_options(command: &str) -> Vec<String> {
-    let cli = crate::programs::Cli::command();
-    let Some(program) = cli.find_subcommand(command) else {
-        return Vec::new();
-    };
-    let takes_path = |arg: &clap::Arg| {
-        use clap::ValueHint::{AnyPath, DirPath, FilePath};
-        let hinted = matches!(arg.get_value_hint(), AnyPath | FilePath | DirPath);
-        let named = (arg.get_value_names().unwrap_or_default().iter())
-            .any(|n| ["FILE", "DIR", "FOLDER", "PATH"].contains(&n.as_str()));
-        hinted || named
-    };
-    (program.get_arguments())
-        .filter(|arg| takes_path(arg))
-        .filter_map(|arg| arg.get_long().map(|long| format!("--{long}")))
-        .collect()
-}
-
 /// A relative path that stays inside the folder it is read from.
 fn inside_working_folder(path: &str) -> bool {
     let path = std::path::Path::new(path);
@@ -132,6 +118,13 @@ fn is_name(name: &str) -> bool {
 mod tests {
     use super::*;
 
+    /// As the program that starts a launcher gives them (programs/cluster.rs).
+    fn refusal_of(launch: &Launch) -> Option<String> {
+        let run = ["--report", "--config"].map(String::from).to_vec();
+        let options = BTreeMap::from([("run".to_string(), run)]);
+        refusal(launch, &options)
+    }
+
     fn launch(args: &[&str], delay_s: f64) -> Launch {
         Launch {
             name: "controller".into(),
@@ -148,7 +141,7 @@ mod tests {
 
     #[test]
     fn a_plan_that_would_overwrite_a_file_or_crash_the_launcher_is_refused() {
-        let why = refusal(&launch(
+        let why = refusal_of(&launch(
             &["run", "--headless", "--report", "/some/file"],
             0.0,
         ));
@@ -162,19 +155,19 @@ mod tests {
             &["run", "--report", "~/x"],
             &["run", "--report", "a/../../x"],
         ] {
-            assert!(refusal(&launch(outside, 0.0)).is_some(), "{outside:?}");
+            assert!(refusal_of(&launch(outside, 0.0)).is_some(), "{outside:?}");
         }
-        let why = refusal(&launch(&["run", "--set", "record.folder=/etc"], 0.0)).unwrap();
+        let why = refusal_of(&launch(&["run", "--set", "record.folder=/etc"], 0.0)).unwrap();
         assert!(why.contains("--set record.folder /etc"), "{why}");
-        let why = refusal(&launch(&["run", "--config", "x.ini"], 0.0)).unwrap();
+        let why = refusal_of(&launch(&["run", "--config", "x.ini"], 0.0)).unwrap();
         assert!(why.contains("--config does not come from a plan"), "{why}");
         for delay in [-1.0, f64::NAN, f64::INFINITY, 1e9] {
-            let why = refusal(&launch(&["run"], delay)).expect("a delay out of range");
+            let why = refusal_of(&launch(&["run"], delay)).expect("a delay out of range");
             assert!(why.contains("is not a delay"), "{why}");
         }
         let mut odd = launch(&["run"], 0.0);
         odd.name = "a/b*".into();
-        assert!(refusal(&odd).unwrap().contains("is not a process name"));
+        assert!(refusal_of(&odd).unwrap().contains("is not a process name"));
     }
 
     #[test]
@@ -200,7 +193,7 @@ mod tests {
             ),
         ];
         for launch in ok {
-            assert_eq!(refusal(&launch), None, "{:?}", launch.args);
+            assert_eq!(refusal_of(&launch), None, "{:?}", launch.args);
         }
     }
 }

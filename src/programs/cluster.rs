@@ -83,6 +83,7 @@ fn launcher_admission(
         return Ok(crate::cluster::admit::Admission {
             allowed,
             keys: None,
+            file_options: file_options(),
         });
     };
     let name = tls.name();
@@ -110,7 +111,31 @@ fn launcher_admission(
     Ok(crate::cluster::admit::Admission {
         allowed,
         keys: Some((dir, roster)),
+        file_options: file_options(),
     })
+}
+
+/// The options of each program a plan may start that take a file or folder, from the
+/// same definitions as --help (paths, or values named FILE, DIR or FOLDER).
+fn file_options() -> std::collections::BTreeMap<String, Vec<String>> {
+    use clap::CommandFactory;
+    let cli = crate::programs::Cli::command();
+    let takes_path = |arg: &clap::Arg| {
+        use clap::ValueHint::{AnyPath, DirPath, FilePath};
+        let hinted = matches!(arg.get_value_hint(), AnyPath | FilePath | DirPath);
+        let named = (arg.get_value_names().unwrap_or_default().iter())
+            .any(|n| ["FILE", "DIR", "FOLDER", "PATH"].contains(&n.as_str()));
+        hinted || named
+    };
+    let options = |program: &clap::Command| -> Vec<String> {
+        (program.get_arguments())
+            .filter(|arg| takes_path(arg))
+            .filter_map(|arg| arg.get_long().map(|long| format!("--{long}")))
+            .collect()
+    };
+    (crate::cluster::admit::PROGRAMS.iter())
+        .filter_map(|name| Some((name.to_string(), options(cli.find_subcommand(name)?))))
+        .collect()
 }
 
 /// Read the graph, or print every error in it.
@@ -184,5 +209,25 @@ pub fn cluster(command: ClusterCommand) -> ExitCode {
             }
             Err(code) => code,
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn the_options_that_take_a_file_are_found_from_the_command_line_definitions() {
+        let options = super::file_options();
+        assert!(
+            options["run"].contains(&"--report".to_string()),
+            "{options:?}"
+        );
+        assert!(
+            options["run"].contains(&"--config".to_string()),
+            "{options:?}"
+        );
+        assert!(
+            !options["run"].contains(&"--duration".to_string()),
+            "{options:?}"
+        );
     }
 }

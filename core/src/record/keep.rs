@@ -110,23 +110,12 @@ pub(crate) fn remove_oldest(folder: &Path, keep: usize, current: &str) -> Vec<St
     let excess = groups.len().saturating_sub(keep);
     let mut lines = Vec::new();
     for group in groups.iter().filter(|g| g.name != current).take(excess) {
-        let mut failed = false;
-        for file in &group.files {
-            if let Err(e) = std::fs::remove_file(file) {
-                failed = true;
-                lines.push(format!(
-                    "could not remove old record file {}: {}",
-                    file.display(),
-                    e.kind()
-                ));
-            }
-        }
-        if !failed {
-            lines.push(format!(
-                "removed old record {}: keeping the newest {keep}",
-                folder.join(&group.name).display()
-            ));
-        }
+        remove(
+            folder,
+            group,
+            &format!("keeping the newest {keep}"),
+            &mut lines,
+        );
     }
     lines
 }
@@ -134,42 +123,54 @@ pub(crate) fn remove_oldest(folder: &Path, keep: usize, current: &str) -> Vec<St
 /// Delete the oldest records until the rest take at most `keep_gb` GB, never the one
 /// named `current`. Returns one line per record deleted, or per file that could not be.
 pub(crate) fn remove_beyond_size(folder: &Path, keep_gb: f64, current: &str) -> Vec<String> {
-    let size = |g: &RecordGroup| -> u64 {
-        (g.files.iter())
-            .filter_map(|f| std::fs::metadata(f).ok())
-            .map(|m| m.len())
-            .sum()
-    };
     let groups = records_in(folder);
     let limit_bytes = (keep_gb * 1e9) as u64;
-    let mut total: u64 = groups.iter().map(size).sum();
+    let mut total: u64 = groups.iter().map(size_bytes).sum();
     let mut lines = Vec::new();
     for group in groups.iter().filter(|g| g.name != current) {
         if total <= limit_bytes {
             break;
         }
-        let before = size(group);
-        let mut failed = false;
-        for file in &group.files {
-            if let Err(e) = std::fs::remove_file(file) {
-                failed = true;
-                lines.push(format!(
-                    "could not remove old record file {}: {}",
-                    file.display(),
-                    e.kind()
-                ));
-            }
-        }
+        let before = size_bytes(group);
+        remove(
+            folder,
+            group,
+            &format!("keeping the newest within {keep_gb} GB"),
+            &mut lines,
+        );
         // What is gone: all of it, or without the files that were refused.
-        total -= before - size(group).min(before);
-        if !failed {
+        total -= before - size_bytes(group).min(before);
+    }
+    lines
+}
+
+/// The bytes a record's files take now (a file gone counts nothing).
+fn size_bytes(group: &RecordGroup) -> u64 {
+    (group.files.iter())
+        .filter_map(|f| std::fs::metadata(f).ok())
+        .map(|m| m.len())
+        .sum()
+}
+
+/// Delete one record's files, with a line saying so (`why`), or one per file refused.
+fn remove(folder: &Path, group: &RecordGroup, why: &str, lines: &mut Vec<String>) {
+    let mut failed = false;
+    for file in &group.files {
+        if let Err(e) = std::fs::remove_file(file) {
+            failed = true;
             lines.push(format!(
-                "removed old record {}: keeping the newest within {keep_gb} GB",
-                folder.join(&group.name).display()
+                "could not remove old record file {}: {}",
+                file.display(),
+                e.kind()
             ));
         }
     }
-    lines
+    if !failed {
+        lines.push(format!(
+            "removed old record {}: {why}",
+            folder.join(&group.name).display()
+        ));
+    }
 }
 
 #[cfg(test)]

@@ -218,7 +218,7 @@ fn a_viewer_sees_and_halts_but_cannot_power_up_or_drive() {
 }
 
 /// The first answer on `key` to `payload`, as text.
-fn ask(session: &zenoh::Session, key: &str, payload: &str) -> String {
+pub(super) fn ask(session: &zenoh::Session, key: &str, payload: &str) -> String {
     let replies = session
         .get(key)
         .payload(payload.to_string())

@@ -9,25 +9,8 @@ use std::time::Duration;
 
 use zenoh::Wait;
 
-use super::secured::{Keys, secured_robot};
+use super::secured::{Keys, ask, secured_robot};
 use crate::common::text;
-
-/// The robot's first answer on `key` to `payload`, as text ("" if none came).
-fn ask(session: &zenoh::Session, key: &str, payload: &str) -> String {
-    let replies = (session.get(key))
-        .payload(payload.to_string())
-        .timeout(Duration::from_secs(3))
-        .wait()
-        .unwrap();
-    let Ok(reply) = replies.recv() else {
-        return String::new();
-    };
-    let body = match reply.result() {
-        Ok(sample) => sample.payload().to_bytes().into_owned(),
-        Err(error) => error.payload().to_bytes().into_owned(),
-    };
-    text(&body)
-}
 
 #[test]
 fn a_recorder_reading_the_settings_flat_out_leaves_every_operator_request_answered() {
