@@ -59,13 +59,24 @@ fn a_recorder_reading_the_settings_flat_out_leaves_every_operator_request_answer
         r#"{"request": "power_up"}"#,
         r#"{"request": "mode", "mode": "joystick"}"#,
     ];
+    let mut waited_ms = Vec::new();
     let answers: Vec<String> = (requests.iter())
         .map(|request| {
             std::thread::sleep(Duration::from_millis(250));
-            ask(&operator, "mechweed/request/operator", request)
+            let asked = std::time::Instant::now();
+            let answer = ask(&operator, "mechweed/request/operator", request);
+            waited_ms.push(asked.elapsed().as_secs_f64() * 1e3);
+            answer
         })
         .collect();
     stop.store(true, Ordering::Relaxed);
+    waited_ms.sort_by(f64::total_cmp);
+    println!(
+        "the operator's {} requests during the reader's flood: answered in {:.1} ms (median), {:.1} ms at most",
+        waited_ms.len(),
+        waited_ms[waited_ms.len() / 2],
+        waited_ms[waited_ms.len() - 1]
+    );
     flood.join().unwrap();
     let refused = refused.load(Ordering::Relaxed);
     assert!(
