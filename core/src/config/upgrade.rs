@@ -287,7 +287,8 @@ mod tests {
             } else if line.trim().starts_with('[') {
                 skip = false;
             }
-            if skip || line.trim_start().starts_with("law =") {
+            let dropped = ["law =", "keep_gb ="];
+            if skip || dropped.iter().any(|d| line.trim_start().starts_with(d)) {
                 continue;
             }
             older.push_str(&line.replace("kp = ", "kp =  "));
@@ -299,6 +300,11 @@ mod tests {
             law.line(),
             "[steer] law = pursuit (the steering law of every release before [steer] law was a setting)"
         );
+        // Records of any size, as before there was a limit in space.
+        let keep_gb = added.iter().find(|a| a.key == "keep_gb").unwrap();
+        assert_eq!(keep_gb.value, "0", "{keep_gb:?}");
+        let upgraded = crate::config::Settings::parse("upgraded", &text, &[]).unwrap();
+        assert_eq!(upgraded.record.keep_gb, None);
         assert!(added.iter().any(|a| a.section == "test" && a.new_section));
         // Every line of the older file is there, in its order.
         let mut new_lines = text.lines();

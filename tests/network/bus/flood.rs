@@ -95,12 +95,9 @@ fn flood_sender() {
             continue;
         }
         if let Ok(reply) = get.wait().unwrap().recv() {
-            let body = match reply.result() {
-                Ok(sample) => sample.payload().to_bytes().into_owned(),
-                Err(error) => error.payload().to_bytes().into_owned(),
-            };
+            let body = super::reply_text(&reply);
             // Zenoh's own "Timeout" is no answer; the robot answers in JSON.
-            if serde_json::from_slice::<serde_json::Value>(&body).is_ok() {
+            if serde_json::from_str::<serde_json::Value>(&body).is_ok() {
                 answered += 1;
             }
         }

@@ -16,7 +16,6 @@ use mechweed::config::TlsFiles;
 use zenoh::Wait;
 
 use super::secured::{Keys, secured_robot};
-use crate::common::text;
 
 /// Junk connections to `address`, `per_s` a second, until `stop`.
 fn flood(address: String, per_s: u32, stop: Arc<AtomicBool>) -> std::thread::JoinHandle<u32> {
@@ -53,13 +52,8 @@ fn fresh_halt(keys: &Keys, endpoint: &str) -> bool {
     else {
         return false;
     };
-    let answered = replies.recv().is_ok_and(|reply| {
-        let body = match reply.result() {
-            Ok(sample) => sample.payload().to_bytes().into_owned(),
-            Err(error) => error.payload().to_bytes().into_owned(),
-        };
-        text(&body).contains("accepted")
-    });
+    let answered =
+        (replies.recv()).is_ok_and(|reply| super::reply_text(&reply).contains("accepted"));
     let _ = session.close().wait();
     answered
 }

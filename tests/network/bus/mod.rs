@@ -24,6 +24,15 @@ use std::time::{Duration, Instant};
 use common::{mechweed, text};
 
 /// A port no one listens on now.
+/// A query's reply as text: the answer's payload, or the error's.
+pub fn reply_text(reply: &zenoh::query::Reply) -> String {
+    let body = match reply.result() {
+        Ok(sample) => sample.payload().to_bytes().into_owned(),
+        Err(error) => error.payload().to_bytes().into_owned(),
+    };
+    text(&body)
+}
+
 pub fn free_port() -> u16 {
     let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
     listener.local_addr().unwrap().port()

@@ -225,12 +225,7 @@ pub(super) fn ask(session: &zenoh::Session, key: &str, payload: &str) -> String 
         .timeout(Duration::from_secs(3))
         .wait()
         .unwrap();
-    let reply = replies.recv().expect("an answer");
-    let body = match reply.result() {
-        Ok(sample) => sample.payload().to_bytes().into_owned(),
-        Err(error) => error.payload().to_bytes().into_owned(),
-    };
-    text(&body)
+    super::reply_text(&replies.recv().expect("an answer"))
 }
 
 #[test]

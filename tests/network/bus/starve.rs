@@ -10,7 +10,6 @@ use std::time::Duration;
 use zenoh::Wait;
 
 use super::secured::{Keys, ask, secured_robot};
-use crate::common::text;
 
 #[test]
 fn a_recorder_reading_the_settings_flat_out_leaves_every_operator_request_answered() {
@@ -34,11 +33,7 @@ fn a_recorder_reading_the_settings_flat_out_leaves_every_operator_request_answer
                     .attachment(me.clone())
                     .timeout(Duration::from_millis(500))
                     .callback(move |reply| {
-                        let body = match reply.result() {
-                            Ok(sample) => sample.payload().to_bytes().into_owned(),
-                            Err(error) => error.payload().to_bytes().into_owned(),
-                        };
-                        if text(&body).contains("too many requests") {
+                        if super::reply_text(&reply).contains("too many requests") {
                             refused.fetch_add(1, Ordering::Relaxed);
                         }
                     })

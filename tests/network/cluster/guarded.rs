@@ -9,7 +9,7 @@ use mechweed::bus::session::{Role, open};
 use mechweed::config::TlsFiles;
 use zenoh::Wait;
 
-use super::{Started, free_port, make_keys, mechweed_in, wait_for};
+use super::{Started, free_port, make_keys, mechweed_in, one_machine_master, wait_for};
 use crate::common::text;
 
 /// A plan for robot-pc that runs `sh -c "touch pwned"`, as a rogue would send it.
@@ -125,30 +125,14 @@ fn a_plan_naming_a_program_the_launcher_does_not_allow_is_refused() {
     let _machine = crate::shared_machine();
     let dir = tempfile::tempdir().unwrap();
     let folder = dir.path();
-    let master = free_port();
-    let graph = folder.join("g.ini");
-    std::fs::write(
-        &graph,
-        format!(
-            "[cluster]\nrobot = mechweed\nmaster = tcp/127.0.0.1:{master}\nmaster_lost = run_on\n\
-             [machine robot-pc]\nendpoint = tcp/127.0.0.1:{}\n\
-             [process payload]\nmachine = robot-pc\nprogram = sh\nargs = -c \"touch pwned\"\n",
-            free_port()
-        ),
-    )
-    .unwrap();
-    let mut started = Started(Vec::new());
-    started.0.push(
-        mechweed_in(folder)
-            .args(["cluster", "master"])
-            .arg(&graph)
-            .stdout(Stdio::null())
-            .spawn()
-            .unwrap(),
+    let (master_process, master) = one_machine_master(
+        folder,
+        "[process payload]\nmachine = robot-pc\nprogram = sh\nargs = -c \"touch pwned\"\n",
     );
+    let _started = Started(vec![master_process]);
     let launcher = mechweed_in(folder)
         .args(["cluster", "launcher", "--machine", "robot-pc"])
-        .args(["--connect", &format!("tcp/127.0.0.1:{master}")])
+        .args(["--connect", &master])
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()

@@ -85,7 +85,13 @@ pub fn robot_status(folder: &Path, robot: &str) -> Option<Value> {
 }
 
 pub fn cluster_status(folder: &Path, master: &str) -> Option<Value> {
-    let out = mechweed_in(folder)
+    let out = cluster_status_as(folder, master, &identity_for(master));
+    serde_json::from_slice(&out.stdout).ok()
+}
+
+/// `cluster status --json` asked with `identity` (`--keys DIR --as NAME`, or none).
+pub fn cluster_status_as(folder: &Path, master: &str, identity: &[&str]) -> std::process::Output {
+    mechweed_in(folder)
         .args([
             "cluster",
             "status",
@@ -95,15 +101,35 @@ pub fn cluster_status(folder: &Path, master: &str) -> Option<Value> {
             "--connect",
             master,
         ])
-        .args(identity_for(master))
+        .args(identity)
         .output()
-        .unwrap();
-    serde_json::from_slice(&out.stdout).ok()
+        .unwrap()
 }
 
 pub fn process<'a>(cluster: &'a Value, name: &str) -> &'a Value {
     let all = cluster["processes"].as_array().unwrap();
     all.iter().find(|p| p["process"] == name).unwrap()
+}
+
+/// A master serving a one-machine graph (machine robot-pc, plain TCP on loopback) whose
+/// processes are the INI sections `processes`, started in `folder`: its process, for a
+/// `Started`, and the endpoint a launcher connects to.
+pub fn one_machine_master(folder: &Path, processes: &str) -> (Child, String) {
+    let master = format!("tcp/127.0.0.1:{}", free_port());
+    let graph = folder.join("g.ini");
+    let text = format!(
+        "[cluster]\nrobot = mechweed\nmaster = {master}\nmaster_lost = run_on\n\
+         [machine robot-pc]\nendpoint = tcp/127.0.0.1:{}\n{processes}",
+        free_port()
+    );
+    std::fs::write(&graph, text).unwrap();
+    let child = mechweed_in(folder)
+        .args(["cluster", "master"])
+        .arg(&graph)
+        .stdout(Stdio::null())
+        .spawn()
+        .unwrap();
+    (child, master)
 }
 
 /// Wait for each of `children` to end (they were asked to), at most `seconds` each.
@@ -216,19 +242,7 @@ fn the_one_machine_graph_drives_restarts_the_camera_and_stops_with_safe_outputs(
     assert_eq!(process(&cluster, "operator-view")["state"], "manual");
     // A launcher's identity gets no command line: the cluster's status is not for it
     // (its launcher waited for the camera through the processes' states alone).
-    let as_launcher = mechweed_in(folder)
-        .args([
-            "cluster",
-            "status",
-            "--json",
-            "--seconds",
-            "1",
-            "--connect",
-            &master,
-        ])
-        .args(["--keys", "keys", "--as", "robot-pc"])
-        .output()
-        .unwrap();
+    let as_launcher = cluster_status_as(folder, &master, &["--keys", "keys", "--as", "robot-pc"]);
     assert!(
         !as_launcher.status.success(),
         "{}",

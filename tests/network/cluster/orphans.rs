@@ -3,34 +3,18 @@
 
 use std::process::Stdio;
 
-use super::{Started, alive, free_port, mechweed_in, wait_for};
+use super::{Started, alive, mechweed_in, one_machine_master, wait_for};
 
 #[test]
 fn a_killed_launcher_takes_its_processes_with_it() {
     let _machine = crate::shared_machine();
     let dir = tempfile::tempdir().unwrap();
     let folder = dir.path();
-    let master = free_port();
-    let graph = folder.join("g.ini");
-    std::fs::write(
-        &graph,
-        format!(
-            "[cluster]\nrobot = mechweed\nmaster = tcp/127.0.0.1:{master}\nmaster_lost = run_on\n\
-             [machine robot-pc]\nendpoint = tcp/127.0.0.1:{}\n\
-             [process worker]\nmachine = robot-pc\nprogram = /bin/sh\nargs = -c \"echo $$ > worker.pid; exec sleep 60\"\n",
-            free_port()
-        ),
-    )
-    .unwrap();
-    let mut started = Started(Vec::new());
-    started.0.push(
-        mechweed_in(folder)
-            .args(["cluster", "master"])
-            .arg(&graph)
-            .stdout(Stdio::null())
-            .spawn()
-            .unwrap(),
+    let (master_process, master) = one_machine_master(
+        folder,
+        "[process worker]\nmachine = robot-pc\nprogram = /bin/sh\nargs = -c \"echo $$ > worker.pid; exec sleep 60\"\n",
     );
+    let mut started = Started(vec![master_process]);
     let launcher = mechweed_in(folder)
         .args([
             "cluster",
@@ -40,7 +24,7 @@ fn a_killed_launcher_takes_its_processes_with_it() {
             "--allow",
             "/bin/sh",
         ])
-        .args(["--connect", &format!("tcp/127.0.0.1:{master}")])
+        .args(["--connect", &master])
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .spawn()
