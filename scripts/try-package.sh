@@ -57,7 +57,7 @@ echo "  kept: $(in_root grep -m1 '^speed_mps' /etc/mechweed/robot.ini)"
 step "a kept robot.ini of an older release: the install says what it lacks, changes nothing"
 if git show c5bed0b:config/robot.ini > "$root/etc/mechweed/robot.ini" 2>/dev/null; then
     before=$(in_root sha256sum /etc/mechweed/robot.ini)
-    in_root dpkg -i /tmp/mechweed.deb 2>&1 | grep -v '^(Reading\|^Preparing\|^Unpacking\|^Setting up' | sed 's/^/  /' | head -20
+    in_root dpkg -i /tmp/mechweed.deb 2>&1 | grep -v '^(Reading\|^Preparing\|^Unpacking\|^Setting up' | sed 's/^/  /'
     after=$(in_root sha256sum /etc/mechweed/robot.ini)
     [ "$before" = "$after" ] || { echo "FAIL: the older robot.ini was changed"; exit 1; }
     echo "  unchanged; then: mechweed config upgrade"
