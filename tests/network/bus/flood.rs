@@ -53,7 +53,13 @@ fn counts(child: Child) -> (u64, u64) {
     let line = out
         .lines()
         .find_map(|l| l.strip_prefix("flood_sender: "))
-        .unwrap_or_else(|| panic!("no counts from the sender: {out}{}", text(&output.stderr)));
+        .unwrap_or_else(|| {
+            let status = output.status;
+            panic!(
+                "no counts from the sender ({status}): {out}{}",
+                text(&output.stderr)
+            )
+        });
     let mut words = line.split(' ');
     let mut next = || words.next().and_then(|w| w.parse().ok()).unwrap_or(0);
     (next(), next())

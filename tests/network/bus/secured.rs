@@ -106,14 +106,20 @@ fn run_for(args: &[String], seconds: f64) -> Output {
         .spawn()
         .unwrap();
     let pid = child.id();
+    // The killer waits for the child's end or the time, whichever comes first: once the
+    // child is reaped its pid may be another process's (a later test's), never killed.
+    let (ended, ended_rx) = crossbeam_channel::bounded::<()>(1);
     let killer = std::thread::spawn(move || {
-        std::thread::sleep(Duration::from_secs_f64(seconds));
-        // SAFETY: kill(2) on the child's pid; harmless if it has ended.
-        unsafe { libc::kill(pid as i32, libc::SIGKILL) };
+        let waited = ended_rx.recv_timeout(Duration::from_secs_f64(seconds));
+        if waited == Err(crossbeam_channel::RecvTimeoutError::Timeout) {
+            // SAFETY: kill(2) on the child's pid, not yet reaped (we wait for it).
+            unsafe { libc::kill(pid as i32, libc::SIGKILL) };
+        }
     });
-    let out = child.wait_with_output().unwrap();
-    drop(killer);
-    out
+    let out = child.wait_with_output();
+    drop(ended);
+    killer.join().unwrap();
+    out.unwrap()
 }
 
 fn bus_args(robot: &Robot, args: &[&str], identity: &[String]) -> Vec<String> {
