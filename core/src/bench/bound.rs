@@ -3,7 +3,9 @@
 //! field, the robot and its sensors, measured as the benchmark measures (over the
 //! measured stretch of one row, its mean taken out). `bench rows --field realistic`
 //! prints it beside the tool's measured s.d., as `floor` (bench_floor.rs) is printed
-//! beside the filter's error. LQG is the best law of all for a linear model with
+//! beside the filter's error, and in the same measure as the tool's RMS: the mean
+//! kept, the stretch's mean square of a zero-mean error is its steady variance.
+//! achievable.rs adds to the same model the loop's delay and the wheel's rate limit. LQG is the best law of all for a linear model with
 //! Gaussian disturbances; the field's bumps are sparse kicks and its slope's levels are
 //! uniform, so a law that exploits that could in principle do a little better, and the
 //! LQG minimises the whole mean square where the benchmark takes the row's mean out. A
@@ -37,31 +39,77 @@ use crate::bench::floor::{Geometry, sensor_variances, steady_filter, within_stre
 use crate::config::{PdSettings, SteerSource};
 
 use crate::steer::lqr::{
-    CAMERA_BIAS, CRAB_RATE, Column, DOUBLINGS, HEADING, MAP_BIAS, Matrix, N, SteeringModel, WHEEL,
-    WHEEL_RATE, Y, continuous, discrete as held, forget_per_s, optimal_gain,
+    ANGLE_PRICE, CAMERA_BIAS, CRAB_RATE, Column, DOUBLINGS, Gain, HEADING, MAP_BIAS, Matrix, N,
+    SteeringModel, WHEEL, WHEEL_RATE, Y, continuous, discrete as held, forget_per_s, priced_gain,
 };
 
 /// The closed loop: the state and the filter's error.
 type Loop = SMatrix<f64, { 2 * N }, { 2 * N }>;
 
-/// The tool's error s.d. over `measured_m` of row under the best linear steering of the
+/// How the model's steering acts: the price it puts on the wheel's rate, m² s² per rad²,
+/// and whether each measurement reaches it a frame late (it then steers by the filter's
+/// prediction, not by the estimate updated with the frame's own measurement).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Law {
+    pub rate_price: f64,
+    pub delayed: bool,
+}
+
+impl Law {
+    /// The bound's: nothing late, the wheel as fast as the steering likes.
+    pub(crate) const BOUND: Law = Law {
+        rate_price: 0.0,
+        delayed: false,
+    };
+}
+
+/// A reference's figures over one stretch of row.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Reference {
+    /// The tool's error s.d. over the stretch, its mean taken out, cm.
+    pub sd_cm: f64,
+    /// The tool's RMS over the stretch, its mean kept, as the benchmark's RMS, cm.
+    pub rms_cm: f64,
+    /// The wheel's RMS rate, deg/s.
+    pub wheel_rate_rms_dps: f64,
+}
+
+/// The tool's error over `measured_m` of row under the best linear steering of the
 /// model when `source` steers at `speed_mps` on `plant`'s realistic field with the
-/// steering regulator `steering`, cm (None for a speed, a distance or a camera rate that
+/// steering regulator `steering` (None for a speed, a distance or a camera rate that
 /// is not positive, or where the model has no steady state).
-pub(crate) fn bound_cm(
+pub(crate) fn bound(
     plant: &SimParams,
     at: Geometry,
     steering: &PdSettings,
     source: SteerSource,
     speed_mps: f64,
     measured_m: f64,
-) -> Option<f64> {
+) -> Option<Reference> {
+    reference(
+        plant,
+        at,
+        steering,
+        (source, speed_mps, measured_m),
+        Law::BOUND,
+    )
+}
+
+/// The same under the best linear steering that acts as `law` says.
+pub(crate) fn reference(
+    plant: &SimParams,
+    at: Geometry,
+    steering: &PdSettings,
+    (source, speed_mps, measured_m): (SteerSource, f64, f64),
+    law: Law,
+) -> Option<Reference> {
     if !(speed_mps > 0.0 && plant.camera_rate_hz > 0.0 && measured_m > 0.0) {
         return None;
     }
     let period_s = 1.0 / plant.camera_rate_hz;
     let (a, b, q) = discrete(plant, steering, speed_mps, period_s);
     let model = (&a, &b, &q);
+    let k = priced_gain(&a, &b, at.tool_x_m, ANGLE_PRICE, law.rate_price)?;
     let ([camera_offset_r, camera_angle_r], gnss_r) = sensor_variances(plant);
     // The encoder's wheel angle and rate: a little noise keeps the filter's equations
     // regular; half or five times as much moves no figure the benchmark prints.
@@ -78,19 +126,19 @@ pub(crate) fn bound_cm(
     let (x, closed) = match source {
         SteerSource::Camera => closed_loop::<4>(
             model,
-            at.tool_x_m,
+            (&k, law.delayed),
             [camera_offset, camera_angle, wheel, wheel_rate],
             [camera_offset_r, camera_angle_r, wheel_r[0], wheel_r[1]],
         ),
         SteerSource::Gnss => closed_loop::<3>(
             model,
-            at.tool_x_m,
+            (&k, law.delayed),
             [gnss, wheel, wheel_rate],
             [gnss_r, wheel_r[0], wheel_r[1]],
         ),
         SteerSource::Fused => closed_loop::<5>(
             model,
-            at.tool_x_m,
+            (&k, law.delayed),
             [camera_offset, camera_angle, gnss, wheel, wheel_rate],
             [
                 camera_offset_r,
@@ -105,7 +153,15 @@ pub(crate) fn bound_cm(
     (tool[Y], tool[HEADING]) = (1.0, at.tool_x_m);
     let frames = ((measured_m / (speed_mps * period_s)).round() as usize).max(1);
     let variance = within_stretch_variance(&x, &closed, &tool, frames);
-    (variance >= 0.0).then(|| variance.sqrt() * 100.0)
+    // Every part of the model has a zero mean: a stretch's mean square is, on average
+    // over fields, the steady variance, the stretch's own mean included.
+    let mean_square = (tool.transpose() * x * tool)[0];
+    let wheel_rate = x[(WHEEL_RATE, WHEEL_RATE)];
+    (variance >= 0.0 && mean_square >= variance && wheel_rate >= 0.0).then(|| Reference {
+        sd_cm: variance.sqrt() * 100.0,
+        rms_cm: mean_square.sqrt() * 100.0,
+        wheel_rate_rms_dps: wheel_rate.sqrt().to_degrees(),
+    })
 }
 
 /// The model over one period: (A, B, Q) of x' = A x + B u + w, u the commanded wheel
@@ -152,26 +208,27 @@ fn discrete(
     (a_d, b_d, (q_d + q_d.transpose()) / 2.0)
 }
 
-/// The steady covariance of (state, filter's error) under the optimal gain and the
-/// steady Kalman filter of the M measurements h (rows) with variances r, and how it
+/// The steady covariance of (state, filter's error) under the gain k and the steady
+/// Kalman filter of the M measurements h (rows) with variances r, the gain acting on
+/// the updated estimate or (`delayed`) on the predicted one, and how the covariance
 /// carries from one period to the next; None if anything does not stay finite.
 fn closed_loop<const M: usize>(
     (a, b, q): (&Matrix, &Column, &Matrix),
-    tool_x_m: f64,
+    (k, delayed): (&Gain, bool),
     rows: [[f64; N]; M],
     variances: [f64; M],
 ) -> Option<(Loop, Loop)> {
     let h = SMatrix::<f64, M, N>::from_row_slice(rows.as_flattened());
     let r = SMatrix::<f64, M, M>::from_diagonal(&SVector::from(variances));
     let (_, l) = steady_filter(a, q, &h, &r)?;
-    let k = optimal_gain(a, b, tool_x_m)?;
-    // u = -K x̂, x̂ = x - (I - L H) e + L v, e the predicted estimate's error.
+    // u = -K x̂, e the predicted estimate's error: updated, x̂ = x - (I - L H) e + L v;
+    // predicted (the frame's measurement not yet there), x̂ = x - e.
     let i_lh = Matrix::identity() - l * h;
     let mut closed = Loop::zeros();
     closed.fixed_view_mut::<N, N>(0, 0).copy_from(&(a - b * k));
     closed
         .fixed_view_mut::<N, N>(0, N)
-        .copy_from(&(b * k * i_lh));
+        .copy_from(&(b * k * if delayed { Matrix::identity() } else { i_lh }));
     closed
         .fixed_view_mut::<N, N>(N, N)
         .copy_from(&(a - a * l * h));
@@ -181,7 +238,9 @@ fn closed_loop<const M: usize>(
     w_in.fixed_view_mut::<N, N>(N, 0)
         .copy_from(&Matrix::identity());
     let mut v_in = SMatrix::<f64, { 2 * N }, M>::zeros();
-    v_in.fixed_view_mut::<N, M>(0, 0).copy_from(&(-b * k * l));
+    if !delayed {
+        v_in.fixed_view_mut::<N, M>(0, 0).copy_from(&(-b * k * l));
+    }
     v_in.fixed_view_mut::<N, M>(N, 0).copy_from(&(-a * l));
     // X = Σ Aᵏ W Aᵏᵀ, by doubling: after n rounds, 2ⁿ terms.
     let (mut x, mut power) = (
@@ -204,7 +263,9 @@ mod tests {
     use crate::config::Settings;
 
     fn bound(plant: &SimParams, steering: &PdSettings, source: SteerSource) -> f64 {
-        bound_cm(plant, AT, steering, source, 1.0, 55.0).unwrap()
+        super::bound(plant, AT, steering, source, 1.0, 55.0)
+            .unwrap()
+            .sd_cm
     }
 
     #[test]
@@ -222,12 +283,13 @@ mod tests {
         (rows[0][Y], rows[0][HEADING], rows[0][MAP_BIAS]) = (1.0, AT.antenna_x_m, 1.0);
         (rows[1][WHEEL], rows[2][WHEEL_RATE]) = (1.0, 1.0);
         let variances = [gnss_r, 1e-6, 1e-4];
-        let (x, _) = closed_loop::<3>((&a, &b, &q), AT.tool_x_m, rows, variances).unwrap();
+        let k = priced_gain(&a, &b, AT.tool_x_m, ANGLE_PRICE, 0.0).unwrap();
+        let (x, _) = closed_loop::<3>((&a, &b, &q), (&k, false), rows, variances).unwrap();
         let h = SMatrix::<f64, 3, N>::from_row_slice(rows.as_flattened());
         let r = SMatrix::<f64, 3, 3>::from_diagonal(&SVector::from(variances));
         let (predicted, l) = steady_filter(&a, &q, &h, &r).unwrap();
         let innovations = h * predicted * h.transpose() + r;
-        let steered = a - b * optimal_gain(&a, &b, AT.tool_x_m).unwrap();
+        let steered = a - b * k;
         let mut y = Matrix::zeros();
         for _ in 0..100_000 {
             y = steered * y * steered.transpose() + l * innovations * l.transpose();
@@ -246,8 +308,51 @@ mod tests {
         let steering = Settings::shipped().pid_steer;
         let b = bound(&plant, &steering, SteerSource::Fused);
         assert!(b < 0.05, "{b} cm");
-        let at = |speed, metres| bound_cm(&plant, AT, &steering, SteerSource::Fused, speed, metres);
+        let at =
+            |speed, metres| super::bound(&plant, AT, &steering, SteerSource::Fused, speed, metres);
         assert_eq!((at(0.0, 55.0), at(1.0, 0.0)), (None, None));
+    }
+
+    #[test]
+    fn a_frames_delay_doubles_a_random_walks_variance_under_deadbeat_steering() {
+        // By hand: y' = y + u + w, measured exactly. Steered on the frame's own
+        // measurement, u = -y leaves y' = w: variance q. A frame late, u = -(y - e) with
+        // e the last frame's w: y' = e + w, variance 2 q. The other states are still.
+        let mut a = Matrix::identity() * 0.5;
+        a[(Y, Y)] = 1.0;
+        let mut b = Column::zeros();
+        b[Y] = 1.0;
+        let mut q = Matrix::zeros();
+        q[(Y, Y)] = 1e-4;
+        let mut only_y = [[0.0; N]; 1];
+        only_y[0][Y] = 1.0;
+        let k = priced_gain(&a, &b, 0.0, ANGLE_PRICE, 0.0).unwrap();
+        let variance = |delayed| {
+            let (x, _) = closed_loop::<1>((&a, &b, &q), (&k, delayed), only_y, [1e-10]).unwrap();
+            x[(Y, Y)]
+        };
+        let (now, late) = (variance(false), variance(true));
+        assert!((now / 1e-4 - 1.0).abs() < 0.01, "{now}");
+        assert!((late / now - 2.0).abs() < 0.01, "{late} {now}");
+    }
+
+    #[test]
+    fn the_bounds_rms_keeps_the_stretchs_mean_and_so_is_above_its_sd() {
+        let plant = realistic();
+        let steering = Settings::shipped().pid_steer;
+        let at =
+            |metres| super::bound(&plant, AT, &steering, SteerSource::Fused, 1.0, metres).unwrap();
+        let (short, long) = (at(5.0), at(500.0));
+        // The RMS does not depend on the stretch; the s.d. loses the more of it to the
+        // stretch's mean the shorter the stretch, the slow errors' share.
+        assert!(
+            (short.rms_cm - long.rms_cm).abs() < 1e-9,
+            "{short:?} {long:?}"
+        );
+        assert!(
+            short.sd_cm < long.sd_cm && long.sd_cm < long.rms_cm,
+            "{short:?} {long:?}"
+        );
     }
 
     #[test]

@@ -9,7 +9,8 @@
 use mechweed_hw::sim::{CrossTrackSummary, FieldKind, RowShape, SimParams};
 use serde::Serialize;
 
-use crate::bench::bound::bound_cm;
+use crate::bench::achievable::{achievable, late, wheel_rate_limit_dps};
+use crate::bench::bound::bound;
 use crate::bench::floor::{Geometry, floor_cm};
 use crate::config::{CameraPort, GnssPort, Settings, SteerSource, override_parts};
 use crate::state::modes::Mode;
@@ -63,8 +64,17 @@ pub struct RowRun {
     pub filter_floor_cm: Option<f64>,
     /// On the realistic field: the tool's s.d. that the best linear (LQG) steering of a
     /// linear model of the field, the robot and these sensors leaves over a stretch this
-    /// long, cm (bench_bound.rs). Like the floor, an expectation over such fields.
+    /// long, its mean taken out, cm (bench_bound.rs). Like the floor, an expectation
+    /// over such fields.
     pub steering_bound_cm: Option<f64>,
+    /// The same bound as an RMS, the stretch's mean kept, as `cross_track_cm.rms_cm` is
+    /// measured, cm: the one the tool's RMS is compared with.
+    pub steering_bound_rms_cm: Option<f64>,
+    /// On the realistic field: the tool's RMS that the best linear steering reaches with
+    /// the loop's delay and the wheel's rate limit added to the bound's model, cm
+    /// (bench_achievable.rs), and that steering's RMS wheel rate, deg/s.
+    pub achievable_rms_cm: Option<f64>,
+    pub achievable_wheel_rate_dps: Option<f64>,
     pub faults: Vec<String>,
     pub sim_time_s: f64,
 }
@@ -161,8 +171,15 @@ pub fn run_row(
     let filter_floor_cm = realistic
         .then(|| floor_cm(&s.sim, at, source, speed_mps, measured_m))
         .flatten();
-    let steering_bound_cm = realistic
-        .then(|| bound_cm(&s.sim, at, &s.pid_steer, source, speed_mps, measured_m))
+    let steering_bound = realistic
+        .then(|| bound(&s.sim, at, &s.pid_steer, source, speed_mps, measured_m))
+        .flatten();
+    let reachable = realistic
+        .then(|| {
+            let run = (source, speed_mps, measured_m);
+            let delayed = late(&s.sim, source);
+            achievable(&s, at, run, wheel_rate_limit_dps(&s), delayed)
+        })
         .flatten();
     RowRun {
         field: field_name(field).to_string(),
@@ -172,7 +189,10 @@ pub fn run_row(
         cross_track_cm,
         filter_error_cm: sim.filter_error().map(|e| e.summary()),
         filter_floor_cm,
-        steering_bound_cm,
+        steering_bound_cm: steering_bound.map(|b| b.sd_cm),
+        steering_bound_rms_cm: steering_bound.map(|b| b.rms_cm),
+        achievable_rms_cm: reachable.map(|(r, _)| r.rms_cm),
+        achievable_wheel_rate_dps: reachable.map(|(r, _)| r.wheel_rate_rms_dps),
         faults: sim
             .supervisor
             .faults()
@@ -234,20 +254,30 @@ fn gear_for_the_field(s: &mut Settings) {
 /// The table `mechweed bench rows` prints.
 pub fn table(runs: &[RowRun]) -> String {
     let mut out = String::from(
-        "source  row       speed   mean    s.d.    RMS     p95     max    >2cm  filter  floor  bound  faults\n",
+        "source  row       speed   mean    s.d.    RMS   bound  reach     p95     max    >2cm  filter  floor  faults\n",
     );
-    out += "                  m/s     cm      cm      cm      cm      cm     %     s.d. cm   cm     cm\n";
-    out += "(bound: n/c, not comparable, for a run that stopped before its row's end)\n";
+    out += "                  m/s     cm      cm      cm     cm     cm      cm      cm     %     s.d. cm   cm\n";
+    out += "(bound and reach: the RMS that the best linear steering leaves on the field's model, and \
+             with the loop's delay and the wheel's rate limit added, to compare with RMS; \
+             n/c, not comparable, for a run that stopped before its row's end)\n";
     for r in runs {
         let c = &r.cross_track_cm;
+        // A stopped run's figures cover part of its row: no reference compares with it.
+        let reference = |cm: Option<f64>| match (cm, r.faults.is_empty()) {
+            (None, _) => "-".to_string(),
+            (Some(_), false) => "n/c".to_string(),
+            (Some(cm), true) => format!("{cm:.2}"),
+        };
         out += &format!(
-            "{:<7} {:<9} {:4.1} {:7.2} {:7.2} {:7.2} {:7.2} {:7.2} {:6.1} {:>7} {:>6} {:>6}  {}\n",
+            "{:<7} {:<9} {:4.1} {:7.2} {:7.2} {:7.2} {:>6} {:>6} {:7.2} {:7.2} {:6.1} {:>7} {:>6}  {}\n",
             r.source,
             r.row,
             r.speed_mps,
             c.mean_cm,
             c.sd_cm,
             c.rms_cm,
+            reference(r.steering_bound_rms_cm),
+            reference(r.achievable_rms_cm),
             c.p95_cm,
             c.max_cm,
             c.share_over_2cm * 100.0,
@@ -255,12 +285,6 @@ pub fn table(runs: &[RowRun]) -> String {
                 .map_or("-".to_string(), |e| format!("{:.2}", e.sd_cm)),
             r.filter_floor_cm
                 .map_or("-".to_string(), |f| format!("{f:.2}")),
-            // A stopped run's figures cover part of its row: its bound is not comparable.
-            match (r.steering_bound_cm, r.faults.is_empty()) {
-                (None, _) => "-".to_string(),
-                (Some(_), false) => "n/c".to_string(),
-                (Some(b), true) => format!("{b:.2}"),
-            },
             if r.faults.is_empty() {
                 "none".to_string()
             } else {

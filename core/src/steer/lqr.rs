@@ -116,13 +116,8 @@ pub(crate) fn discrete(a: &Matrix, b: &Column, period_s: f64) -> (Matrix, Column
 }
 
 /// The gain K of u = -K x that minimises the mean of the tool's offset squared (the tool
-/// `tool_x_m` ahead of the rear axle) plus ANGLE_PRICE u², for the discrete (A, B).
-pub(crate) fn optimal_gain(a: &Matrix, b: &Column, tool_x_m: f64) -> Option<Gain> {
-    priced_gain(a, b, tool_x_m, ANGLE_PRICE, 0.0)
-}
-
-/// The same with `angle_price` on u², m² per rad², and `rate_price` on the wheel's rate
-/// squared, m² s² per rad².
+/// `tool_x_m` ahead of the rear axle) plus `angle_price` u², m² per rad², and
+/// `rate_price` times the wheel's rate squared, m² s² per rad², for the discrete (A, B).
 pub(crate) fn priced_gain(
     a: &Matrix,
     b: &Column,
