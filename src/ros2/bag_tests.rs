@@ -28,7 +28,8 @@ fn messages() -> Vec<super::flows::Outgoing> {
     let event =
         serde_json::json!({"t_s": 2.0, "tick": 200, "kind": "fault", "text": "e-stop pressed"});
     out.extend(c.event(event.to_string().as_bytes()).unwrap());
-    out.push(c.diagnostics(Instant::now(), "").unwrap());
+    // A status came a moment ago: its diagnostics are there.
+    out.extend(c.diagnostics(Instant::now(), "").unwrap());
     out
 }
 

@@ -1,7 +1,10 @@
 //! /diagnostics from the robot's status: one status per part (supervisor, steering,
 //! camera link, GNSS, bus), each with a level and the figures an operator reads on
 //! the GUI, as key/value text. The levels inform; they never stop anything (the
-//! supervisor does that on the robot).
+//! supervisor does that on the robot). A level says what the part's state means: OK
+//! when it works as configured (a notice goes in the message), WARN only when it is
+//! degraded (a sensor lost and another steering in its place, a float fix, loops
+//! running late), ERROR for a fault; STALE is the converter's (flows.rs).
 
 use serde_json::Value;
 
@@ -36,9 +39,38 @@ fn part(
         level,
         name: format!("mechweed: {name}"),
         message,
-        hardware_id: robot.to_string(),
+        hardware_id: hardware_id(robot, name),
         values,
     }
+}
+
+/// The part on the robot, as `ROBOT/part` ("mechweed/camera_link").
+fn hardware_id(robot: &str, name: &str) -> String {
+    format!("{robot}/{}", name.to_lowercase().replace(' ', "_"))
+}
+
+/// What the diagnostics need besides the status.
+pub struct Context<'a> {
+    /// The robot's name on the bus.
+    pub robot: &'a str,
+    /// The bridge's own figures.
+    pub bridge: &'a str,
+    /// The loops' overruns rose since the status before.
+    pub overruns_rising: bool,
+}
+
+/// Whether a notice tells of a sensor lost and another steering in its place: a
+/// steering notice with its reason ("steering by GNSS alone: no usable camera row").
+pub fn is_fallback(notice: &str) -> bool {
+    notice.starts_with("steering by ") && notice.contains(": ")
+}
+
+/// Both loops' overruns so far in `status`.
+pub fn overruns(status: &Value) -> u64 {
+    ["supervisor", "steer"]
+        .iter()
+        .filter_map(|lp| status["loops"][lp]["overruns"].as_u64())
+        .sum()
 }
 
 /// Key/values of `object`'s fields `keys`, under their own names.
@@ -59,18 +91,18 @@ fn kv(key: &str, value: String) -> KeyValue {
 }
 
 /// The five statuses of one robot status.
-pub fn from_status(status: &Value, robot: &str, stamp: Time, bridge: &str) -> DiagnosticArray {
+pub fn from_status(status: &Value, context: &Context, stamp: Time) -> DiagnosticArray {
+    let (robot, bridge) = (context.robot, context.bridge);
     let mode = text(&status["mode"]);
     let fault = &status["fault"];
     let notice = &status["notice"];
 
     let supervisor = {
+        let running = format!("{mode}, motor power {}", text(&status["power"]));
         let (level, message) = match fault {
             Value::String(f) => (ERROR, format!("fault: {f}")),
-            _ => (
-                OK,
-                format!("{mode}, motor power {}", text(&status["power"])),
-            ),
+            _ if context.overruns_rising => (WARN, format!("{running}; loops running late")),
+            _ => (OK, running),
         };
         let mut values = fields(
             status,
@@ -104,12 +136,16 @@ pub fn from_status(status: &Value, robot: &str, stamp: Time, bridge: &str) -> Di
 
     let steering_by = text(&status["steering"]);
     let steering = {
-        let (level, message) = match notice {
-            Value::String(n) => (WARN, n.clone()),
-            _ if steering_by == "nothing" && mode == "autonomous" => {
-                (ERROR, "nothing to steer by".to_string())
-            }
-            _ => (OK, format!("steering by {steering_by}")),
+        let said = match notice {
+            Value::String(n) => n.clone(),
+            _ => format!("steering by {steering_by}"),
+        };
+        let fallback = is_fallback(&said);
+        let (level, message) = match steering_by.as_str() {
+            "nothing" if mode == "autonomous" => (ERROR, "nothing to steer by".to_string()),
+            "camera_alone" => (WARN, said),
+            "gnss_alone" if fallback => (WARN, said),
+            _ => (OK, said),
         };
         let mut values = vec![
             kv("steering", steering_by.clone()),

@@ -50,6 +50,11 @@ pub struct Converter {
     clock: RobotClock,
     /// The last status, and when it arrived.
     last_status: Option<(Value, Instant)>,
+    /// The loops' overruns in the status before the last: rising, they are a WARN.
+    overruns_before: Option<u64>,
+    /// When the converter began: STALE comes only after STALE_AFTER_S without a status,
+    /// counted from here until the first status comes.
+    started: Instant,
     /// The last fix sent on /fix: quality, latitude and longitude.
     last_fix: Option<(u64, Option<f64>, Option<f64>)>,
     pub counts: Counts,
@@ -89,6 +94,8 @@ impl Converter {
             odometer: Odometer::default(),
             clock: RobotClock::default(),
             last_status: None,
+            overruns_before: None,
+            started: Instant::now(),
             last_fix: None,
             counts: Counts::default(),
         }
@@ -157,6 +164,8 @@ impl Converter {
         if let Some(fix) = self.fix(&status["gnss"], stamp) {
             out.push(message(Topic::Fix, stamp, &fix)?);
         }
+        let overruns = |s: &Value| diagnostics::overruns(s);
+        self.overruns_before = self.last_status.as_ref().map(|(s, _)| overruns(s));
         self.last_status = Some((status, arrived));
         Ok(out)
     }
@@ -170,9 +179,13 @@ impl Converter {
             _ => Err(format!("{key} is not text")),
         };
         let (kind, text) = (word("kind")?, word("text")?);
+        // A notice is news (INFO), but for one of something degraded or stopped: a
+        // sensor lost, an end switch hit.
+        let warns = diagnostics::is_fallback(&text) || text.contains("end switch");
         let level = match kind.as_str() {
             "fault" => 40,
-            "notice" | "dropped" => 30,
+            "dropped" => 30,
+            "notice" if warns => 30,
             _ => 20,
         };
         self.counts.events += 1;
@@ -187,20 +200,30 @@ impl Converter {
         Ok(vec![message(Topic::Rosout, stamp, &log)?])
     }
 
-    /// /diagnostics from the last status (each part STALE when none came lately).
-    pub fn diagnostics(&self, now: Instant, bridge: &str) -> Result<Outgoing, String> {
+    /// /diagnostics from the last status; each part STALE once no status came for
+    /// STALE_AFTER_S (since the converter began, before the first), and nothing before.
+    pub fn diagnostics(&self, now: Instant, bridge: &str) -> Result<Option<Outgoing>, String> {
         let wall = Time::from_unix_s(crate::bus::payload::wall_s());
+        let since = |at: Instant| now.saturating_duration_since(at).as_secs_f64();
         let array = match &self.last_status {
-            Some((status, at)) if now.duration_since(*at).as_secs_f64() < STALE_AFTER_S => {
+            Some((status, at)) if since(*at) < STALE_AFTER_S => {
                 let t_s = status["t_s"].as_f64().unwrap_or(f64::NAN);
-                diagnostics::from_status(status, &self.robot, self.stamp(t_s), bridge)
+                let rising =
+                    (self.overruns_before).is_some_and(|o| diagnostics::overruns(status) > o);
+                let part = diagnostics::Context {
+                    robot: &self.robot,
+                    bridge,
+                    overruns_rising: rising,
+                };
+                diagnostics::from_status(status, &part, self.stamp(t_s))
             }
-            Some((_, at)) => {
-                diagnostics::stale(&self.robot, wall, now.duration_since(*at).as_secs_f64())
+            Some((_, at)) => diagnostics::stale(&self.robot, wall, since(*at)),
+            None if since(self.started) >= STALE_AFTER_S => {
+                diagnostics::stale(&self.robot, wall, since(self.started))
             }
-            None => diagnostics::stale(&self.robot, wall, STALE_AFTER_S),
+            None => return Ok(None),
         };
-        message(Topic::Diagnostics, array.header.stamp, &array)
+        message(Topic::Diagnostics, array.header.stamp, &array).map(Some)
     }
 
     /// /fix, when the quality or the position changed since the last sent.

@@ -13,6 +13,9 @@ use super::msgs::{DiagnosticArray, JointState, Log, NavSatFix, Odometry};
 use super::topics::Topic;
 use crate::bus::payload::status_json;
 use crate::state::modes::Mode;
+use crate::state::status::Notice;
+use crate::state::steering::Steering;
+use mechweed_core::rt::LoopSummary;
 
 fn tick(t_s: f64, distance_m: f64) -> Vec<u8> {
     let mut sample = TickSample::default();
@@ -138,16 +141,26 @@ fn only_rtk_is_ground_augmented_and_a_fix_not_of_the_sky_is_no_fix() {
 #[test]
 fn events_go_to_rosout_at_their_levels() {
     let mut c = Converter::new("farm/mechweed", 0.2);
-    let level = |c: &mut Converter, kind: &str| -> Log {
-        let event = serde_json::json!({"t_s": 1.0, "tick": 100, "kind": kind, "text": "it"});
+    let said = |c: &mut Converter, kind: &str, text: &str| -> Log {
+        let event = serde_json::json!({"t_s": 1.0, "tick": 100, "kind": kind, "text": text});
         decode(&c.event(event.to_string().as_bytes()).unwrap()[0].bytes).unwrap()
     };
+    let level = |c: &mut Converter, kind: &str| said(c, kind, "it");
     let fault = level(&mut c, "fault");
     assert_eq!(
         (fault.level, fault.msg.as_str(), fault.name.as_str()),
         (40, "fault: it", "farm.mechweed")
     );
-    assert_eq!(level(&mut c, "notice").level, 30);
+    // A notice is news; a sensor lost, or an end switch hit, a warning.
+    assert_eq!(level(&mut c, "notice").level, 20);
+    let fused = said(&mut c, "notice", "steering by camera and GNSS, fused");
+    assert_eq!(fused.level, 20);
+    let lost = said(
+        &mut c,
+        "notice",
+        "steering by GNSS alone: no usable camera row",
+    );
+    assert_eq!(lost.level, 30);
     assert_eq!(level(&mut c, "dropped").level, 30);
     assert_eq!(level(&mut c, "mode").level, 20);
 }
@@ -157,15 +170,34 @@ fn diagnostics_say_each_part_and_go_stale_without_statuses() {
     let mut c = Converter::new("mechweed", 0.2);
     let t0 = Instant::now();
     let array = |c: &Converter, at: Instant| -> DiagnosticArray {
-        decode(&c.diagnostics(at, "bridge figures").unwrap().bytes).unwrap()
+        decode(&c.diagnostics(at, "bridge figures").unwrap().unwrap().bytes).unwrap()
     };
-    let before = array(&c, t0);
-    assert_eq!(before.status.len(), 5);
+    // Nothing is stale before the time without a status has passed, also before the
+    // first status; then every part is.
+    assert!(c.diagnostics(t0, "").unwrap().is_none());
+    let silent = array(&c, t0 + Duration::from_secs(4));
+    assert_eq!(silent.status.len(), 5);
     assert!(
-        before
+        silent
             .status
             .iter()
-            .all(|s| s.level == STALE && s.hardware_id == "mechweed")
+            .all(|s| s.level == STALE && s.message == "no status from the robot for 4 s"),
+        "{silent:?}"
+    );
+    let ids: Vec<&str> = silent
+        .status
+        .iter()
+        .map(|s| s.hardware_id.as_str())
+        .collect();
+    assert_eq!(
+        ids,
+        [
+            "mechweed/supervisor",
+            "mechweed/steering",
+            "mechweed/camera_link",
+            "mechweed/gnss",
+            "mechweed/bus"
+        ]
     );
     c.status(&status(2.0, 102.0, 5, 52.0), t0).unwrap();
     let now = array(&c, t0 + Duration::from_secs(1));
@@ -204,4 +236,79 @@ fn a_message_that_is_not_the_robots_is_refused_with_what_is_wrong() {
     assert_eq!(why, "kind is not text");
     assert!(c.tick(b"\xff").unwrap_err().starts_with("not JSON"));
     assert_eq!(c.counts.ticks + c.counts.statuses + c.counts.events, 0);
+}
+
+/// A status of an autonomous run steered by `steering`, its last notice the change to
+/// it for `why`, the camera streaming, RTK fixed, the loops with `overruns`.
+fn running(steering: Steering, why: Option<&'static str>, overruns: u64) -> Vec<u8> {
+    let mut s = TickSample::default();
+    s.status.t_s = 20.0;
+    s.status.mode = Mode::Autonomous;
+    s.status.notice = Some(Notice::Steering {
+        steering,
+        why,
+        t_s: 10.0,
+    });
+    s.steer.sources.steering = steering;
+    (s.link.connected, s.link.streaming) = (true, true);
+    s.steer.row.gnss_quality = 4;
+    s.steer.row.gnss_position = Some((52.0, 5.0));
+    let loops = [LoopSummary {
+        overruns,
+        ..Default::default()
+    }; 2];
+    let mut json = status_json(&s.status, &s.link, &s.steer, &loops);
+    json["wall_s"] = 1000.0.into();
+    json["bus"] =
+        serde_json::json!({"secured": false, "security": "not secured", "identities": ""});
+    json.to_string().into_bytes()
+}
+
+fn levels_after(statuses: &[Vec<u8>]) -> (Vec<u8>, DiagnosticArray) {
+    let mut c = Converter::new("mechweed", 0.2);
+    let t0 = Instant::now();
+    for status in statuses {
+        c.status(status, t0).unwrap();
+    }
+    let bytes = c.diagnostics(t0, "").unwrap().unwrap().bytes;
+    let array: DiagnosticArray = decode(&bytes).unwrap();
+    (array.status.iter().map(|s| s.level).collect(), array)
+}
+
+#[test]
+fn a_healthy_fused_run_is_ok_everywhere_and_its_notice_is_the_steerings_message() {
+    let (levels, array) = levels_after(&[running(Steering::Fused, None, 0)]);
+    assert_eq!(levels, [OK, OK, OK, OK, OK], "{array:?}");
+    assert_eq!(
+        array.status[1].message,
+        "steering by camera and GNSS, fused"
+    );
+}
+
+#[test]
+fn a_sensor_lost_with_another_steering_in_its_place_is_a_warning() {
+    let camera_lost = running(Steering::FilterGnss, Some("no usable camera row"), 0);
+    let (levels, array) = levels_after(&[camera_lost]);
+    assert_eq!(levels[1], WARN, "{array:?}");
+    assert!(array.status[1].message.ends_with(": no usable camera row"));
+    let (levels, _) = levels_after(&[running(Steering::FilterCamera, None, 0)]);
+    assert_eq!(levels[1], WARN);
+    // GNSS alone as configured ([steer] source = gnss) is no fallback.
+    let (levels, _) = levels_after(&[running(Steering::FilterGnss, None, 0)]);
+    assert_eq!(levels[1], OK);
+}
+
+#[test]
+fn loops_running_late_warn_while_their_overruns_rise_and_not_after() {
+    let (levels, array) = levels_after(&[
+        running(Steering::Fused, None, 2),
+        running(Steering::Fused, None, 5),
+    ]);
+    assert_eq!(levels[0], WARN, "{array:?}");
+    assert!(array.status[0].message.ends_with("loops running late"));
+    let (levels, _) = levels_after(&[
+        running(Steering::Fused, None, 5),
+        running(Steering::Fused, None, 5),
+    ]);
+    assert_eq!(levels[0], OK);
 }

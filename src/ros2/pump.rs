@@ -115,7 +115,11 @@ impl Robot {
                     "{} messages sent, {} refused",
                     pumped.sent, converter.counts.bad
                 );
-                made.push(converter.diagnostics(now, &figures).map(|m| vec![m]));
+                made.push(
+                    converter
+                        .diagnostics(now, &figures)
+                        .map(|m| m.into_iter().collect()),
+                );
             }
             if let Ok((flow, bytes, arrived)) =
                 self.hearing.rx.recv_timeout(Duration::from_millis(50))

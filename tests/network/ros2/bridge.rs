@@ -232,6 +232,18 @@ fn check_the_run(heard: &Heard) {
             .iter()
             .any(|d| d.status[3].message == "RTK fixed" && d.status[3].level == 0)
     );
+    // A healthy fused run: nothing STALE (the robot's statuses came all along, the first
+    // within the bridge's first second), and once fused, the steering is OK, its notice
+    // the message.
+    let levels: Vec<Vec<u8>> = (diagnostics.iter())
+        .map(|d| d.status.iter().map(|s| s.level).collect())
+        .collect();
+    assert!(levels.iter().flatten().all(|&l| l != 3), "{levels:?}");
+    let fused: Vec<&DiagnosticArray> = (diagnostics.iter())
+        .filter(|d| d.status[1].message.contains("fused"))
+        .collect();
+    assert!(!fused.is_empty(), "{diagnostics:?}");
+    assert!(fused.iter().all(|d| d.status[1].level == 0), "{fused:?}");
 
     let odometry: Vec<Odometry> = all(heard, "/mechweed/odom");
     let joints: Vec<JointState> = all(heard, "/mechweed/joint_states");
