@@ -45,6 +45,11 @@ pub fn gui_from(
     settings.bus.enabled = false;
     // Software rendering is slow: a late tick now and then is not these tests' subject.
     settings.rt.max_late_periods = 100.0;
+    // Two tests draw side by side with the processor, at normal priority: the steer and
+    // camera-link threads may wait longer than the robot's 0.5 s for a turn (in one CI
+    // run the steer thread's first beat came 0.58 s after the start). The longest time
+    // a robot.ini may set; the GUI's own heartbeat, these tests' subject, is kept.
+    settings.rt.heartbeat_timeout_s = 1.0;
     let opts = RunOptions::in_halt(settings);
     let stop = Arc::new(AtomicBool::new(false));
     let (mut handles, running) = start(&opts, stop.clone()).expect("the controller starts");
