@@ -21,6 +21,8 @@
 //! Requests are split by key so that a rule can tell them apart: ROBOT/request answers
 //! HALT only when the bus is secured, ROBOT/request/operator every request, and
 //! ROBOT/set/SECTION/KEY changes a setting (ROBOT/config/SECTION/KEY only reads it).
+//! Each identity may ask the same under ROBOT/as/NAME/, its own name alone, so that the
+//! robot counts what it asks by its link's certificate (bus/asked_as.rs).
 
 use serde_json::{Value, json};
 
@@ -58,12 +60,28 @@ fn rules_of(role: Role, name: &str, robot: &str) -> Vec<Rule> {
     let own_token = |rules: &mut Vec<Rule>| rules.push(rule(&[TOKEN], &[r("alive/*")]));
     // What a receiver gets, reported to the robot, which names it in its status.
     let heard = rule(&[PUT], &[r("heard/*")]);
+    // What an identity asks of the robot: on the keys all share, and on its own.
+    let asks = |rests: &[&str]| {
+        let keys: Vec<String> = (rests.iter())
+            .flat_map(|rest| [r(rest), r(&format!("as/{name}/{rest}"))])
+            .collect();
+        rule(&[QUERY], &keys)
+    };
     match role {
         Role::Robot => {
             rules.push(rule(&[PUT], &flows));
             rules.push(rule(
                 &[QUERYABLE, REPLY],
-                &[r("request"), r("request/**"), r("config/**"), r("set/**")],
+                &[
+                    r("request"),
+                    r("request/**"),
+                    r("config/**"),
+                    r("set/**"),
+                    r("as/*/request"),
+                    r("as/*/request/**"),
+                    r("as/*/config/**"),
+                    r("as/*/set/**"),
+                ],
             ));
             rules.push(rule(&[SUBSCRIBE], &[r("camera/row"), r("heard/*")]));
             own_token(&mut rules);
@@ -76,29 +94,21 @@ fn rules_of(role: Role, name: &str, robot: &str) -> Vec<Rule> {
         }
         Role::Operator => {
             rules.push(rule(&[SUBSCRIBE], &flows));
-            rules.push(rule(
-                &[QUERY],
-                &[
-                    r("request"),
-                    r("request/**"),
-                    r("config/**"),
-                    r("set/**"),
-                    c("status"),
-                ],
-            ));
+            rules.push(asks(&["request", "request/**", "config/**", "set/**"]));
+            rules.push(rule(&[QUERY], &[c("status")]));
             rules.push(heard);
             own_token(&mut rules);
         }
         Role::Viewer => {
             rules.push(rule(&[SUBSCRIBE], &flows));
             // Not the cluster's status: it holds every machine's command lines.
-            rules.push(rule(&[QUERY], &[r("request"), r("config/**")]));
+            rules.push(asks(&["request", "config/**"]));
             rules.push(heard);
             own_token(&mut rules);
         }
         Role::Recorder => {
             rules.push(rule(&[SUBSCRIBE], &flows));
-            rules.push(rule(&[QUERY], &[r("config/**")]));
+            rules.push(asks(&["config/**"]));
             rules.push(heard);
             own_token(&mut rules);
         }
@@ -242,6 +252,32 @@ mod tests {
                 "{role}: {asks:?}"
             );
         }
+    }
+
+    #[test]
+    fn each_identity_asks_under_its_own_name_alone() {
+        let acl = access_control(&roster());
+        for (name, own) in [
+            (
+                "operator",
+                &["request", "request/**", "config/**", "set/**"][..],
+            ),
+            ("viewer", &["request", "config/**"][..]),
+            ("recorder", &["config/**"][..]),
+        ] {
+            let asks = allowed(&acl, name, QUERY);
+            let named: Vec<&String> = asks.iter().filter(|k| k.contains("/as/")).collect();
+            let expected: Vec<String> = (own.iter())
+                .map(|rest| format!("mechweed/as/{name}/{rest}"))
+                .collect();
+            assert_eq!(named, expected.iter().collect::<Vec<_>>(), "{name}");
+        }
+        for name in ["camera", "master", "robot-pc", "robot"] {
+            let asks = allowed(&acl, name, QUERY);
+            assert!(!asks.iter().any(|k| k.contains("/as/")), "{name}: {asks:?}");
+        }
+        // The robot answers every name's questions.
+        assert!(allowed(&acl, "robot", QUERYABLE).contains(&"mechweed/as/*/config/**".to_string()));
     }
 
     #[test]

@@ -9,6 +9,12 @@
 //! else's (settings read, and requests on the HALT key that are not HALT). A recorder or
 //! a viewer reading the settings as fast as it can uses up the readers' allowance, never
 //! the operator's.
+//!
+//! Within each, an identity that asks under its own name (ROBOT/as/NAME, which only its
+//! certificate may ask on: bus/asked_as.rs) has an allowance of its own, counted by its
+//! link's certificate; no other identity's flood can use it, however it names itself.
+//! What is asked on the keys that name no one is counted by what the query says, and
+//! all of it together within one allowance.
 
 use std::time::Instant;
 
@@ -29,23 +35,32 @@ const OPERATOR_ALL_PER_S: f64 = 20.0;
 /// finds the door shut.
 const READS_PER_S: f64 = 20.0;
 const READS_ALL_PER_S: f64 = 20.0;
+/// Settings read by one identity under its own name, a second.
+const NAMED_READS_PER_S: f64 = 10.0;
 
-/// One allowance: per asker, and for all askers together.
+/// One allowance: per identity by its link; and per asker by what it says, and for
+/// all those askers together.
 struct Allowance {
+    named: PerRequester,
     each: PerRequester,
     all: RateLimit,
 }
 
 impl Allowance {
-    fn new(each_per_s: f64, all_per_s: f64) -> Allowance {
+    fn new(named_per_s: f64, each_per_s: f64, all_per_s: f64) -> Allowance {
         Allowance {
+            named: PerRequester::new(named_per_s),
             each: PerRequester::new(each_per_s),
             all: RateLimit::new(all_per_s, Instant::now()),
         }
     }
 
-    fn take(&mut self, asker: &str, now: Instant) -> bool {
-        self.each.take(asker, now) && self.all.take(now)
+    fn take(&mut self, q: &QueryIn, asker: &str, now: Instant) -> bool {
+        if q.from_link {
+            self.named.take(asker, now)
+        } else {
+            self.each.take(asker, now) && self.all.take(now)
+        }
     }
 }
 
@@ -59,8 +74,8 @@ pub(crate) struct Gate {
 impl Gate {
     pub fn new() -> Gate {
         Gate {
-            operator: Allowance::new(OPERATOR_PER_S, OPERATOR_ALL_PER_S),
-            reads: Allowance::new(READS_PER_S, READS_ALL_PER_S),
+            operator: Allowance::new(OPERATOR_PER_S, OPERATOR_PER_S, OPERATOR_ALL_PER_S),
+            reads: Allowance::new(NAMED_READS_PER_S, READS_PER_S, READS_ALL_PER_S),
             refusals: Refusals::default(),
         }
     }
@@ -83,18 +98,23 @@ impl Gate {
             Port::Operator | Port::Set => (&mut self.operator, "the operator's requests"),
             Port::Get | Port::Halt => (&mut self.reads, "reads"),
         };
-        let answer = if halt || allowance.take(asker, now) {
+        let answer = if halt || allowance.take(q, asker, now) {
             let asker = q.asker_name.as_deref();
             answers.answer(&q.key, q.payload.as_deref(), q.port, asker)
         } else {
             Queries::refused(format!(
-                "too many requests: the bus takes {OPERATOR_PER_S} of the operator's requests and settings changed a second from each program ({OPERATOR_ALL_PER_S} from all), and {READS_PER_S} reads ({READS_ALL_PER_S} from all), at most (HALT always); this was one of {kind}"
+                "too many requests ({kind}): the bus takes {OPERATOR_PER_S} requests and settings changed and {NAMED_READS_PER_S} reads a second from each identity asking under its own name, and {OPERATOR_ALL_PER_S} and {READS_ALL_PER_S} from all others together; HALT always"
             ))
         };
+        let by_link = if q.from_link {
+            ", by its certificate"
+        } else {
+            ""
+        };
         let who = (q.asker_name.as_ref()).map_or(String::new(), |name| {
-            format!(" (asked by {})", shown_name(name))
+            format!(" (asked by {}{by_link})", shown_name(name))
         });
-        let refused = Queries::count(&answer, figures).map(|why| format!("{}: {why}{who}", q.key));
+        let refused = Queries::count(&answer, figures).map(|why| format!("{}{who}: {why}", q.key));
         if let Some(line) = refused.and_then(|why| self.refusals.refused(why, now)) {
             tracing::warn!("{line}");
         }

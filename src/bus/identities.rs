@@ -144,6 +144,11 @@ impl Identities {
         look
     }
 
+    /// Whether the roster gives `name` a role.
+    pub fn has_rights(&self, name: &str) -> bool {
+        self.roster.role_of(name).is_some()
+    }
+
     /// The identity linked with Zenoh session `session`, if one is.
     pub(crate) fn name_of(&self, session: &str) -> Option<&str> {
         self.linked

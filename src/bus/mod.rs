@@ -12,6 +12,7 @@
 //! link's time-out and fault like a camera computer's.
 
 pub mod acl;
+pub mod asked_as;
 pub mod gate;
 pub mod gateway;
 pub mod hearing;

@@ -13,6 +13,7 @@ use crossbeam_channel::{Receiver, Sender, bounded};
 use serde_json::{Value, json};
 use zenoh::{Session, Wait};
 
+use crate::bus::asked_as;
 use crate::bus::hearing::{Ear, Hearing};
 
 use super::remote_view::{fill_from_status, fill_from_tick};
@@ -43,6 +44,9 @@ type Said = (Request, Result<(), String>);
 pub struct RemoteView {
     robot: String,
     endpoint: String,
+    /// This program's identity on a secured bus: it asks under ROBOT/as/NAME, which
+    /// the robot counts by its certificate (no other identity's flood is counted with it).
+    name: Option<String>,
     /// None: fed by hand (`feed`), as the tests do.
     hearing: Option<Hearing<Flow>>,
     arrived: Receiver<(Flow, Vec<u8>, Instant)>,
@@ -97,6 +101,7 @@ impl RemoteView {
         RemoteView {
             robot: robot.to_string(),
             endpoint: endpoint.to_string(),
+            name: None,
             hearing: None,
             arrived,
             arrive,
@@ -119,6 +124,7 @@ impl RemoteView {
         tls: Option<&crate::config::TlsFiles>,
     ) -> Result<RemoteView, String> {
         let mut remote = RemoteView::offline(robot, endpoint);
+        remote.name = tls.map(crate::config::TlsFiles::name);
         let hearing = Hearing::start(Ear {
             endpoint: endpoint.to_string(),
             robot: robot.to_string(),
@@ -134,7 +140,7 @@ impl RemoteView {
             remote.operator.clone(),
             remote.quit.clone(),
         );
-        let key = format!("{robot}/config/bus/accept_requests");
+        let key = asked_as::key(robot, remote.name.as_deref(), "config/bus/accept_requests");
         std::thread::Builder::new()
             .name("watch-operator".into())
             .spawn(move || {
@@ -329,10 +335,11 @@ impl ViewSource for RemoteView {
         };
         // HALT on the key every identity that may stop the robot may ask; the others on
         // the operator's own (bus/acl.rs).
-        let key = match request {
-            Request::Mode(Mode::Halt) => format!("{}/request", self.robot),
-            _ => format!("{}/request/operator", self.robot),
+        let rest = match request {
+            Request::Mode(Mode::Halt) => "request",
+            _ => "request/operator",
         };
+        let key = asked_as::key(&self.robot, self.name.as_deref(), rest);
         session
             .get(key)
             .attachment(session.zid().to_string())

@@ -22,9 +22,11 @@ use zenoh::query::Query;
 use zenoh::{Session, Wait};
 
 use super::{Down, ProcessFigures, QueryIn, ReceiverSeen, Up, receive, send};
+use crate::bus::asked_as::asker;
 use crate::bus::hearing::HeardReport;
 use crate::bus::identities::{Identities, LinkChange, watch_links};
 use crate::bus::inbox::{Inbox, requester};
+use crate::bus::keys::{self, Roster};
 use crate::bus::payload::wall_s;
 use crate::bus::peers::Peers;
 use crate::bus::queries::Answer;
@@ -186,6 +188,11 @@ impl Flows {
         } else {
             None
         };
+        // The roster was read when the session opened: it is there.
+        let roster = (bus.tls.as_ref()).and_then(|tls| Roster::read(&tls.roster()).ok());
+        let operators = (roster.iter())
+            .flat_map(|r| r.names(keys::Role::Operator).map(str::to_string))
+            .collect();
         let (links, listener) = watch_links(session)?;
         let (heard_tx, heard) = bounded(64);
         let reports = session
@@ -201,13 +208,10 @@ impl Flows {
             status: publisher("status")?,
             tick: publisher("tick")?,
             event: publisher("event")?,
-            inbox: Inbox::declare(session, bus)?,
+            inbox: Inbox::declare(session, bus, operators)?,
             peers: Peers::watch(session, &bus.key("alive/**"))?,
             own_token,
-            // The roster was read when the session opened: it is there.
-            identities: (bus.tls.as_ref())
-                .and_then(|tls| crate::bus::keys::Roster::read(&tls.roster()).ok())
-                .map(Identities::new),
+            identities: roster.map(Identities::new),
             links,
             heard,
             receivers: std::collections::BTreeMap::new(),
@@ -230,17 +234,16 @@ impl Flows {
                 // The asker's link may have come a moment ago: its name first.
                 self.follow_links();
                 next_id += 1;
-                let asker = requester(&query);
-                let asker_name = (self.identities.as_ref())
-                    .and_then(|ids| ids.name_of(&asker))
-                    .map(str::to_string);
+                let (key, named) = self.inbox.asked_as(&query);
+                let who = asker(named, requester(&query), self.identities.as_ref());
                 let message = QueryIn {
                     id: next_id,
                     port,
-                    key: query.key_expr().as_str().to_string(),
+                    key,
                     payload: query.payload().map(|p| p.to_bytes().into_owned()),
-                    asker,
-                    asker_name,
+                    asker: who.asker,
+                    asker_name: who.name,
+                    from_link: who.from_link,
                 };
                 if up.send(Up::Query(message)).is_err() {
                     return;

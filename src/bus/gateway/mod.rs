@@ -81,8 +81,10 @@ pub struct QueryIn {
     pub payload: Option<Vec<u8>>,
     /// The Zenoh session its attachment names ("" for none).
     pub asker: String,
-    /// That session's identity by the roster, on a secured bus.
+    /// Its identity by the roster, on a secured bus.
     pub asker_name: Option<String>,
+    /// That name is its link's certificate (bus/asked_as.rs).
+    pub from_link: bool,
 }
 
 /// What the bus process has done since it started, about ten times a second.
@@ -160,6 +162,7 @@ mod tests {
             payload: Some(br#"{"request":"halt"}"#.to_vec()),
             asker: "ab12".into(),
             asker_name: Some("viewer-laptop".into()),
+            from_link: true,
         };
         let mut wire = Vec::new();
         send(&mut wire, &Up::Query(query)).unwrap();
@@ -170,6 +173,7 @@ mod tests {
         };
         assert_eq!((back.id, back.port), (7, Port::Halt));
         assert_eq!(back.asker_name.as_deref(), Some("viewer-laptop"));
+        assert!(back.from_link);
         assert!(matches!(
             receive::<Up>(&mut input).unwrap(),
             Some(Up::Ready)

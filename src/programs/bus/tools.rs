@@ -47,6 +47,8 @@ pub struct Tool {
     secured: bool,
     /// This program's identity and its role in the roster, on a secured bus.
     identity: String,
+    /// Its certificate's name, on a secured bus: it asks under ROBOT/as/NAME.
+    name: Option<String>,
 }
 
 impl Tool {
@@ -71,6 +73,7 @@ impl Tool {
             endpoint: endpoint.to_string(),
             secured: tls.is_some(),
             identity: tls.map(identity_of).unwrap_or_default(),
+            name: tls.map(TlsFiles::name),
         })
     }
 
@@ -120,9 +123,14 @@ impl Tool {
     }
 
     /// Ask `key` with `payload`; the first answer as text, or the error's text.
+    /// On a secured bus it asks under its own name, so that the robot counts what it
+    /// asks by its certificate and no other identity's flood is counted with it.
     pub fn ask(&self, key: &str, payload: Option<String>) -> Result<String, String> {
         self.wait_for_controller()?;
-        let key = self.key(key);
+        let key = match key.strip_prefix('/') {
+            Some(whole) => whole.to_string(),
+            None => crate::bus::asked_as::key(&self.robot, self.name.as_deref(), key),
+        };
         // Named, so that the robot limits this program's requests apart from others'.
         let mut get = self
             .session

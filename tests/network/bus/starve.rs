@@ -10,6 +10,7 @@ use std::time::Duration;
 use zenoh::Wait;
 
 use super::secured::{Keys, ask, secured_robot};
+use crate::common::text;
 
 #[test]
 fn a_recorder_reading_the_settings_flat_out_leaves_every_operator_request_answered() {
@@ -86,4 +87,82 @@ fn a_recorder_reading_the_settings_flat_out_leaves_every_operator_request_answer
     assert!(stdout.contains("mode: halt -> joystick"), "{stdout}");
     // The console names who was limited.
     assert!(stderr.contains("(asked by recorder)"), "{stderr}");
+}
+
+/// A viewer reads the settings flat out naming a new session on every query (so that no
+/// count by what a query says can hold it), and asks under the operator's name too,
+/// while the operator reads settings with `bus get`, as a technician tuning does. Before
+/// each identity had an allowance counted by its link's certificate, the operator's
+/// reads shared one allowance with the flood and were refused "too many requests".
+#[test]
+fn a_viewer_flooding_reads_under_any_name_leaves_the_operators_reads_answered() {
+    let _machine = crate::shared_machine();
+    let keys = Keys::new();
+    let robot = secured_robot(&keys, &["--duration", "10"]);
+    let stop = Arc::new(AtomicBool::new(false));
+    let (refused, as_operator) = (Arc::new(AtomicU64::new(0)), Arc::new(AtomicU64::new(0)));
+    let flood = std::thread::spawn({
+        let (stop, refused, as_operator) = (stop.clone(), refused.clone(), as_operator.clone());
+        let viewer = keys.session(&robot.endpoint, "viewer");
+        move || {
+            for n in 0u64.. {
+                if stop.load(Ordering::Relaxed) {
+                    break;
+                }
+                // Every tenth under the operator's name: its access rules drop those.
+                let key = if n % 10 == 0 {
+                    "mechweed/as/operator/config/steer/speed_mps"
+                } else {
+                    "mechweed/config/steer/speed_mps"
+                };
+                let (refused, as_operator) = (refused.clone(), as_operator.clone());
+                let _ = (viewer.get(key))
+                    .attachment(format!("session-{n}"))
+                    .timeout(Duration::from_millis(500))
+                    .callback(move |reply| {
+                        if key.contains("/as/") {
+                            as_operator.fetch_add(1, Ordering::Relaxed);
+                        } else if super::reply_text(&reply).contains("too many requests") {
+                            refused.fetch_add(1, Ordering::Relaxed);
+                        }
+                    })
+                    .wait();
+                std::thread::sleep(Duration::from_millis(5));
+            }
+        }
+    });
+    std::thread::sleep(Duration::from_secs(2));
+    let mut waited_ms = Vec::new();
+    let answers: Vec<(bool, String)> = (0..5)
+        .map(|_| {
+            let asked = std::time::Instant::now();
+            let out = robot.bus(&["get", "steer.speed_mps"]);
+            waited_ms.push(asked.elapsed().as_secs_f64() * 1e3);
+            let said = format!("{}{}", text(&out.stdout), text(&out.stderr));
+            (out.status.success(), said)
+        })
+        .collect();
+    stop.store(true, Ordering::Relaxed);
+    flood.join().unwrap();
+    waited_ms.sort_by(f64::total_cmp);
+    println!(
+        "the operator's {} reads during the viewer's flood: {:.0} ms (median) and {:.0} ms at most, each a `bus get` from its start",
+        waited_ms.len(),
+        waited_ms[waited_ms.len() / 2],
+        waited_ms[waited_ms.len() - 1]
+    );
+    let refused = refused.load(Ordering::Relaxed);
+    assert!(
+        refused > 50,
+        "the viewer's flood was refused only {refused} times: no flood"
+    );
+    assert_eq!(
+        as_operator.load(Ordering::Relaxed),
+        0,
+        "a viewer's question under the operator's name was answered"
+    );
+    for (ok, said) in &answers {
+        assert!(*ok && said.contains("steer.speed_mps = "), "{said}");
+    }
+    drop(robot.finish());
 }
