@@ -26,7 +26,7 @@ impl Supervisor {
     /// Act on a request from another thread; the answer says why not, if not.
     pub fn handle(&mut self, request: Request) -> Result<(), Refusal> {
         let st = &self.status;
-        if st.tick == 0 {
+        if st.tick == 0 && request != Request::Mode(Mode::Halt) {
             return Err(Refusal::NotStarted);
         }
         match request {
@@ -183,5 +183,25 @@ mod tests {
             supervisor.handle_from(auto, false),
             Err(Refusal::NotPowered)
         );
+    }
+
+    #[test]
+    fn halt_is_taken_before_the_first_tick_and_nothing_else_is() {
+        // A HALT tool that asks the moment the robot program starts (a CI run's
+        // `bus request halt` did) was refused "the robot's inputs have not been read yet".
+        let mut supervisor = Supervisor::new(&Settings::shipped());
+        assert_eq!(supervisor.status.tick, 0);
+        assert_eq!(
+            supervisor.handle_from(Request::Mode(Mode::Halt), true),
+            Ok(())
+        );
+        assert_eq!(supervisor.status.mode, Mode::Halt);
+        for request in [Request::PowerUp, Request::Mode(Mode::Joystick)] {
+            assert_eq!(
+                supervisor.handle_from(request, true),
+                Err(Refusal::NotStarted),
+                "{request:?}"
+            );
+        }
     }
 }

@@ -10,7 +10,9 @@ pub(crate) const STANDING_MPS: f64 = 0.01;
 
 /// The supervisor's rule for a mode request: why it would refuse `wanted` now, or None.
 pub(crate) fn mode_refusal(wanted: Mode, st: &Status) -> Option<Refusal> {
-    if st.tick == 0 {
+    // Before its first tick the robot stands in Halt with its outputs safe: a HALT
+    // asked then is already done, and is never refused.
+    if st.tick == 0 && wanted != Mode::Halt {
         return Some(Refusal::NotStarted);
     }
     match wanted {
@@ -135,7 +137,8 @@ mod tests {
     #[test]
     fn why_not_says_what_the_supervisor_would_refuse() {
         let mut st = Status::default();
-        assert_eq!(mode_refusal(Mode::Halt, &st), Some(Refusal::NotStarted));
+        assert_eq!(mode_refusal(Mode::Halt, &st), None, "HALT is never refused");
+        assert_eq!(mode_refusal(Mode::Joystick, &st), Some(Refusal::NotStarted));
         assert_eq!(power_up_refusal(&st), Some(Refusal::NotStarted));
         st.tick = 1;
         assert_eq!(

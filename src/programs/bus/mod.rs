@@ -217,11 +217,8 @@ fn halt_until_answered(
     loop {
         let asked = Tool::connect(connect, robot, false, tls)
             .and_then(|tool| tool.ask("request", Some(payload.clone())));
-        let why = match asked.map(|answer| decided(&answer)) {
-            // A robot in its first moment has read no input yet: it is there, and decides
-            // when asked again a moment later.
-            Ok(Err(why)) if why.contains("inputs have not been read yet") => why,
-            Ok(decided) => return decided,
+        let why = match asked {
+            Ok(answer) => return decided(&answer),
             Err(why) => why,
         };
         let left_s = until
