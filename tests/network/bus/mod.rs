@@ -8,6 +8,7 @@ mod flood;
 mod gnss;
 mod guards;
 mod hearing;
+mod holders;
 mod input;
 mod junk;
 mod netns;

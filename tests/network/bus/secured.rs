@@ -71,7 +71,7 @@ impl Keys {
     }
 
     /// The robot's three settings.
-    fn robot_settings(&self) -> Vec<String> {
+    pub(super) fn robot_settings(&self) -> Vec<String> {
         let file = |f: &str| self.path().join(f).display().to_string();
         [
             format!("bus.tls_ca={}", file("ca.pem")),
