@@ -151,19 +151,15 @@ pub fn record(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
         bag.path.display()
     );
     let mut broken = None;
-    let pumped = robot.pump(
-        opts.ros.wheel_radius_m,
-        stop,
-        end,
-        "ROS 2 recorder",
-        |m| match bag.write(m) {
+    let pumped = robot.pump(&opts.ros, stop, end, "ROS 2 recorder", |m| {
+        match bag.write(m) {
             Ok(()) => true,
             Err(why) => {
                 broken.get_or_insert(why);
                 false
             }
-        },
-    );
+        }
+    });
     let path = bag.finish()?;
     if let Some(why) = broken {
         return Err(format!("ROS 2 recorder: {why}"));

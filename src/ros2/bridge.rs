@@ -153,7 +153,7 @@ pub fn run(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
         super::wire::NODE_NAME,
         names.join(", ")
     );
-    let pumped = robot.pump(ros.wheel_radius_m, stop, end, "ros2", |m| side.put(m));
+    let pumped = robot.pump(ros, stop, end, "ros2", |m| side.put(m));
     Ok(format!(
         "ros2: {}",
         pumped.line(&opts.robot, "ROS messages")

@@ -16,7 +16,7 @@ use super::msgs::{
     Float64, Log, NavSatFix, NavSatStatus, Pose, PoseWithCovariance, PoseWithCovarianceStamped,
     Quaternion, Time, Vector3,
 };
-use super::odom::{Odometer, TickMotion, header};
+use super::odom::{Frames, GNSS_FRAME, Odometer, TickMotion, header};
 use super::topics::Topic;
 
 /// One message for one topic.
@@ -46,6 +46,7 @@ pub struct Counts {
 pub struct Converter {
     robot: String,
     wheel_radius_m: f64,
+    frames: Frames,
     odometer: Odometer,
     clock: RobotClock,
     /// The last status, and when it arrived.
@@ -91,6 +92,7 @@ impl Converter {
         Converter {
             robot: robot.to_string(),
             wheel_radius_m,
+            frames: Frames::default(),
             odometer: Odometer::default(),
             clock: RobotClock::default(),
             last_status: None,
@@ -99,6 +101,12 @@ impl Converter {
             last_fix: None,
             counts: Counts::default(),
         }
+    }
+
+    /// Every frame id with `prefix` before it (`[ros2] frame_prefix`).
+    pub fn with_frame_prefix(mut self, prefix: &str) -> Converter {
+        self.frames = Frames::new(prefix);
+        self
     }
 
     /// The robot's time `t_s` on its wall clock; before a status of the run, this
@@ -130,10 +138,10 @@ impl Converter {
             message(
                 Topic::JointStates,
                 stamp,
-                &o.joints(stamp, &tick, self.wheel_radius_m),
+                &o.joints(stamp, &tick, self.wheel_radius_m, &self.frames),
             )?,
-            message(Topic::Odom, stamp, &o.odometry(stamp, &tick))?,
-            message(Topic::Tf, stamp, &o.transform(stamp))?,
+            message(Topic::Odom, stamp, &o.odometry(stamp, &tick, &self.frames))?,
+            message(Topic::Tf, stamp, &o.transform(stamp, &self.frames))?,
         ];
         if tool_offset_m.is_finite() {
             // The law's offset is the row's from the tool; cross-track is the tool's.
@@ -158,7 +166,7 @@ impl Converter {
         let stamp = self.stamp(t_s);
         let status = Value::Object(map);
         let mut out = Vec::new();
-        if let Some(row) = row(&status["filter"], stamp) {
+        if let Some(row) = row(&status["filter"], stamp, &self.frames.id(ROW_FRAME)) {
             out.push(message(Topic::Row, stamp, &row)?);
         }
         if let Some(fix) = self.fix(&status["gnss"], stamp) {
@@ -235,7 +243,15 @@ impl Converter {
             return None;
         }
         self.last_fix = Some(now);
-        Some(nav_sat_fix(quality, lat, lon, gnss["sd_m"].as_f64(), stamp))
+        let frame = self.frames.id(GNSS_FRAME);
+        Some(nav_sat_fix(
+            quality,
+            lat,
+            lon,
+            gnss["sd_m"].as_f64(),
+            stamp,
+            &frame,
+        ))
     }
 }
 
@@ -251,6 +267,7 @@ fn nav_sat_fix(
     lon: Option<f64>,
     sd_m: Option<f64>,
     stamp: Time,
+    frame: &str,
 ) -> NavSatFix {
     let status = match quality {
         1 | 3 => 0,
@@ -278,7 +295,7 @@ fn nav_sat_fix(
         None => ([0.0; 9], 0),
     };
     NavSatFix {
-        header: header(stamp, "gnss"),
+        header: header(stamp, frame),
         status: NavSatStatus { status, service: 1 },
         latitude: lat.unwrap_or(f64::NAN),
         longitude: lon.unwrap_or(f64::NAN),
@@ -291,14 +308,14 @@ fn nav_sat_fix(
 /// The rear axle's place in the row's frame, from the row filter: the row offset `o`
 /// (+ = row left of the robot) puts the robot at y = -o, and the row's heading
 /// relative to the robot turns it by its negative.
-fn row(filter: &Value, stamp: Time) -> Option<PoseWithCovarianceStamped> {
+fn row(filter: &Value, stamp: Time, frame: &str) -> Option<PoseWithCovarianceStamped> {
     let offset_m = filter["offset_m"].as_f64()?;
     let heading_rad = filter["heading_rad"].as_f64()?;
     let sd_m = filter["offset_sd_m"].as_f64().unwrap_or(0.0);
     let mut covariance = [0.0; 36];
     covariance[7] = sd_m * sd_m;
     Some(PoseWithCovarianceStamped {
-        header: header(stamp, ROW_FRAME),
+        header: header(stamp, frame),
         pose: PoseWithCovariance {
             pose: Pose {
                 position: Vector3 {

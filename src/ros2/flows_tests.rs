@@ -9,7 +9,7 @@ use mechweed_core::record::{TickSample, tick_json};
 use super::cdr::decode;
 use super::diagnostics::{ERROR, OK, STALE, WARN};
 use super::flows::Converter;
-use super::msgs::{DiagnosticArray, JointState, Log, NavSatFix, Odometry};
+use super::msgs::{DiagnosticArray, JointState, Log, NavSatFix, Odometry, TfMessage};
 use super::topics::Topic;
 use crate::bus::payload::status_json;
 use crate::state::modes::Mode;
@@ -86,6 +86,34 @@ fn ticks_are_stamped_on_the_robots_clock_once_a_status_gives_it() {
         .unwrap();
     let again = c.tick(&tick(0.6, 0.1)).unwrap();
     assert_eq!(again[0].stamp.sec, 1_000_071, "{:?}", again[0].stamp);
+}
+
+#[test]
+fn a_frame_prefix_goes_before_every_frame_id_and_none_leaves_them_as_they_are() {
+    for (prefix, odom_frame, base_frame, gnss_frame) in [
+        ("", "odom", "base_link", "gnss"),
+        ("robot2/", "robot2/odom", "robot2/base_link", "robot2/gnss"),
+    ] {
+        let mut c = Converter::new("mechweed", 0.2).with_frame_prefix(prefix);
+        let out = c.tick(&tick(1.0, 0.5)).unwrap();
+        let joints: JointState = decode(&out[0].bytes).unwrap();
+        let odom: Odometry = decode(&out[1].bytes).unwrap();
+        let tf: TfMessage = decode(&out[2].bytes).unwrap();
+        assert_eq!(joints.header.frame_id, base_frame);
+        assert_eq!(
+            (odom.header.frame_id.as_str(), odom.child_frame_id.as_str()),
+            (odom_frame, base_frame)
+        );
+        let t = &tf.transforms[0];
+        assert_eq!(
+            (t.header.frame_id.as_str(), t.child_frame_id.as_str()),
+            (odom_frame, base_frame)
+        );
+        let out = c.status(&status(1.1, 101.1, 4, 52.0), Instant::now());
+        let fix = out.unwrap().into_iter().find(|o| o.topic == Topic::Fix);
+        let fix: NavSatFix = decode(&fix.expect("a fix").bytes).unwrap();
+        assert_eq!(fix.header.frame_id, gnss_frame);
+    }
 }
 
 #[test]

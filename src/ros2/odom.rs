@@ -11,6 +11,28 @@ use super::msgs::{
 
 pub const ODOM_FRAME: &str = "odom";
 pub const BASE_FRAME: &str = "base_link";
+pub const GNSS_FRAME: &str = "gnss";
+
+/// The frame ids as ROS sees them: each with `[ros2] frame_prefix` before it, so that
+/// several robots' frames stay apart on one ROS network (`robot2/` gives robot2/odom).
+#[derive(Debug, Clone, Default)]
+pub struct Frames {
+    prefix: String,
+}
+
+impl Frames {
+    pub fn new(prefix: &str) -> Frames {
+        Frames {
+            prefix: prefix.to_string(),
+        }
+    }
+
+    /// `frame` (odom, base_link, row, gnss) with the prefix.
+    pub fn id(&self, frame: &str) -> String {
+        format!("{}{frame}", self.prefix)
+    }
+}
+
 /// The joints on /joint_states, in this order.
 pub const JOINTS: [&str; 3] = ["wheel_left", "wheel_right", "steering"];
 
@@ -80,10 +102,10 @@ impl Odometer {
 
     /// nav_msgs/Odometry: the pose in `odom`, the twist in `base_link`. The covariances
     /// are not estimated: all zero.
-    pub fn odometry(&self, stamp: Time, tick: &TickMotion) -> Odometry {
+    pub fn odometry(&self, stamp: Time, tick: &TickMotion, frames: &Frames) -> Odometry {
         Odometry {
-            header: header(stamp, ODOM_FRAME),
-            child_frame_id: BASE_FRAME.to_string(),
+            header: header(stamp, &frames.id(ODOM_FRAME)),
+            child_frame_id: frames.id(BASE_FRAME),
             pose: PoseWithCovariance {
                 pose: Pose {
                     position: Vector3 {
@@ -112,11 +134,11 @@ impl Odometer {
     }
 
     /// tf2_msgs/TFMessage: odom -> base_link.
-    pub fn transform(&self, stamp: Time) -> TfMessage {
+    pub fn transform(&self, stamp: Time, frames: &Frames) -> TfMessage {
         TfMessage {
             transforms: vec![TransformStamped {
-                header: header(stamp, ODOM_FRAME),
-                child_frame_id: BASE_FRAME.to_string(),
+                header: header(stamp, &frames.id(ODOM_FRAME)),
+                child_frame_id: frames.id(BASE_FRAME),
                 transform: Transform {
                     translation: Vector3 {
                         x: self.x_m,
@@ -131,9 +153,15 @@ impl Odometer {
 
     /// sensor_msgs/JointState: the wheels' turns (rad) and speeds (rad/s), the
     /// steering's wheel angle (rad, + = left) and its rate.
-    pub fn joints(&self, stamp: Time, tick: &TickMotion, wheel_radius_m: f64) -> JointState {
+    pub fn joints(
+        &self,
+        stamp: Time,
+        tick: &TickMotion,
+        wheel_radius_m: f64,
+        frames: &Frames,
+    ) -> JointState {
         JointState {
-            header: header(stamp, BASE_FRAME),
+            header: header(stamp, &frames.id(BASE_FRAME)),
             name: JOINTS.iter().map(|j| j.to_string()).collect(),
             position: vec![
                 self.wheel_left_rad,

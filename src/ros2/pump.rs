@@ -96,13 +96,14 @@ impl Robot {
     /// or `end`. `say` prefixes the program's lines.
     pub fn pump(
         &self,
-        wheel_radius_m: f64,
+        ros: &crate::config::Ros2Settings,
         stop: &AtomicBool,
         end: Option<Instant>,
         say: &str,
         mut send: impl FnMut(&Outgoing) -> bool,
     ) -> Pumped {
-        let mut converter = Converter::new(&self.name, wheel_radius_m);
+        let mut converter =
+            Converter::new(&self.name, ros.wheel_radius_m).with_frame_prefix(&ros.frame_prefix);
         let mut pumped = Pumped::default();
         let mut next_diagnostics = Instant::now();
         let mut heard = false;

@@ -37,6 +37,8 @@ pub struct Ros2Settings {
     pub distro: Distro,
     /// Radius of the drive wheels, m: wheel speeds in rad/s on /joint_states.
     pub wheel_radius_m: f64,
+    /// Put before every frame id (odom, base_link, row, gnss): "" or e.g. "robot2/".
+    pub frame_prefix: String,
 }
 
 impl Ros2Settings {
@@ -48,6 +50,7 @@ impl Ros2Settings {
             connect: "tcp/127.0.0.1:7447".to_string(),
             distro: Distro::Jazzy,
             wheel_radius_m: 0.2,
+            frame_prefix: String::new(),
         }
     }
 }
@@ -79,6 +82,18 @@ pub fn parse_namespace(text: &str) -> Result<String, String> {
     Ok(text.to_string())
 }
 
+/// A frame prefix: empty, or letters, digits, `_` and `/` that do not start with `/`
+/// (tf2 takes no frame id that starts with one), such as `robot2/`.
+pub fn parse_frame_prefix(text: &str) -> Result<String, String> {
+    let plain = (text.chars()).all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '/');
+    if text.starts_with('/') || !plain {
+        return Err(format!(
+            "'{text}' is not a frame prefix: letters, digits, _ and /, not starting with / (for example robot2/), or nothing"
+        ));
+    }
+    Ok(text.to_string())
+}
+
 /// One endpoint of the ROS router.
 pub fn parse_router(text: &str) -> Result<String, String> {
     match parse_endpoints(text)?.as_slice() {
@@ -103,12 +118,24 @@ pub(super) fn load(r: &mut Reader) -> Option<Ros2Settings> {
         connect: r.parsed(s, "connect", parse_router).unwrap_or_default(),
         distro: Distro::ALL[r.choice(s, "distro", &Distro::NAMES)],
         wheel_radius_m: r.f64(s, "wheel_radius_m", 0.01, 2.0),
+        frame_prefix: (r.parsed(s, "frame_prefix", parse_frame_prefix)).unwrap_or_default(),
     })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_frame_prefix_is_a_frame_ids_beginning() {
+        for good in ["", "robot2/", "farm_1/robot_a/"] {
+            assert_eq!(parse_frame_prefix(good).as_deref(), Ok(good));
+        }
+        for bad in ["/robot2/", "robot 2/", "robot-2/"] {
+            let why = parse_frame_prefix(bad).unwrap_err();
+            assert!(why.contains(&format!("'{bad}'")), "{why}");
+        }
+    }
 
     #[test]
     fn namespaces_follow_ros_names() {
