@@ -7,8 +7,8 @@ use std::path::Path;
 
 use super::cdr::decode;
 use super::msgs::{
-    DiagnosticArray, Float64, JointState, Log, NavSatFix, Odometry, PoseWithCovarianceStamped,
-    TfMessage,
+    BatteryState, DiagnosticArray, Float64, JointState, Log, NavSatFix, Odometry,
+    PoseWithCovarianceStamped, TfMessage,
 };
 use super::types;
 
@@ -23,6 +23,7 @@ pub enum RosMsg {
     Fix(NavSatFix),
     Row(Box<PoseWithCovarianceStamped>),
     Float(Float64),
+    Battery(BatteryState),
 }
 
 /// A message of the bag: its topic, log time (ns since 1970) and content.
@@ -44,6 +45,7 @@ pub fn decode_as(schema: &str, bytes: &[u8]) -> Result<RosMsg, String> {
         s if s == types::NAV_SAT_FIX.name => RosMsg::Fix(decode(bytes)?),
         s if s == types::POSE_WITH_COVARIANCE_STAMPED.name => RosMsg::Row(Box::new(decode(bytes)?)),
         s if s == types::FLOAT64.name => RosMsg::Float(decode(bytes)?),
+        s if s == types::BATTERY_STATE.name => RosMsg::Battery(decode(bytes)?),
         other => {
             return Err(format!(
                 "a message of {other}, which mechweed does not write"

@@ -7,8 +7,8 @@ use serde::Serialize;
 use serde::de::DeserializeOwned;
 
 use super::msgs::{
-    DiagnosticArray, Float64, JointState, Log, NavSatFix, Odometry, PoseWithCovarianceStamped,
-    TfMessage,
+    BatteryState, DiagnosticArray, Float64, JointState, Log, NavSatFix, Odometry,
+    PoseWithCovarianceStamped, TfMessage,
 };
 use super::types::{self, MsgType};
 
@@ -37,6 +37,7 @@ ros_message! {
     JointState => types::JOINT_STATE,
     DiagnosticArray => types::DIAGNOSTIC_ARRAY,
     Log => types::LOG,
+    BatteryState => types::BATTERY_STATE,
 }
 
 /// The message's bytes on the wire: header and CDR.

@@ -13,10 +13,10 @@ use super::cdr::{RosMessage, encode};
 use super::clock::RobotClock;
 use super::diagnostics;
 use super::msgs::{
-    Float64, Log, NavSatFix, NavSatStatus, Pose, PoseWithCovariance, PoseWithCovarianceStamped,
-    Quaternion, Time, Vector3,
+    BatteryState, Float64, Log, NavSatFix, NavSatStatus, Pose, PoseWithCovariance,
+    PoseWithCovarianceStamped, Quaternion, Time, Vector3,
 };
-use super::odom::{Frames, GNSS_FRAME, Odometer, TickMotion, header};
+use super::odom::{BASE_FRAME, Frames, GNSS_FRAME, Odometer, TickMotion, header};
 use super::topics::Topic;
 
 /// One message for one topic.
@@ -58,6 +58,8 @@ pub struct Converter {
     started: Instant,
     /// The last fix sent on /fix: quality, latitude and longitude.
     last_fix: Option<(u64, Option<f64>, Option<f64>)>,
+    /// The robot's time of the last /battery_state, s.
+    last_battery_t_s: Option<f64>,
     pub counts: Counts,
 }
 
@@ -99,6 +101,7 @@ impl Converter {
             overruns_before: None,
             started: Instant::now(),
             last_fix: None,
+            last_battery_t_s: None,
             counts: Counts::default(),
         }
     }
@@ -172,6 +175,9 @@ impl Converter {
         if let Some(fix) = self.fix(&status["gnss"], stamp) {
             out.push(message(Topic::Fix, stamp, &fix)?);
         }
+        if let Some(battery) = self.battery(&status, t_s, stamp) {
+            out.push(message(Topic::Battery, stamp, &battery)?);
+        }
         let overruns = |s: &Value| diagnostics::overruns(s);
         self.overruns_before = self.last_status.as_ref().map(|(s, _)| overruns(s));
         self.last_status = Some((status, arrived));
@@ -234,6 +240,30 @@ impl Converter {
         message(Topic::Diagnostics, array.header.stamp, &array).map(Some)
     }
 
+    /// /battery_state about once a second of the robot's time (again at once after it
+    /// started again): the voltage is all the robot measures of its battery.
+    fn battery(&mut self, status: &Value, t_s: f64, stamp: Time) -> Option<BatteryState> {
+        let voltage = status["battery_v"].as_f64()?;
+        let due = (self.last_battery_t_s)
+            .is_none_or(|last| !(0.0..BATTERY_EVERY_S).contains(&(t_s - last)));
+        if !due {
+            return None;
+        }
+        self.last_battery_t_s = Some(t_s);
+        Some(BatteryState {
+            header: header(stamp, &self.frames.id(BASE_FRAME)),
+            voltage: voltage as f32,
+            temperature: f32::NAN,
+            current: f32::NAN,
+            charge: f32::NAN,
+            capacity: f32::NAN,
+            design_capacity: f32::NAN,
+            percentage: f32::NAN,
+            present: true,
+            ..BatteryState::default()
+        })
+    }
+
     /// /fix, when the quality or the position changed since the last sent.
     fn fix(&mut self, gnss: &Value, stamp: Time) -> Option<NavSatFix> {
         let quality = gnss["quality"].as_u64()?;
@@ -254,6 +284,9 @@ impl Converter {
         ))
     }
 }
+
+/// How often /battery_state goes out, s of the robot's time.
+const BATTERY_EVERY_S: f64 = 1.0;
 
 /// Up's variance when the robot does not know it, m²: so large that nothing trusts it.
 pub const UNKNOWN_VARIANCE_M2: f64 = 1e6;

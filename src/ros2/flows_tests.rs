@@ -9,7 +9,7 @@ use mechweed_core::record::{TickSample, tick_json};
 use super::cdr::decode;
 use super::diagnostics::{ERROR, OK, STALE, WARN};
 use super::flows::Converter;
-use super::msgs::{DiagnosticArray, JointState, Log, NavSatFix, Odometry, TfMessage};
+use super::msgs::{BatteryState, DiagnosticArray, JointState, Log, NavSatFix, Odometry, TfMessage};
 use super::topics::Topic;
 use crate::bus::payload::status_json;
 use crate::state::modes::Mode;
@@ -114,6 +114,36 @@ fn a_frame_prefix_goes_before_every_frame_id_and_none_leaves_them_as_they_are() 
         let fix: NavSatFix = decode(&fix.expect("a fix").bytes).unwrap();
         assert_eq!(fix.header.frame_id, gnss_frame);
     }
+}
+
+#[test]
+fn the_battery_goes_out_once_a_second_of_the_robots_time_with_its_voltage() {
+    let mut c = Converter::new("mechweed", 0.2).with_frame_prefix("robot2/");
+    let mut sent = Vec::new();
+    // Statuses at 10 a second for 2.5 s, the voltage falling; then the robot starts again.
+    for (i, t_s) in (0..25).map(|i| (i, f64::from(i) * 0.1)).chain([(25, 0.2)]) {
+        let mut json: serde_json::Value =
+            serde_json::from_slice(&status(t_s, 100.0 + t_s, 0, 0.0)).unwrap();
+        json["battery_v"] = (25.0 - 0.01 * f64::from(i)).into();
+        let out = c
+            .status(json.to_string().as_bytes(), Instant::now())
+            .unwrap();
+        let battery = out.iter().filter(|o| o.topic == Topic::Battery);
+        sent.extend(battery.map(|o| decode::<BatteryState>(&o.bytes).unwrap()));
+    }
+    let volts: Vec<f32> = sent.iter().map(|b| b.voltage).collect();
+    assert_eq!(
+        volts,
+        [25.0, 24.9, 24.8, 24.75],
+        "at 0, 1, 2 s and after the restart"
+    );
+    let b = &sent[0];
+    assert_eq!(b.header.frame_id, "robot2/base_link");
+    assert!(
+        b.present && b.current.is_nan() && b.percentage.is_nan(),
+        "{b:?}"
+    );
+    assert_eq!((b.power_supply_status, b.power_supply_health), (0, 0));
 }
 
 #[test]

@@ -174,6 +174,28 @@ pub struct NavSatFix {
     pub position_covariance_type: u8,
 }
 
+/// sensor_msgs/BatteryState: NaN for what is not measured; status, health and
+/// technology 0, unknown.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct BatteryState {
+    pub header: Header,
+    pub voltage: f32,
+    pub temperature: f32,
+    pub current: f32,
+    pub charge: f32,
+    pub capacity: f32,
+    pub design_capacity: f32,
+    pub percentage: f32,
+    pub power_supply_status: u8,
+    pub power_supply_health: u8,
+    pub power_supply_technology: u8,
+    pub present: bool,
+    pub cell_voltage: Vec<f32>,
+    pub cell_temperature: Vec<f32>,
+    pub location: String,
+    pub serial_number: String,
+}
+
 /// sensor_msgs/JointState.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 pub struct JointState {

@@ -15,10 +15,11 @@ pub enum Topic {
     Fix,
     Row,
     CrossTrack,
+    Battery,
 }
 
 impl Topic {
-    pub const ALL: [Topic; 8] = [
+    pub const ALL: [Topic; 9] = [
         Topic::Diagnostics,
         Topic::Rosout,
         Topic::Tf,
@@ -27,6 +28,7 @@ impl Topic {
         Topic::Fix,
         Topic::Row,
         Topic::CrossTrack,
+        Topic::Battery,
     ];
 
     /// The topic's full name, e.g. /mechweed/odom or /tf.
@@ -41,6 +43,7 @@ impl Topic {
             Topic::Fix => own("fix"),
             Topic::Row => own("row"),
             Topic::CrossTrack => own("cross_track"),
+            Topic::Battery => own("battery_state"),
         }
     }
 
@@ -54,6 +57,7 @@ impl Topic {
             Topic::Fix => &types::NAV_SAT_FIX,
             Topic::Row => &types::POSE_WITH_COVARIANCE_STAMPED,
             Topic::CrossTrack => &types::FLOAT64,
+            Topic::Battery => &types::BATTERY_STATE,
         }
     }
 

@@ -196,8 +196,19 @@ string function\nuint32 line\n",
     uses: &[&TIME],
 };
 
+pub static BATTERY_STATE: MsgType = MsgType {
+    name: "sensor_msgs/msg/BatteryState",
+    definition: "uint8 POWER_SUPPLY_STATUS_UNKNOWN=0\nuint8 POWER_SUPPLY_HEALTH_UNKNOWN=0\n\
+uint8 POWER_SUPPLY_TECHNOLOGY_UNKNOWN=0\nstd_msgs/Header header\nfloat32 voltage\n\
+float32 temperature\nfloat32 current\nfloat32 charge\nfloat32 capacity\n\
+float32 design_capacity\nfloat32 percentage\nuint8 power_supply_status\n\
+uint8 power_supply_health\nuint8 power_supply_technology\nbool present\n\
+float32[] cell_voltage\nfloat32[] cell_temperature\nstring location\nstring serial_number\n",
+    uses: &[&HEADER],
+};
+
 /// The types a topic may carry: the ones with a hash.
-pub static TOPIC_TYPES: [&MsgType; 8] = [
+pub static TOPIC_TYPES: [&MsgType; 9] = [
     &FLOAT64,
     &POSE_WITH_COVARIANCE_STAMPED,
     &ODOMETRY,
@@ -206,12 +217,13 @@ pub static TOPIC_TYPES: [&MsgType; 8] = [
     &JOINT_STATE,
     &DIAGNOSTIC_ARRAY,
     &LOG,
+    &BATTERY_STATE,
 ];
 
 /// The hashes of the topics' types in Jazzy (rosidl 4.6), unchanged in Kilted and
 /// Rolling: none of these definitions changed between them. A release that changes
 /// one gets its own table.
-const JAZZY: [(&str, &str); 8] = [
+const JAZZY: [(&str, &str); 9] = [
     (
         "std_msgs/msg/Float64",
         "RIHS01_705ba9c3d1a09df43737eb67095534de36fd426c0587779bda2bc51fe790182a",
@@ -243,6 +255,10 @@ const JAZZY: [(&str, &str); 8] = [
     (
         "rcl_interfaces/msg/Log",
         "RIHS01_e28ce254ca8abc06abf92773b74602cdbf116ed34fbaf294fb9f81da9f318eac",
+    ),
+    (
+        "sensor_msgs/msg/BatteryState",
+        "RIHS01_4bee5dfce981c98faa6828b868307a0a73f992ed0789f374ee96c8f840e69741",
     ),
 ];
 

@@ -7,8 +7,8 @@ use std::time::{Duration, Instant};
 
 use mechweed::ros2::cdr::decode;
 use mechweed::ros2::msgs::{
-    DiagnosticArray, Float64, JointState, Log, NavSatFix, Odometry, PoseWithCovarianceStamped,
-    TfMessage,
+    BatteryState, DiagnosticArray, Float64, JointState, Log, NavSatFix, Odometry,
+    PoseWithCovarianceStamped, TfMessage,
 };
 use mechweed::ros2::wire::read_attachment;
 use zenoh::Wait;
@@ -17,7 +17,7 @@ use super::{Bridge, Router, tokens};
 use crate::bus::Robot;
 
 /// (topic, its entity id, its type, its hash, its QoS in a token)
-const TOPICS: [(&str, u32, &str, &str, &str); 8] = [
+const TOPICS: [(&str, u32, &str, &str, &str); 9] = [
     (
         "/diagnostics",
         1,
@@ -74,6 +74,13 @@ const TOPICS: [(&str, u32, &str, &str, &str); 8] = [
         "RIHS01_705ba9c3d1a09df43737eb67095534de36fd426c0587779bda2bc51fe790182a",
         "::,10:,:,:,,",
     ),
+    (
+        "/mechweed/battery_state",
+        9,
+        "sensor_msgs::msg::dds_::BatteryState_",
+        "RIHS01_4bee5dfce981c98faa6828b868307a0a73f992ed0789f374ee96c8f840e69741",
+        "::,10:,:,:,,",
+    ),
 ];
 
 /// A sample as heard: payload and attachment.
@@ -122,7 +129,7 @@ fn a_ros_client_finds_the_node_and_its_topics_and_decodes_the_run_on_each() {
     let bridge = Bridge::start(&router.endpoint, &robot.endpoint, 14.0);
 
     // What `ros2 node list` and `ros2 topic list` read: one node token, a publisher's each.
-    let found = tokens(&client, 9);
+    let found = tokens(&client, 10);
     let node = found
         .iter()
         .find(|t| t.contains("/NN/"))
@@ -308,6 +315,16 @@ fn check_the_run(heard: &Heard) {
     assert!(
         cross_track.iter().all(|c| c.data.abs() < 0.15),
         "{cross_track:?}"
+    );
+
+    // The battery once a second, at the simulated battery's voltage.
+    let battery: Vec<BatteryState> = all(heard, "/mechweed/battery_state");
+    assert!(battery.len() >= 3, "{battery:?}");
+    assert!(
+        battery
+            .iter()
+            .all(|b| b.voltage > 20.0 && b.voltage < 30.0 && b.present),
+        "{battery:?}"
     );
 
     let logs: Vec<Log> = all(heard, "/rosout");
