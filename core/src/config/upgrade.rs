@@ -26,6 +26,12 @@ const OLDER: &[(&str, &str, &str, &str)] = &[
         "0",
         "no limit in space, as every release before [record] keep_gb",
     ),
+    (
+        "ros2",
+        "frame_prefix",
+        "",
+        "frame ids without a prefix, as every release before [ros2] frame_prefix",
+    ),
 ];
 
 /// Settings of older releases that a setting of this one replaced, with the same
@@ -287,7 +293,7 @@ mod tests {
             } else if line.trim().starts_with('[') {
                 skip = false;
             }
-            let dropped = ["law =", "keep_gb ="];
+            let dropped = ["law =", "keep_gb =", "frame_prefix ="];
             if skip || dropped.iter().any(|d| line.trim_start().starts_with(d)) {
                 continue;
             }
@@ -305,6 +311,10 @@ mod tests {
         assert_eq!(keep_gb.value, "0", "{keep_gb:?}");
         let upgraded = crate::config::Settings::parse("upgraded", &text, &[]).unwrap();
         assert_eq!(upgraded.record.keep_gb, None);
+        // The robot's frames keep their names, as before there was a prefix.
+        let prefix = added.iter().find(|a| a.key == "frame_prefix").unwrap();
+        assert_eq!((prefix.value.as_str(), prefix.why.is_some()), ("", true));
+        assert_eq!(upgraded.ros2.as_ref().unwrap().frame_prefix, "");
         assert!(added.iter().any(|a| a.section == "test" && a.new_section));
         // Every line of the older file is there, in its order.
         let mut new_lines = text.lines();

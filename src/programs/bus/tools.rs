@@ -127,9 +127,11 @@ impl Tool {
     /// asks by its certificate and no other identity's flood is counted with it.
     pub fn ask(&self, key: &str, payload: Option<String>) -> Result<String, String> {
         self.wait_for_controller()?;
-        let key = match key.strip_prefix('/') {
-            Some(whole) => whole.to_string(),
-            None => crate::bus::asked_as::key(&self.robot, self.name.as_deref(), key),
+        // A whole key (another robot's, /farm/robot2/...) is asked as it is.
+        let key = if key.starts_with('/') {
+            self.key(key)
+        } else {
+            crate::bus::asked_as::key(&self.robot, self.name.as_deref(), key)
         };
         // Named, so that the robot limits this program's requests apart from others'.
         let mut get = self
