@@ -54,7 +54,7 @@ fn the_readme_s_scripted_events_each_print_a_line_as_they_happen() {
 /// A run driving autonomous with no --duration, ended by `signal` once it drives: what
 /// it printed, and whether it ended well.
 fn stopped_by(signal: i32) -> (bool, String) {
-    use std::io::{BufRead, BufReader, Read};
+    use std::io::{BufRead, BufReader};
     use std::process::Stdio;
     let dir = tempfile::tempdir().unwrap();
     let mut child = mechweed()
@@ -64,20 +64,34 @@ fn stopped_by(signal: i32) -> (bool, String) {
         .stderr(Stdio::null())
         .spawn()
         .unwrap();
-    let mut stdout = BufReader::new(child.stdout.take().unwrap());
+    // Its lines come through a thread, so that a run that never drives fails the test
+    // in a minute instead of holding it (the run itself has no end).
+    let stdout = BufReader::new(child.stdout.take().unwrap());
+    let (lines, said) = std::sync::mpsc::channel();
+    let reader = std::thread::spawn(move || {
+        for line in stdout.lines() {
+            if lines.send(line.unwrap()).is_err() {
+                break;
+            }
+        }
+    });
     let mut seen = String::new();
+    let until = std::time::Instant::now() + std::time::Duration::from_secs(60);
     while !seen.contains("-> autonomous") {
-        let mut line = String::new();
-        assert!(
-            stdout.read_line(&mut line).unwrap() > 0,
-            "ended early:\n{seen}"
-        );
-        seen += &line;
+        let wait = until.saturating_duration_since(std::time::Instant::now());
+        match said.recv_timeout(wait) {
+            Ok(line) => seen += &(line + "\n"),
+            Err(why) => {
+                let _ = child.kill();
+                panic!("no \"-> autonomous\" ({why:?}):\n{seen}");
+            }
+        }
     }
     let pid = i32::try_from(child.id()).unwrap();
     // SAFETY: kill() with a child's own pid and a signal number has no memory effects.
     assert_eq!(unsafe { libc::kill(pid, signal) }, 0);
-    stdout.read_to_string(&mut seen).unwrap();
+    reader.join().unwrap();
+    seen.extend(said.try_iter().map(|line| line + "\n"));
     let status = child.wait().unwrap();
     (status.success(), seen)
 }

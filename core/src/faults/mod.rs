@@ -4,8 +4,11 @@
 //! the first cause found latches the Fault mode and safe outputs in that same tick.
 //! Checks that must see a condition for some time (a battery sagging, an encoder not
 //! counting) keep a timer here; their times are settings in robot.ini [faults].
+//! `check` lists them all; the robot's motion checks are in motion.rs, and the
+//! controller's own health (its threads beating, its ticks on time) in liveness.rs.
 
 mod context;
+mod liveness;
 mod motion;
 
 use mechweed_hw::{EncoderId, Inputs};
@@ -14,7 +17,6 @@ pub use context::CheckContext;
 use context::held_for;
 
 use crate::config::{CameraSettings, FaultSettings, RtSettings, Settings, SteerSource};
-use crate::rt::health::ThreadName;
 use crate::state::fault_cause::{FaultCause, JoystickAxis};
 use crate::state::modes::Mode;
 use crate::state::status::PowerState;
@@ -321,74 +323,6 @@ impl FaultChecks {
             } else if blind_s > self.camera.link_timeout_s && !looking {
                 report(FaultCause::CameraSeesNoRow { for_s: blind_s });
             }
-        }
-    }
-
-    /// The other threads: none panicked, each still beating.
-    fn threads(&self, c: &CheckContext, report: &mut impl FnMut(FaultCause)) {
-        let now = c.now_s;
-        // Threads: a panic anywhere, or a thread that stops beating, is a fault; the
-        // steer thread beats with each command, the camera link with each status.
-        if let Some(thread) = c.health.panicked {
-            report(FaultCause::ThreadPanicked { thread });
-        }
-        let beats = [
-            (ThreadName::Steer, Some(c.steer.t_s)),
-            (ThreadName::CameraLink, Some(c.link.beat_s)),
-            (ThreadName::Gui, c.health.gui_beat_s),
-        ];
-        for (thread, beat_s) in beats {
-            // The GUI thread runs at normal priority and draws with the processor: it
-            // gets its own, longer time-out.
-            let timeout_s = if thread == ThreadName::Gui {
-                self.rt.gui_heartbeat_timeout_s
-            } else {
-                self.rt.heartbeat_timeout_s
-            };
-            if let Some(beat_s) = beat_s {
-                let for_s = now - beat_s;
-                if for_s > timeout_s {
-                    report(FaultCause::ThreadStopped { thread, for_s });
-                }
-            }
-        }
-    }
-
-    /// The supervisor's own timing: no stalled tick, no burst of overruns.
-    fn timing(&mut self, c: &CheckContext, report: &mut impl FnMut(FaultCause)) {
-        let now = c.now_s;
-        // One stall is enough: for that long the amplifiers drove unwatched.
-        let late_s = c.tick_gap_s - self.period_s;
-        let limit_s = self.rt.max_late_periods * self.period_s;
-        if late_s > limit_s {
-            report(FaultCause::LateTick {
-                late_ms: late_s * 1e3,
-                limit_ms: limit_s * 1e3,
-                load: c.health.cpu_load,
-            });
-        }
-
-        // Deadline overruns: a few are tolerated, a burst means an overloaded computer.
-        let new_overruns = c
-            .health
-            .supervisor_overruns
-            .saturating_sub(self.overruns_seen);
-        self.overruns_seen = c.health.supervisor_overruns;
-        for _ in 0..new_overruns.min(self.rt.max_overruns as u64 + 1) {
-            if self.overrun_times_s.len() > self.rt.max_overruns as usize {
-                self.overrun_times_s.pop_front();
-            }
-            self.overrun_times_s.push_back(now);
-        }
-        if self.overrun_times_s.len() > self.rt.max_overruns as usize
-            && let Some(&oldest) = self.overrun_times_s.front()
-            && now - oldest <= self.rt.overrun_window_s
-        {
-            report(FaultCause::Overruns {
-                count: self.overrun_times_s.len() as u32,
-                window_s: self.rt.overrun_window_s,
-                load: c.health.cpu_load,
-            });
         }
     }
 }

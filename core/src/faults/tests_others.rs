@@ -1,10 +1,11 @@
 //! Unit tests of the checks that look at the other threads: the steer thread's row
 //! sources, the threads' heartbeats, and the supervisor's own timing.
 
+use super::liveness::FIRST_BEAT_S;
 use super::tests::healthy_inputs;
 use super::*;
 use crate::camlink::LinkStatus;
-use crate::rt::health::ThreadHealth;
+use crate::rt::health::{ThreadHealth, ThreadName};
 use crate::rt::load::CpuLoad;
 use crate::state::measure::Measured;
 use crate::steer::{SourceHealth, SteerCommand};
@@ -160,10 +161,41 @@ fn a_thread_that_stops_beating_is_a_fault_after_its_time_out_and_the_gui_gets_lo
         beating(&mut given, after_s);
         let cause = given.check_at(after_s);
         assert!(
-            matches!(cause, Some(FaultCause::ThreadStopped { thread: t, for_s })
+            matches!(cause, Some(FaultCause::ThreadStopped { thread: t, for_s, started: true })
                 if t == thread && (for_s - timeout_s * 1.1).abs() < 1e-9),
             "{thread:?}: {cause:?}"
         );
+    }
+}
+
+#[test]
+fn a_thread_slow_to_start_on_a_busy_computer_is_given_time_and_one_that_never_starts_is_a_fault() {
+    let rt = Settings::shipped().rt;
+    for thread in [ThreadName::Steer, ThreadName::CameraLink] {
+        // The controller has just started: the others beat, this one has not yet.
+        let mut given = Given::driving(SteerSource::Camera, 0.0);
+        given.mode = Mode::Halt;
+        let others_beat = |given: &mut Given, now_s: f64| {
+            given.steer.t_s = now_s;
+            given.link.beat_s = now_s;
+            match thread {
+                ThreadName::Steer => given.steer.t_s = 0.0,
+                _ => given.link.beat_s = 0.0,
+            }
+        };
+        let late_s = 2.0 * rt.heartbeat_timeout_s;
+        others_beat(&mut given, late_s);
+        assert_eq!(given.check_at(late_s), None, "{thread:?} at {late_s} s");
+        let never_s = FIRST_BEAT_S + 0.1;
+        others_beat(&mut given, never_s);
+        let cause = given.check_at(never_s).expect("a fault");
+        assert!(
+            matches!(cause, FaultCause::ThreadStopped { thread: t, started: false, .. }
+                if t == thread),
+            "{thread:?}: {cause:?}"
+        );
+        let said = cause.to_string();
+        assert!(said.contains("did not start"), "{said}");
     }
 }
 

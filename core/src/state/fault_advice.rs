@@ -178,6 +178,7 @@ mod tests {
             ThreadStopped {
                 thread: ThreadName::Steer,
                 for_s: 1.0,
+                started: true,
             },
             ThreadPanicked {
                 thread: ThreadName::Steer,

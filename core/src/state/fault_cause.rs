@@ -78,9 +78,11 @@ pub enum FaultCause {
     OffTheRow {
         offset_m: f64,
     },
+    /// `started`: whether it had beaten at all (false: it never started).
     ThreadStopped {
         thread: ThreadName,
         for_s: f64,
+        started: bool,
     },
     ThreadPanicked {
         thread: ThreadName,
@@ -273,13 +275,24 @@ impl fmt::Display for FaultCause {
                 f,
                 "no row to steer by: the camera has given no usable row for {camera_s:.2} s and GNSS no fix it may steer by for {gnss_s:.2} s (the notice before says why)"
             ),
-            FaultCause::ThreadStopped { thread, for_s } => {
-                write!(
-                    f,
-                    "the {} thread stopped: no sign of life for {for_s:.2} s",
-                    thread.label()
-                )
-            }
+            FaultCause::ThreadStopped {
+                thread,
+                for_s,
+                started: true,
+            } => write!(
+                f,
+                "the {} thread stopped: no sign of life for {for_s:.2} s",
+                thread.label()
+            ),
+            FaultCause::ThreadStopped {
+                thread,
+                for_s,
+                started: false,
+            } => write!(
+                f,
+                "the {} thread did not start: no sign of life {for_s:.2} s after the controller started",
+                thread.label()
+            ),
             FaultCause::ThreadPanicked { thread } => {
                 write!(
                     f,
