@@ -19,17 +19,27 @@ use mechweed_core::config::{Distro, RecordSettings, Ros2Settings, TlsFiles};
 
 use super::flows::Outgoing;
 use super::pump::Robot;
-use super::topics::Topic;
+use super::topics::{Offered, Topic};
 use super::types::{MsgType, schema_text};
 
 /// rosbag2's word for a duration without end.
 const INFINITE: &str = "\n    sec: 9223372036\n    nsec: 854775807";
 
 /// The QoS a publisher offers, as rosbag2 (Jazzy) writes it in a channel's metadata:
-/// reliable, volatile, keep last `depth`, no deadline, lifespan or lease.
-pub fn offered_qos_profiles(depth: u32) -> String {
+/// reliable, keep last, no deadline or lease; durability and lifespan as offered.
+pub fn offered_qos_profiles(offered: Offered) -> String {
+    let depth = offered.depth;
+    let durability = if offered.transient_local {
+        "transient_local"
+    } else {
+        "volatile"
+    };
+    let lifespan = match offered.lifespan_s {
+        Some(s) => format!("\n    sec: {s}\n    nsec: 0"),
+        None => INFINITE.to_string(),
+    };
     format!(
-        "- history: keep_last\n  depth: {depth}\n  reliability: reliable\n  durability: volatile\n  deadline:{INFINITE}\n  lifespan:{INFINITE}\n  liveliness: automatic\n  liveliness_lease_duration:{INFINITE}\n  avoid_ros_namespace_conventions: false"
+        "- history: keep_last\n  depth: {depth}\n  reliability: reliable\n  durability: {durability}\n  deadline:{INFINITE}\n  lifespan:{lifespan}\n  liveliness: automatic\n  liveliness_lease_duration:{INFINITE}\n  avoid_ros_namespace_conventions: false"
     )
 }
 
@@ -75,7 +85,7 @@ impl Bag {
             let metadata = BTreeMap::from([
                 (
                     "offered_qos_profiles".to_string(),
-                    offered_qos_profiles(topic.depth()),
+                    offered_qos_profiles(topic.offered()),
                 ),
                 ("topic_type_hash".to_string(), t.hash(distro).to_string()),
             ]);

@@ -94,7 +94,7 @@ fn a_bag_is_read_back_whole_by_our_reader_and_by_the_mcap_crate() {
         );
         assert_eq!(
             channel.metadata["offered_qos_profiles"],
-            offered_qos_profiles(topic.depth())
+            offered_qos_profiles(topic.offered())
         );
     }
     let mut header = mcap::read::LinearReader::new(&bytes).unwrap();
@@ -113,8 +113,13 @@ fn a_bag_is_read_back_whole_by_our_reader_and_by_the_mcap_crate() {
 #[test]
 fn the_offered_qos_is_rosbag2s_yaml() {
     assert_eq!(
-        offered_qos_profiles(10),
+        offered_qos_profiles(Topic::Odom.offered()),
         "- history: keep_last\n  depth: 10\n  reliability: reliable\n  durability: volatile\n  deadline:\n    sec: 9223372036\n    nsec: 854775807\n  lifespan:\n    sec: 9223372036\n    nsec: 854775807\n  liveliness: automatic\n  liveliness_lease_duration:\n    sec: 9223372036\n    nsec: 854775807\n  avoid_ros_namespace_conventions: false"
+    );
+    // /rosout as rcl offers it (rcl_qos_profile_rosout_default), as rosbag2 writes it.
+    assert_eq!(
+        offered_qos_profiles(Topic::Rosout.offered()),
+        "- history: keep_last\n  depth: 1000\n  reliability: reliable\n  durability: transient_local\n  deadline:\n    sec: 9223372036\n    nsec: 854775807\n  lifespan:\n    sec: 10\n    nsec: 0\n  liveliness: automatic\n  liveliness_lease_duration:\n    sec: 9223372036\n    nsec: 854775807\n  avoid_ros_namespace_conventions: false"
     );
 }
 

@@ -11,6 +11,7 @@ use zenoh::Wait;
 use zenoh::liveliness::LivelinessToken;
 use zenoh::pubsub::Publisher;
 use zenoh::qos::CongestionControl;
+use zenoh_ext::{AdvancedPublisher, AdvancedPublisherBuilderExt, CacheConfig, MissDetectionConfig};
 
 use mechweed_core::config::{Ros2Settings, TlsFiles};
 
@@ -22,6 +23,9 @@ use crate::bus::session::{self, BusError, Role};
 
 /// A missing router is tried again after this long.
 const RETRY: Duration = Duration::from_secs(2);
+/// A transient-local publisher says how far it has got this often when it has
+/// published since, so that a subscriber finds what it missed: rmw_zenoh's period.
+const MISS_HEARTBEAT: Duration = Duration::from_millis(500);
 
 pub struct Options {
     /// The robot's bus.
@@ -37,7 +41,7 @@ pub struct Options {
 /// The ROS side: the node's session, its tokens and a publisher per topic.
 struct RosSide {
     /// Each topic's publisher, its GID and its last sequence number.
-    publishers: HashMap<Topic, (Publisher<'static>, [u8; 16], i64)>,
+    publishers: HashMap<Topic, (Out, [u8; 16], i64)>,
     _tokens: Vec<LivelinessToken>,
     /// Last: dropped after what it declared.
     _session: zenoh::Session,
@@ -96,9 +100,25 @@ fn open_ros(opts: &Options) -> Result<RosSide, String> {
         let publisher = session
             .declare_publisher(node.data_key(topic))
             // A slow ROS machine loses samples; it never holds the bridge up.
-            .congestion_control(CongestionControl::Drop)
-            .wait()
-            .map_err(z)?;
+            .congestion_control(CongestionControl::Drop);
+        let offered = topic.offered();
+        let publisher = if offered.transient_local {
+            // As rmw_zenoh does for a reliable transient-local publisher: a cache of
+            // the last `depth` samples (attachments and all) that a late subscriber's
+            // history query is answered from, found by its liveliness token.
+            let cache = CacheConfig::default().max_samples(offered.depth as usize);
+            let misses = MissDetectionConfig::default().sporadic_heartbeat(MISS_HEARTBEAT);
+            Out::Latched(
+                publisher
+                    .cache(cache)
+                    .sample_miss_detection(misses)
+                    .publisher_detection()
+                    .wait()
+                    .map_err(z)?,
+            )
+        } else {
+            Out::Plain(publisher.wait().map_err(z)?)
+        };
         publishers.insert(topic, (publisher, node.gid(topic), 0));
     }
     Ok(RosSide {
@@ -117,12 +137,18 @@ impl RosSide {
         *sequence += 1;
         let now_ns = (crate::bus::payload::wall_s() * 1e9) as i64;
         let attachment = attachment(*sequence, now_ns, gid).to_vec();
-        publisher
-            .put(out.bytes.clone())
-            .attachment(attachment)
-            .wait()
-            .is_ok()
+        let bytes = out.bytes.clone();
+        match publisher {
+            Out::Plain(p) => p.put(bytes).attachment(attachment).wait().is_ok(),
+            Out::Latched(p) => p.put(bytes).attachment(attachment).wait().is_ok(),
+        }
     }
+}
+
+/// A topic's publisher: volatile, or transient local with its cache.
+enum Out {
+    Plain(Publisher<'static>),
+    Latched(AdvancedPublisher<'static>),
 }
 
 /// Bridge until `stop` (Ctrl-C) or `seconds`; returns the closing summary.

@@ -61,14 +61,36 @@ impl Topic {
         }
     }
 
-    /// The publisher's history depth. Every topic is reliable and volatile: a late
-    /// subscriber gets what comes next, as from a sensor.
-    pub fn depth(self) -> u32 {
+    /// What the publisher offers. Every topic is reliable; a sensor's is volatile: a
+    /// late subscriber gets what comes next.
+    pub fn offered(self) -> Offered {
+        let volatile = |depth| Offered {
+            depth,
+            transient_local: false,
+            lifespan_s: None,
+        };
         match self {
-            // A burst of faults and notices is kept whole; rcl's own /rosout keeps 1000.
-            Topic::Rosout => 1000,
-            Topic::Tf => 100,
-            _ => 10,
+            // As rcl offers its own /rosout: a console started after a fault still gets
+            // the last 1000 faults and notices (those of the last 10 s, by DDS's rule).
+            Topic::Rosout => Offered {
+                depth: 1000,
+                transient_local: true,
+                lifespan_s: Some(10),
+            },
+            Topic::Tf => volatile(100),
+            _ => volatile(10),
         }
     }
+}
+
+/// A publisher's quality of service besides its reliability (always reliable).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Offered {
+    /// Keep last this many.
+    pub depth: u32,
+    /// A late subscriber is given the last `depth` samples (rmw_zenoh keeps them in
+    /// the publisher's cache); volatile when false.
+    pub transient_local: bool,
+    /// How long a sample counts, whole seconds; without end when None.
+    pub lifespan_s: Option<u32>,
 }

@@ -9,7 +9,7 @@
 
 use mechweed_core::config::Distro;
 
-use super::topics::Topic;
+use super::topics::{Offered, Topic};
 
 /// The node's name; its namespace is `[ros2] namespace`.
 pub const NODE_NAME: &str = "ros2_bridge";
@@ -80,7 +80,7 @@ impl Node {
             mangle(&topic.name(&self.namespace)),
             t.dds_name(),
             t.hash(self.distro),
-            qos(topic.depth())
+            qos(topic.offered())
         )
     }
 
@@ -90,16 +90,23 @@ impl Node {
     }
 }
 
-/// The QoS part of a token for a reliable, volatile, keep-last publisher of `depth`
-/// with no deadline, lifespan or lease: only what differs from rmw_zenoh's defaults
-/// is written, `REL:DUR:HIST,DEPTH:DEADLINE:LIFESPAN:LIVELINESS`.
-pub fn qos(depth: u32) -> String {
-    let depth = if depth == DEFAULT_DEPTH {
+/// The QoS part of a token for a reliable keep-last publisher with no deadline or
+/// lease: only what differs from rmw_zenoh's defaults (reliable, volatile, keep last
+/// 42, durations without end) is written, `REL:DUR:HIST,DEPTH:DL_S,DL_NS:LIFE_S,
+/// LIFE_NS:LIV,LEASE_S,LEASE_NS`. rmw's TRANSIENT_LOCAL is 1; a lifespan's seconds
+/// and nanoseconds differ from the endless one's (9223372036 s 854775807 ns) each.
+pub fn qos(offered: Offered) -> String {
+    let depth = if offered.depth == DEFAULT_DEPTH {
         String::new()
     } else {
-        depth.to_string()
+        offered.depth.to_string()
     };
-    format!("::,{depth}:,:,:,,")
+    let durability = if offered.transient_local { "1" } else { "" };
+    let lifespan = match offered.lifespan_s {
+        Some(s) => format!("{s},0"),
+        None => ",".to_string(),
+    };
+    format!(":{durability}:,{depth}:,:{lifespan}:,,")
 }
 
 /// The attachment of one sample: sequence number (from 1), source time in ns since
@@ -161,7 +168,7 @@ mod tests {
         );
         assert_eq!(
             n.publisher_token(Topic::Rosout),
-            "@ros2_lv/7/8b20917502ee955ac4476e0266340d5c/0/2/MP/%/%farm%mechweed/ros2_bridge/%rosout/rcl_interfaces::msg::dds_::Log_/RIHS01_e28ce254ca8abc06abf92773b74602cdbf116ed34fbaf294fb9f81da9f318eac/::,1000:,:,:,,"
+            "@ros2_lv/7/8b20917502ee955ac4476e0266340d5c/0/2/MP/%/%farm%mechweed/ros2_bridge/%rosout/rcl_interfaces::msg::dds_::Log_/RIHS01_e28ce254ca8abc06abf92773b74602cdbf116ed34fbaf294fb9f81da9f318eac/:1:,1000:,:10,0:,,"
         );
         assert_eq!(mangle(""), "%");
         assert_eq!(mangle("/"), "%");
@@ -169,9 +176,18 @@ mod tests {
 
     #[test]
     fn qos_writes_only_what_differs_from_rmw_zenohs_defaults() {
+        let volatile = |depth| Offered {
+            depth,
+            transient_local: false,
+            lifespan_s: None,
+        };
         // rmw_zenoh's own example: a talker of depth 7.
-        assert_eq!(qos(7), "::,7:,:,:,,");
-        assert_eq!(qos(DEFAULT_DEPTH), "::,:,:,:,,");
+        assert_eq!(qos(volatile(7)), "::,7:,:,:,,");
+        assert_eq!(qos(volatile(DEFAULT_DEPTH)), "::,:,:,:,,");
+        // rcl's /rosout (rcl_qos_profile_rosout_default): keep last 1000, reliable,
+        // transient local, lifespan 10 s 0 ns; rmw_zenoh writes the lifespan's 0 ns
+        // too, as it differs from the endless lifespan's 854775807 ns.
+        assert_eq!(qos(Topic::Rosout.offered()), ":1:,1000:,:10,0:,,");
     }
 
     #[test]

@@ -30,7 +30,7 @@ const TOPICS: [(&str, u32, &str, &str, &str); 9] = [
         2,
         "rcl_interfaces::msg::dds_::Log_",
         "RIHS01_e28ce254ca8abc06abf92773b74602cdbf116ed34fbaf294fb9f81da9f318eac",
-        "::,1000:,:,:,,",
+        ":1:,1000:,:10,0:,,",
     ),
     (
         "/tf",
@@ -164,6 +164,9 @@ fn a_ros_client_finds_the_node_and_its_topics_and_decodes_the_run_on_each() {
     assert!(robot.bus(&["request", "halt"]).status.success());
     listen(2, &mut heard);
     drop(subscribers);
+    // A console started after the HALT, as rqt_console subscribes to /rosout (transient
+    // local, so with rmw_zenoh's history query): it is given what came before it.
+    let late = late_console(&client);
     let (ok, stdout, stderr) = bridge.finish();
     assert!(ok, "{stdout}{stderr}");
     assert!(
@@ -196,6 +199,35 @@ fn a_ros_client_finds_the_node_and_its_topics_and_decodes_the_run_on_each() {
         }
     }
     check_the_run(&heard);
+    let logs: Vec<Log> = late.iter().map(|(p, _)| decode(p).unwrap()).collect();
+    assert!(
+        logs.iter()
+            .any(|l| l.msg.starts_with("mode: ") && l.msg.contains("halt")),
+        "a late console heard {logs:?}"
+    );
+    assert!(late.iter().all(|(_, a)| a.len() == 33), "{late:?}");
+}
+
+/// What a /rosout subscriber started now hears in 2 s: rmw_zenoh's transient-local
+/// subscription asks the publishers it detects for their cache.
+fn late_console(client: &zenoh::Session) -> Vec<(Vec<u8>, Vec<u8>)> {
+    use zenoh_ext::{AdvancedSubscriberBuilderExt, HistoryConfig};
+    let (_, _, dds, hash, _) = TOPICS[1];
+    let (tx, rx) = crossbeam_channel::unbounded();
+    let _console = client
+        .declare_subscriber(format!("0/rosout/{dds}/{hash}"))
+        .history(HistoryConfig::default().detect_late_publishers())
+        .callback(move |s| {
+            let attachment = s.attachment().map(|a| a.to_bytes().into_owned());
+            let _ = tx.send((
+                s.payload().to_bytes().into_owned(),
+                attachment.unwrap_or_default(),
+            ));
+        })
+        .wait()
+        .unwrap();
+    let end = Instant::now() + Duration::from_secs(2);
+    std::iter::from_fn(|| rx.recv_deadline(end).ok()).collect()
 }
 
 fn all<T: serde::de::DeserializeOwned>(heard: &Heard, topic: &str) -> Vec<T> {
