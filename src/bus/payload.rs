@@ -56,6 +56,7 @@ pub(crate) fn status_json(
             "offset_m": f.offset_m,
             "offset_sd_m": f.offset_sd_m,
             "heading_rad": f.heading_rad,
+            "heading_sd_rad": f.heading_sd_rad,
             "curvature_per_m": f.curvature_per_m,
             "map_bias_m": f.map_bias_m,
             "camera_rejected": f.camera_rejected,

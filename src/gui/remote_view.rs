@@ -191,6 +191,8 @@ fn fill_steer(steer: &mut SteerCommand, tick: &Value, tick_t_s: f64) {
             offset_m: num(tick, "filter_offset_m"),
             offset_sd_m: num(tick, "filter_offset_sd_m"),
             heading_rad: num(tick, "filter_heading_rad"),
+            // A tick does not carry it (a status does), and the view does not show it.
+            heading_sd_rad: f64::NAN,
             curvature_per_m: num(tick, "filter_curvature_per_m"),
             map_bias_m: num(tick, "filter_map_bias_m"),
             camera_rejected: int(tick, "filter_camera_rejected").max(0) as u64,

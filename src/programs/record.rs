@@ -99,6 +99,7 @@ fn from_bus(args: RecordArgs) -> ExitCode {
             connect: args.connect,
             robot: args.robot,
             seconds: args.seconds,
+            model: crate::ros2::model::RobotModel::of(&settings),
             record: settings.record,
             ros: settings
                 .ros2

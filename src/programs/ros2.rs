@@ -8,6 +8,8 @@ use std::process::ExitCode;
 use crate::config::{Distro, Ros2Settings, parse_namespace, parse_router};
 use crate::console::ctrl_c;
 use crate::programs::{load_settings, print_errors};
+use crate::ros2::model::RobotModel;
+use crate::ros2::odom::Frames;
 
 #[derive(clap::Args)]
 pub struct Ros2Args {
@@ -32,6 +34,10 @@ pub struct Ros2Args {
     /// Stop after this many seconds (default: at Ctrl-C).
     #[arg(long, value_name = "SECONDS", value_parser = crate::config::parse_seconds)]
     pub seconds: Option<f64>,
+    /// Print the robot's URDF (made from the settings file, as robot_description
+    /// carries it) and end, connecting to nothing.
+    #[arg(long)]
+    pub urdf: bool,
     /// Settings file (its [ros2]) [default: config/robot.ini, or the built-in copy]
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
@@ -45,12 +51,13 @@ pub struct Ros2Args {
 
 impl Ros2Args {
     /// [ros2] from the settings file (the shipped values when it has none, said), with
-    /// the flags over it.
-    fn settings(&self) -> Result<Ros2Settings, ExitCode> {
+    /// the flags over it, and the robot's model from the same file.
+    fn settings(&self) -> Result<(Ros2Settings, RobotModel), ExitCode> {
         let settings = load_settings(self.config.as_deref(), &self.set).map_err(|errors| {
             print_errors(&errors);
             ExitCode::FAILURE
         })?;
+        let model = RobotModel::of(&settings);
         let mut ros = settings.ros2.unwrap_or_else(|| {
             eprintln!("ros2: the settings file has no [ros2]: using the shipped values");
             Ros2Settings::shipped()
@@ -67,7 +74,7 @@ impl Ros2Args {
         if let Some(distro) = self.distro.as_deref().and_then(Distro::from_name) {
             ros.distro = distro;
         }
-        Ok(ros)
+        Ok((ros, model))
     }
 }
 
@@ -85,10 +92,14 @@ fn check_apart(router: &str, robot: &str) -> Result<(), String> {
 }
 
 pub fn run(args: Ros2Args) -> ExitCode {
-    let ros = match args.settings() {
-        Ok(ros) => ros,
+    let (ros, model) = match args.settings() {
+        Ok(settings) => settings,
         Err(code) => return code,
     };
+    if args.urdf {
+        print!("{}", model.urdf(&Frames::new(&ros.frame_prefix)));
+        return ExitCode::SUCCESS;
+    }
     if let Err(why) = check_apart(&ros.connect, &args.robot_connect) {
         eprintln!("{why}");
         return ExitCode::FAILURE;
@@ -97,6 +108,7 @@ pub fn run(args: Ros2Args) -> ExitCode {
         connect: args.robot_connect,
         robot: args.robot,
         ros,
+        model,
         tls: args.identity.files(),
         seconds: args.seconds,
     };

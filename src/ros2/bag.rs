@@ -18,6 +18,7 @@ use mcap::{Compression, WriteOptions, Writer};
 use mechweed_core::config::{Distro, RecordSettings, Ros2Settings, TlsFiles};
 
 use super::flows::Outgoing;
+use super::model::RobotModel;
 use super::pump::Robot;
 use super::topics::{Offered, Topic};
 use super::types::{MsgType, schema_text};
@@ -140,6 +141,7 @@ pub struct Options {
     pub seconds: Option<f64>,
     pub record: RecordSettings,
     pub ros: Ros2Settings,
+    pub model: RobotModel,
     pub tls: Option<TlsFiles>,
 }
 
@@ -161,15 +163,20 @@ pub fn record(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
         bag.path.display()
     );
     let mut broken = None;
-    let pumped = robot.pump(&opts.ros, stop, end, "ROS 2 recorder", |m| {
-        match bag.write(m) {
+    let pumped = robot.pump(
+        &opts.ros,
+        &opts.model,
+        stop,
+        end,
+        "ROS 2 recorder",
+        |m| match bag.write(m) {
             Ok(()) => true,
             Err(why) => {
                 broken.get_or_insert(why);
                 false
             }
-        }
-    });
+        },
+    );
     let path = bag.finish()?;
     if let Some(why) = broken {
         return Err(format!("ROS 2 recorder: {why}"));

@@ -8,7 +8,7 @@ use std::path::Path;
 use super::cdr::decode;
 use super::msgs::{
     BatteryState, DiagnosticArray, Float64, JointState, Log, NavSatFix, Odometry,
-    PoseWithCovarianceStamped, TfMessage,
+    PoseWithCovarianceStamped, StringMsg, TfMessage,
 };
 use super::types;
 
@@ -24,6 +24,8 @@ pub enum RosMsg {
     Row(Box<PoseWithCovarianceStamped>),
     Float(Float64),
     Battery(BatteryState),
+    /// The robot's URDF (robot_description).
+    Text(StringMsg),
 }
 
 /// A message of the bag: its topic, log time (ns since 1970) and content.
@@ -46,6 +48,7 @@ pub fn decode_as(schema: &str, bytes: &[u8]) -> Result<RosMsg, String> {
         s if s == types::POSE_WITH_COVARIANCE_STAMPED.name => RosMsg::Row(Box::new(decode(bytes)?)),
         s if s == types::FLOAT64.name => RosMsg::Float(decode(bytes)?),
         s if s == types::BATTERY_STATE.name => RosMsg::Battery(decode(bytes)?),
+        s if s == types::STRING.name => RosMsg::Text(decode(bytes)?),
         other => {
             return Err(format!(
                 "a message of {other}, which mechweed does not write"

@@ -9,11 +9,13 @@ use mechweed_core::config::Distro;
 use super::bag::{Bag, offered_qos_profiles};
 use super::bag_read::{RosMsg, read, summary};
 use super::flows::Converter;
+use super::model::RobotModel;
 use super::topics::Topic;
 use super::types::schema_text;
+use mechweed_core::config::Settings;
 
 fn messages() -> Vec<super::flows::Outgoing> {
-    let mut c = Converter::new("mechweed", 0.2);
+    let mut c = Converter::new("mechweed", RobotModel::of(&Settings::shipped()));
     let mut out = Vec::new();
     let status = serde_json::json!({"t_s": 0.0, "wall_s": 100.0, "gnss": {"quality": 4, "lat_deg": 52.0, "lon_deg": 5.0, "sd_m": 0.02}, "filter": {"offset_m": 0.01, "heading_rad": 0.0, "offset_sd_m": 0.005}});
     out.extend(

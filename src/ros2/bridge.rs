@@ -16,6 +16,7 @@ use zenoh_ext::{AdvancedPublisher, AdvancedPublisherBuilderExt, CacheConfig, Mis
 use mechweed_core::config::{Ros2Settings, TlsFiles};
 
 use super::flows::Outgoing;
+use super::model::RobotModel;
 use super::pump::Robot;
 use super::topics::Topic;
 use super::wire::{Node, attachment};
@@ -32,6 +33,8 @@ pub struct Options {
     pub connect: String,
     pub robot: String,
     pub ros: Ros2Settings,
+    /// The robot's geometry: robot_description, /tf_static and the covariances.
+    pub model: RobotModel,
     /// This program's identity on a secured robot bus.
     pub tls: Option<TlsFiles>,
     /// Stop after this long (None: at Ctrl-C).
@@ -179,7 +182,7 @@ pub fn run(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
         super::wire::NODE_NAME,
         names.join(", ")
     );
-    let pumped = robot.pump(ros, stop, end, "ros2", |m| side.put(m));
+    let pumped = robot.pump(ros, &opts.model, stop, end, "ros2", |m| side.put(m));
     Ok(format!(
         "ros2: {}",
         pumped.line(&opts.robot, "ROS messages")

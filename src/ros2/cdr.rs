@@ -8,7 +8,7 @@ use serde::de::DeserializeOwned;
 
 use super::msgs::{
     BatteryState, DiagnosticArray, Float64, JointState, Log, NavSatFix, Odometry,
-    PoseWithCovarianceStamped, TfMessage,
+    PoseWithCovarianceStamped, StringMsg, TfMessage,
 };
 use super::types::{self, MsgType};
 
@@ -30,6 +30,7 @@ macro_rules! ros_message {
 
 ros_message! {
     Float64 => types::FLOAT64,
+    StringMsg => types::STRING,
     PoseWithCovarianceStamped => types::POSE_WITH_COVARIANCE_STAMPED,
     Odometry => types::ODOMETRY,
     TfMessage => types::TF_MESSAGE,

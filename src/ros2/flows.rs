@@ -11,12 +11,12 @@ use serde_json::{Map, Value};
 
 use super::cdr::{RosMessage, encode};
 use super::clock::RobotClock;
+use super::covariance::{PoseSpread, twist_covariance};
 use super::diagnostics;
-use super::msgs::{
-    BatteryState, Float64, Log, NavSatFix, NavSatStatus, Pose, PoseWithCovariance,
-    PoseWithCovarianceStamped, Quaternion, Time, Vector3,
-};
+use super::model::RobotModel;
+use super::msgs::{BatteryState, Float64, Log, NavSatFix, StringMsg, Time};
 use super::odom::{BASE_FRAME, Frames, GNSS_FRAME, Odometer, TickMotion, header};
+use super::sensors::{nav_sat_fix, row, row_transform};
 use super::topics::Topic;
 
 /// One message for one topic.
@@ -45,9 +45,10 @@ pub struct Counts {
 
 pub struct Converter {
     robot: String,
-    wheel_radius_m: f64,
+    model: RobotModel,
     frames: Frames,
     odometer: Odometer,
+    spread: PoseSpread,
     clock: RobotClock,
     /// The last status, and when it arrived.
     last_status: Option<(Value, Instant)>,
@@ -90,12 +91,13 @@ fn message<T: RosMessage>(topic: Topic, stamp: Time, msg: &T) -> Result<Outgoing
 }
 
 impl Converter {
-    pub fn new(robot: &str, wheel_radius_m: f64) -> Converter {
+    pub fn new(robot: &str, model: RobotModel) -> Converter {
         Converter {
             robot: robot.to_string(),
-            wheel_radius_m,
+            model,
             frames: Frames::default(),
             odometer: Odometer::default(),
+            spread: PoseSpread::default(),
             clock: RobotClock::default(),
             last_status: None,
             overruns_before: None,
@@ -104,6 +106,19 @@ impl Converter {
             last_battery_t_s: None,
             counts: Counts::default(),
         }
+    }
+
+    /// The latched topics, sent once at the start: the robot's model and fixed frames.
+    pub fn latched(&self) -> Result<Vec<Outgoing>, String> {
+        let stamp = Time::from_unix_s(crate::bus::payload::wall_s());
+        let urdf = StringMsg {
+            data: self.model.urdf(&self.frames),
+        };
+        let fixed = self.model.static_transforms(stamp, &self.frames);
+        Ok(vec![
+            message(Topic::RobotDescription, stamp, &urdf)?,
+            message(Topic::TfStatic, stamp, &fixed)?,
+        ])
     }
 
     /// Every frame id with `prefix` before it (`[ros2] frame_prefix`).
@@ -134,17 +149,31 @@ impl Converter {
         let tool_offset_m = number(&map, "law_tool_offset_m")?;
         self.counts.ticks += 1;
         self.clock.tick(tick.t_s);
-        self.odometer.step(tick, self.wheel_radius_m);
+        let radius_m = self.model.wheel_radius_m;
+        self.odometer.step(tick, radius_m);
+        let dt_s = match self.odometer.last_move.take() {
+            Some(step) => {
+                self.spread.step(step, tick.wheel_angle_rad, &self.model);
+                step.dt_s
+            }
+            None => self.model.period_s,
+        };
         let stamp = self.stamp(tick.t_s);
-        let o = &self.odometer;
+        let (o, frames, model) = (&self.odometer, &self.frames, &self.model);
+        let joints = o.joints(stamp, &tick, radius_m, frames);
+        let mut odometry = o.odometry(stamp, &tick, frames);
+        odometry.pose.covariance = self.spread.pose_covariance(model);
+        odometry.twist.covariance =
+            twist_covariance(tick.speed_mps, tick.wheel_angle_rad, dt_s, model);
+        // odom -> base_link, and base_link -> each moving link: rviz2 draws the model.
+        let mut tf = o.transform(stamp, frames);
+        let at = [joints.position[0], joints.position[1], joints.position[2]];
+        tf.transforms
+            .extend(model.joint_transforms(stamp, at, frames));
         let mut out = vec![
-            message(
-                Topic::JointStates,
-                stamp,
-                &o.joints(stamp, &tick, self.wheel_radius_m, &self.frames),
-            )?,
-            message(Topic::Odom, stamp, &o.odometry(stamp, &tick, &self.frames))?,
-            message(Topic::Tf, stamp, &o.transform(stamp, &self.frames))?,
+            message(Topic::JointStates, stamp, &joints)?,
+            message(Topic::Odom, stamp, &odometry)?,
+            message(Topic::Tf, stamp, &tf)?,
         ];
         if tool_offset_m.is_finite() {
             // The law's offset is the row's from the tool; cross-track is the tool's.
@@ -169,8 +198,12 @@ impl Converter {
         let stamp = self.stamp(t_s);
         let status = Value::Object(map);
         let mut out = Vec::new();
-        if let Some(row) = row(&status["filter"], stamp, &self.frames.id(ROW_FRAME)) {
+        let (base, row_frame) = (self.frames.id(BASE_FRAME), self.frames.id(ROW_FRAME));
+        if let Some(row) = row(&status["filter"], stamp, &row_frame) {
             out.push(message(Topic::Row, stamp, &row)?);
+        }
+        if let Some(tf) = row_transform(&status["filter"], stamp, &base, &row_frame) {
+            out.push(message(Topic::Tf, stamp, &tf)?);
         }
         if let Some(fix) = self.fix(&status["gnss"], stamp) {
             out.push(message(Topic::Fix, stamp, &fix)?);
@@ -287,78 +320,3 @@ impl Converter {
 
 /// How often /battery_state goes out, s of the robot's time.
 const BATTERY_EVERY_S: f64 = 1.0;
-
-/// Up's variance when the robot does not know it, m²: so large that nothing trusts it.
-pub const UNKNOWN_VARIANCE_M2: f64 = 1e6;
-
-/// The GGA quality as NavSatStatus says it: 1 GPS and 3 PPS a plain fix, 2 DGPS
-/// satellite-augmented, 4 and 5 RTK ground-augmented; 0, and 6 dead reckoning, 7 manual,
-/// 8 simulation, no fix of the sky.
-fn nav_sat_fix(
-    quality: u64,
-    lat: Option<f64>,
-    lon: Option<f64>,
-    sd_m: Option<f64>,
-    stamp: Time,
-    frame: &str,
-) -> NavSatFix {
-    let status = match quality {
-        1 | 3 => 0,
-        2 => 1,
-        4 | 5 => 2,
-        _ => -1,
-    };
-    // The robot carries the worse of the receiver's east and north s.d. (GST), not the
-    // altitude: east and north from it, approximated; up is not known.
-    let (covariance, kind) = match sd_m {
-        Some(sd) => (
-            [
-                sd * sd,
-                0.0,
-                0.0,
-                0.0,
-                sd * sd,
-                0.0,
-                0.0,
-                0.0,
-                UNKNOWN_VARIANCE_M2,
-            ],
-            1,
-        ),
-        None => ([0.0; 9], 0),
-    };
-    NavSatFix {
-        header: header(stamp, frame),
-        status: NavSatStatus { status, service: 1 },
-        latitude: lat.unwrap_or(f64::NAN),
-        longitude: lon.unwrap_or(f64::NAN),
-        altitude: f64::NAN,
-        position_covariance: covariance,
-        position_covariance_type: kind,
-    }
-}
-
-/// The rear axle's place in the row's frame, from the row filter: the row offset `o`
-/// (+ = row left of the robot) puts the robot at y = -o, and the row's heading
-/// relative to the robot turns it by its negative.
-fn row(filter: &Value, stamp: Time, frame: &str) -> Option<PoseWithCovarianceStamped> {
-    let offset_m = filter["offset_m"].as_f64()?;
-    let heading_rad = filter["heading_rad"].as_f64()?;
-    let sd_m = filter["offset_sd_m"].as_f64().unwrap_or(0.0);
-    let mut covariance = [0.0; 36];
-    covariance[7] = sd_m * sd_m;
-    Some(PoseWithCovarianceStamped {
-        header: header(stamp, frame),
-        pose: PoseWithCovariance {
-            pose: Pose {
-                position: Vector3 {
-                    x: 0.0,
-                    y: -offset_m,
-                    z: 0.0,
-                },
-                orientation: Quaternion::yaw(-heading_rad),
-            },
-            covariance,
-        },
-    })
-}

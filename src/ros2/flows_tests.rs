@@ -9,15 +9,17 @@ use mechweed_core::record::{TickSample, tick_json};
 use super::cdr::decode;
 use super::diagnostics::{ERROR, OK, STALE, WARN};
 use super::flows::Converter;
-use super::msgs::{BatteryState, DiagnosticArray, JointState, Log, NavSatFix, Odometry, TfMessage};
+use super::model::RobotModel;
+use super::msgs::{BatteryState, DiagnosticArray, JointState, Log, NavSatFix, Odometry};
 use super::topics::Topic;
 use crate::bus::payload::status_json;
 use crate::state::modes::Mode;
 use crate::state::status::Notice;
 use crate::state::steering::Steering;
+use mechweed_core::config::Settings;
 use mechweed_core::rt::LoopSummary;
 
-fn tick(t_s: f64, distance_m: f64) -> Vec<u8> {
+pub(super) fn tick(t_s: f64, distance_m: f64) -> Vec<u8> {
     let mut sample = TickSample::default();
     sample.status.t_s = t_s;
     sample.status.mode = Mode::Autonomous;
@@ -30,7 +32,7 @@ fn tick(t_s: f64, distance_m: f64) -> Vec<u8> {
 }
 
 /// A status of the robot at `t_s`, published at `wall_s`, with the GNSS quality `q`.
-fn status(t_s: f64, wall_s: f64, q: u8, lat_deg: f64) -> Vec<u8> {
+pub(super) fn status(t_s: f64, wall_s: f64, q: u8, lat_deg: f64) -> Vec<u8> {
     let mut s = TickSample::default();
     s.status.t_s = t_s;
     s.steer.row.gnss_quality = q;
@@ -44,13 +46,13 @@ fn status(t_s: f64, wall_s: f64, q: u8, lat_deg: f64) -> Vec<u8> {
     json.to_string().into_bytes()
 }
 
-fn topics(out: &[super::flows::Outgoing]) -> Vec<Topic> {
+pub(super) fn topics(out: &[super::flows::Outgoing]) -> Vec<Topic> {
     out.iter().map(|o| o.topic).collect()
 }
 
 #[test]
 fn ticks_are_stamped_on_the_robots_clock_once_a_status_gives_it() {
-    let mut c = Converter::new("mechweed", 0.2);
+    let mut c = Converter::new("mechweed", RobotModel::of(&Settings::shipped()));
     c.status(&status(10.0, 1_000_010.5, 0, 0.0), Instant::now())
         .unwrap();
     // Published later after its tick: the least offset is the robot's clock.
@@ -89,36 +91,9 @@ fn ticks_are_stamped_on_the_robots_clock_once_a_status_gives_it() {
 }
 
 #[test]
-fn a_frame_prefix_goes_before_every_frame_id_and_none_leaves_them_as_they_are() {
-    for (prefix, odom_frame, base_frame, gnss_frame) in [
-        ("", "odom", "base_link", "gnss"),
-        ("robot2/", "robot2/odom", "robot2/base_link", "robot2/gnss"),
-    ] {
-        let mut c = Converter::new("mechweed", 0.2).with_frame_prefix(prefix);
-        let out = c.tick(&tick(1.0, 0.5)).unwrap();
-        let joints: JointState = decode(&out[0].bytes).unwrap();
-        let odom: Odometry = decode(&out[1].bytes).unwrap();
-        let tf: TfMessage = decode(&out[2].bytes).unwrap();
-        assert_eq!(joints.header.frame_id, base_frame);
-        assert_eq!(
-            (odom.header.frame_id.as_str(), odom.child_frame_id.as_str()),
-            (odom_frame, base_frame)
-        );
-        let t = &tf.transforms[0];
-        assert_eq!(
-            (t.header.frame_id.as_str(), t.child_frame_id.as_str()),
-            (odom_frame, base_frame)
-        );
-        let out = c.status(&status(1.1, 101.1, 4, 52.0), Instant::now());
-        let fix = out.unwrap().into_iter().find(|o| o.topic == Topic::Fix);
-        let fix: NavSatFix = decode(&fix.expect("a fix").bytes).unwrap();
-        assert_eq!(fix.header.frame_id, gnss_frame);
-    }
-}
-
-#[test]
 fn the_battery_goes_out_once_a_second_of_the_robots_time_with_its_voltage() {
-    let mut c = Converter::new("mechweed", 0.2).with_frame_prefix("robot2/");
+    let mut c = Converter::new("mechweed", RobotModel::of(&Settings::shipped()))
+        .with_frame_prefix("robot2/");
     let mut sent = Vec::new();
     // Statuses at 10 a second for 2.5 s, the voltage falling; then the robot starts again.
     for (i, t_s) in (0..25).map(|i| (i, f64::from(i) * 0.1)).chain([(25, 0.2)]) {
@@ -148,7 +123,7 @@ fn the_battery_goes_out_once_a_second_of_the_robots_time_with_its_voltage() {
 
 #[test]
 fn the_fix_is_sent_when_it_changes_and_a_lost_fix_is_said_once() {
-    let mut c = Converter::new("mechweed", 0.2);
+    let mut c = Converter::new("mechweed", RobotModel::of(&Settings::shipped()));
     let now = Instant::now();
     let fixes = |out: Vec<super::flows::Outgoing>| -> Vec<NavSatFix> {
         out.iter()
@@ -165,7 +140,7 @@ fn the_fix_is_sent_when_it_changes_and_a_lost_fix_is_said_once() {
     assert!(first[0].altitude.is_nan());
     assert_eq!(
         first[0].position_covariance[8],
-        super::flows::UNKNOWN_VARIANCE_M2
+        super::sensors::UNKNOWN_VARIANCE_M2
     );
     // The same fix again is not news.
     assert!(fixes(c.status(&status(1.2, 101.2, 4, 52.0), now).unwrap()).is_empty());
@@ -188,7 +163,7 @@ fn only_rtk_is_ground_augmented_and_a_fix_not_of_the_sky_is_no_fix() {
         (7, -1),
         (8, -1),
     ] {
-        let mut c = Converter::new("mechweed", 0.2);
+        let mut c = Converter::new("mechweed", RobotModel::of(&Settings::shipped()));
         let out = c.status(&status(1.0, 101.0, quality, 52.0), now).unwrap();
         let fix: NavSatFix =
             decode(&out.iter().find(|o| o.topic == Topic::Fix).unwrap().bytes).unwrap();
@@ -198,7 +173,7 @@ fn only_rtk_is_ground_augmented_and_a_fix_not_of_the_sky_is_no_fix() {
 
 #[test]
 fn events_go_to_rosout_at_their_levels() {
-    let mut c = Converter::new("farm/mechweed", 0.2);
+    let mut c = Converter::new("farm/mechweed", RobotModel::of(&Settings::shipped()));
     let said = |c: &mut Converter, kind: &str, text: &str| -> Log {
         let event = serde_json::json!({"t_s": 1.0, "tick": 100, "kind": kind, "text": text});
         decode(&c.event(event.to_string().as_bytes()).unwrap()[0].bytes).unwrap()
@@ -225,7 +200,7 @@ fn events_go_to_rosout_at_their_levels() {
 
 #[test]
 fn diagnostics_say_each_part_and_go_stale_without_statuses() {
-    let mut c = Converter::new("mechweed", 0.2);
+    let mut c = Converter::new("mechweed", RobotModel::of(&Settings::shipped()));
     let t0 = Instant::now();
     let array = |c: &Converter, at: Instant| -> DiagnosticArray {
         decode(&c.diagnostics(at, "bridge figures").unwrap().unwrap().bytes).unwrap()
@@ -279,7 +254,7 @@ fn diagnostics_say_each_part_and_go_stale_without_statuses() {
 
 #[test]
 fn a_message_that_is_not_the_robots_is_refused_with_what_is_wrong() {
-    let mut c = Converter::new("mechweed", 0.2);
+    let mut c = Converter::new("mechweed", RobotModel::of(&Settings::shipped()));
     let why = c.tick(b"{\"t_s\": 1.0}").unwrap_err();
     assert_eq!(why, "distance_m is missing");
     let why = c.tick(b"[1, 2]").unwrap_err();
@@ -323,7 +298,7 @@ fn running(steering: Steering, why: Option<&'static str>, overruns: u64) -> Vec<
 }
 
 fn levels_after(statuses: &[Vec<u8>]) -> (Vec<u8>, DiagnosticArray) {
-    let mut c = Converter::new("mechweed", 0.2);
+    let mut c = Converter::new("mechweed", RobotModel::of(&Settings::shipped()));
     let t0 = Instant::now();
     for status in statuses {
         c.status(status, t0).unwrap();

@@ -9,7 +9,7 @@
 use super::types::{self, MsgType, TOPIC_TYPES};
 use mechweed_core::config::Distro;
 
-const EXPECTED: [(&str, &str); 24] = [
+const EXPECTED: [(&str, &str); 25] = [
     (
         "builtin_interfaces/msg/Time",
         "b106235e25a4c5ed35098aa0a61a3ee9c9b18d197f398b0e4206cea9acf9c197",
@@ -21,6 +21,10 @@ const EXPECTED: [(&str, &str); 24] = [
     (
         "std_msgs/msg/Float64",
         "705ba9c3d1a09df43737eb67095534de36fd426c0587779bda2bc51fe790182a",
+    ),
+    (
+        "std_msgs/msg/String",
+        "df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18",
     ),
     (
         "geometry_msgs/msg/Point",
@@ -232,7 +236,7 @@ fn expected(name: &str) -> String {
 fn each_definition_hashes_to_the_hash_ros_2_gives_its_type() {
     assert_eq!(rihs01("std_msgs/msg/Empty"), expected("std_msgs/msg/Empty"));
     let all = every_type();
-    assert_eq!(all.len(), 23, "every type of the table but Empty");
+    assert_eq!(all.len(), 24, "every type of the table but Empty");
     for t in all {
         assert_eq!(rihs01(t.name), expected(t.name), "{}", t.name);
     }

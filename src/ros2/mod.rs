@@ -6,7 +6,8 @@
 //! - `msgs`, `types`, `cdr`: the messages, their definitions and type hashes, CDR;
 //! - `wire`: keys, liveliness tokens, the attachment (rmw_zenoh's rules);
 //! - `topics`, `flows`, `odom`, `diagnostics`, `clock`: which topics, made from which
-//!   flow, stamped on the robot's clock;
+//!   flow, stamped on the robot's clock; `model`: the robot's URDF and fixed frames;
+//!   `covariance`: what the odometry is worth;
 //! - `pump`: the robot's flows heard and made into messages, for:
 //! - `bridge`: the program; `bag`: the recorder's MCAP file.
 
@@ -15,11 +16,14 @@ pub mod bag_read;
 pub mod bridge;
 pub mod cdr;
 pub mod clock;
+pub mod covariance;
 pub mod diagnostics;
 pub mod flows;
+pub mod model;
 pub mod msgs;
 pub mod odom;
 pub mod pump;
+pub mod sensors;
 pub mod topics;
 pub mod types;
 pub mod wire;
@@ -28,6 +32,8 @@ pub mod wire;
 mod bag_tests;
 #[cfg(test)]
 mod cdr_tests;
+#[cfg(test)]
+mod flows_frames_tests;
 #[cfg(test)]
 mod flows_tests;
 #[cfg(test)]

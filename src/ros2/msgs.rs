@@ -47,6 +47,12 @@ pub struct Float64 {
     pub data: f64,
 }
 
+/// std_msgs/String (the robot's model on robot_description).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct StringMsg {
+    pub data: String,
+}
+
 /// geometry_msgs/Point and geometry_msgs/Vector3 have the same fields.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Vector3 {

@@ -4,6 +4,7 @@
 //! first tick: continuous and drifting, as REP 105 wants of `odom`. `base_link` is the
 //! rear axle's centre, x forward, y left, z up.
 
+use super::covariance::Move;
 use super::msgs::{
     Header, JointState, Odometry, Pose, PoseWithCovariance, Quaternion, TfMessage, Time, Transform,
     TransformStamped, Twist, TwistWithCovariance, Vector3,
@@ -60,6 +61,8 @@ pub struct Odometer {
     pub wheel_right_rad: f64,
     /// The steering's rate between the last two ticks, rad/s.
     pub steer_rate_rps: f64,
+    /// The last step taken (for the covariances), until taken from here.
+    pub last_move: Option<Move>,
     last: Option<TickMotion>,
 }
 
@@ -93,6 +96,11 @@ impl Odometer {
         let mid_rad = self.yaw_rad + 0.5 * dyaw_rad;
         self.x_m += ds_m * mid_rad.cos();
         self.y_m += ds_m * mid_rad.sin();
+        self.last_move = Some(Move {
+            ds_m,
+            mid_rad,
+            dt_s,
+        });
         self.yaw_rad = wrap(self.yaw_rad + dyaw_rad);
         let turned = |v1: f64, v0: f64| mean(v1, v0) * dt_s / wheel_radius_m;
         self.wheel_left_rad += turned(tick.v_left_mps, last.v_left_mps);
@@ -100,8 +108,8 @@ impl Odometer {
         self.steer_rate_rps = (tick.wheel_angle_rad - last.wheel_angle_rad) / dt_s;
     }
 
-    /// nav_msgs/Odometry: the pose in `odom`, the twist in `base_link`. The covariances
-    /// are not estimated: all zero.
+    /// nav_msgs/Odometry: the pose in `odom`, the twist in `base_link`, without their
+    /// covariances (covariance.rs gives them).
     pub fn odometry(&self, stamp: Time, tick: &TickMotion, frames: &Frames) -> Odometry {
         Odometry {
             header: header(stamp, &frames.id(ODOM_FRAME)),

@@ -8,6 +8,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use super::flows::{Converter, Counts, Outgoing};
+use super::model::RobotModel;
 use crate::bus::hearing::{Ear, Hearing};
 use crate::config::TlsFiles;
 
@@ -47,6 +48,15 @@ pub struct Pumped {
 
 impl Pumped {
     /// One line for the end: what came and what went.
+    /// One message given to the ROS side: taken, or not.
+    fn count(&mut self, taken: bool) {
+        if taken {
+            self.sent += 1;
+        } else {
+            self.failed += 1;
+        }
+    }
+
     pub fn line(&self, robot: &str, what: &str) -> String {
         let c = self.counts;
         format!(
@@ -97,14 +107,19 @@ impl Robot {
     pub fn pump(
         &self,
         ros: &crate::config::Ros2Settings,
+        model: &RobotModel,
         stop: &AtomicBool,
         end: Option<Instant>,
         say: &str,
         mut send: impl FnMut(&Outgoing) -> bool,
     ) -> Pumped {
         let mut converter =
-            Converter::new(&self.name, ros.wheel_radius_m).with_frame_prefix(&ros.frame_prefix);
+            Converter::new(&self.name, model.clone()).with_frame_prefix(&ros.frame_prefix);
         let mut pumped = Pumped::default();
+        match converter.latched() {
+            Ok(latched) => latched.iter().for_each(|m| pumped.count(send(m))),
+            Err(why) => eprintln!("{say}: the robot's model cannot be made a ROS message: {why}"),
+        }
         let mut next_diagnostics = Instant::now();
         let mut heard = false;
         while !stop.load(Ordering::Relaxed) && end.is_none_or(|end| Instant::now() < end) {
@@ -139,11 +154,7 @@ impl Robot {
                 match messages {
                     Ok(messages) => {
                         for m in &messages {
-                            if send(m) {
-                                pumped.sent += 1;
-                            } else {
-                                pumped.failed += 1;
-                            }
+                            pumped.count(send(m));
                         }
                     }
                     Err(why) => {

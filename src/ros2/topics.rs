@@ -1,4 +1,4 @@
-//! The topics the bridge publishes: name, type and quality of service. /tf,
+//! The topics the bridge publishes: name, type and quality of service. /tf, /tf_static,
 //! /diagnostics and /rosout are the whole ROS system's and keep their absolute names,
 //! as rviz2, the diagnostic aggregator and rqt_console expect; the robot's own topics
 //! are in the namespace of `[ros2] namespace`.
@@ -16,10 +16,12 @@ pub enum Topic {
     Row,
     CrossTrack,
     Battery,
+    RobotDescription,
+    TfStatic,
 }
 
 impl Topic {
-    pub const ALL: [Topic; 9] = [
+    pub const ALL: [Topic; 11] = [
         Topic::Diagnostics,
         Topic::Rosout,
         Topic::Tf,
@@ -29,6 +31,8 @@ impl Topic {
         Topic::Row,
         Topic::CrossTrack,
         Topic::Battery,
+        Topic::RobotDescription,
+        Topic::TfStatic,
     ];
 
     /// The topic's full name, e.g. /mechweed/odom or /tf.
@@ -44,6 +48,8 @@ impl Topic {
             Topic::Row => own("row"),
             Topic::CrossTrack => own("cross_track"),
             Topic::Battery => own("battery_state"),
+            Topic::RobotDescription => own("robot_description"),
+            Topic::TfStatic => "/tf_static".to_string(),
         }
     }
 
@@ -58,6 +64,8 @@ impl Topic {
             Topic::Row => &types::POSE_WITH_COVARIANCE_STAMPED,
             Topic::CrossTrack => &types::FLOAT64,
             Topic::Battery => &types::BATTERY_STATE,
+            Topic::RobotDescription => &types::STRING,
+            Topic::TfStatic => &types::TF_MESSAGE,
         }
     }
 
@@ -76,6 +84,13 @@ impl Topic {
                 depth: 1000,
                 transient_local: true,
                 lifespan_s: Some(10),
+            },
+            // Latched, as robot_state_publisher and tf2's static broadcaster offer them:
+            // the last one, to whoever subscribes later.
+            Topic::RobotDescription | Topic::TfStatic => Offered {
+                depth: 1,
+                transient_local: true,
+                lifespan_s: None,
             },
             Topic::Tf => volatile(100),
             _ => volatile(10),

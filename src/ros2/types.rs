@@ -73,6 +73,12 @@ pub static FLOAT64: MsgType = MsgType {
     uses: &[],
 };
 
+pub static STRING: MsgType = MsgType {
+    name: "std_msgs/msg/String",
+    definition: "string data\n",
+    uses: &[],
+};
+
 pub static POINT: MsgType = MsgType {
     name: "geometry_msgs/msg/Point",
     definition: "float64 x\nfloat64 y\nfloat64 z\n",
@@ -208,8 +214,9 @@ float32[] cell_voltage\nfloat32[] cell_temperature\nstring location\nstring seri
 };
 
 /// The types a topic may carry: the ones with a hash.
-pub static TOPIC_TYPES: [&MsgType; 9] = [
+pub static TOPIC_TYPES: [&MsgType; 10] = [
     &FLOAT64,
+    &STRING,
     &POSE_WITH_COVARIANCE_STAMPED,
     &ODOMETRY,
     &TF_MESSAGE,
@@ -223,10 +230,14 @@ pub static TOPIC_TYPES: [&MsgType; 9] = [
 /// The hashes of the topics' types in Jazzy (rosidl 4.6), unchanged in Kilted and
 /// Rolling: none of these definitions changed between them. A release that changes
 /// one gets its own table.
-const JAZZY: [(&str, &str); 9] = [
+const JAZZY: [(&str, &str); 10] = [
     (
         "std_msgs/msg/Float64",
         "RIHS01_705ba9c3d1a09df43737eb67095534de36fd426c0587779bda2bc51fe790182a",
+    ),
+    (
+        "std_msgs/msg/String",
+        "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18",
     ),
     (
         "geometry_msgs/msg/PoseWithCovarianceStamped",

@@ -344,6 +344,7 @@ fn the_status_tab_shows_the_fix_which_sensors_steer_and_the_filters_row() {
             offset_m: 0.012,
             offset_sd_m: 0.004,
             heading_rad: 0.01,
+            heading_sd_rad: 0.002,
             curvature_per_m: 0.0,
             map_bias_m: -0.008,
             camera_rejected: 21,

@@ -91,6 +91,7 @@ pub struct FilterFigures {
     pub offset_m: f64,
     pub offset_sd_m: f64,
     pub heading_rad: f64,
+    pub heading_sd_rad: f64,
     pub curvature_per_m: f64,
     pub map_bias_m: f64,
     /// Measurements the gate rejected so far.
@@ -230,6 +231,7 @@ impl RowSources {
                 offset_m: x.offset_m,
                 offset_sd_m: sd.offset_m,
                 heading_rad: x.heading_rad,
+                heading_sd_rad: sd.heading_rad,
                 curvature_per_m: x.curvature_per_m,
                 map_bias_m: x.map_bias_m,
                 camera_rejected: c.camera_rejected,

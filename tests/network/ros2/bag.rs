@@ -46,6 +46,12 @@ fn a_ros_2_bag_of_a_secured_run_is_recorded_as_a_viewer_and_read_back() {
         })
         .collect();
     assert!(xs.len() > 20, "{} odometry messages", xs.len());
+    // The robot's model first, as `ros2 bag play` latches it for rviz2.
+    assert!(
+        matches!(&messages[0].msg, RosMsg::Text(urdf) if urdf.data.contains("<robot name=\"mechweed\">")),
+        "{:?}",
+        messages[0]
+    );
     assert!(xs.last().unwrap() - xs[0] > 1.0, "{xs:?}");
     let summary = mechweed()
         .args(["record", "summary"])
@@ -59,6 +65,8 @@ fn a_ros_2_bag_of_a_secured_run_is_recorded_as_a_viewer_and_read_back() {
         "  /diagnostics: ",
         "  /mechweed/odom: ",
         "  /tf: ",
+        "  /tf_static: 1",
+        "  /mechweed/robot_description: 1",
         "odometry: ended ",
     ] {
         assert!(said.contains(line), "{line:?} not in {said}");

@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use mechweed::ros2::cdr::decode;
 use mechweed::ros2::msgs::{
     BatteryState, DiagnosticArray, Float64, JointState, Log, NavSatFix, Odometry,
-    PoseWithCovarianceStamped, TfMessage,
+    PoseWithCovarianceStamped, StringMsg, TfMessage,
 };
 use mechweed::ros2::wire::read_attachment;
 use zenoh::Wait;
@@ -17,7 +17,7 @@ use super::{Bridge, Router, tokens};
 use crate::bus::Robot;
 
 /// (topic, its entity id, its type, its hash, its QoS in a token)
-const TOPICS: [(&str, u32, &str, &str, &str); 9] = [
+const TOPICS: [(&str, u32, &str, &str, &str); 11] = [
     (
         "/diagnostics",
         1,
@@ -81,6 +81,20 @@ const TOPICS: [(&str, u32, &str, &str, &str); 9] = [
         "RIHS01_4bee5dfce981c98faa6828b868307a0a73f992ed0789f374ee96c8f840e69741",
         "::,10:,:,:,,",
     ),
+    (
+        "/mechweed/robot_description",
+        10,
+        "std_msgs::msg::dds_::String_",
+        "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18",
+        ":1:,1:,:,:,,",
+    ),
+    (
+        "/tf_static",
+        11,
+        "tf2_msgs::msg::dds_::TFMessage_",
+        "RIHS01_e369d0f05a23ae52508854b66f6aa0437f3449d652e8cbf22d5abe85d020f087",
+        ":1:,1:,:,:,,",
+    ),
 ];
 
 /// A sample as heard: payload and attachment.
@@ -129,7 +143,7 @@ fn a_ros_client_finds_the_node_and_its_topics_and_decodes_the_run_on_each() {
     let bridge = Bridge::start(&router.endpoint, &robot.endpoint, 14.0);
 
     // What `ros2 node list` and `ros2 topic list` read: one node token, a publisher's each.
-    let found = tokens(&client, 10);
+    let found = tokens(&client, 12);
     let node = found
         .iter()
         .find(|t| t.contains("/NN/"))
@@ -166,7 +180,9 @@ fn a_ros_client_finds_the_node_and_its_topics_and_decodes_the_run_on_each() {
     drop(subscribers);
     // A console started after the HALT, as rqt_console subscribes to /rosout (transient
     // local, so with rmw_zenoh's history query): it is given what came before it.
-    let late = late_console(&client);
+    let late = late_subscriber(&client, 1);
+    let late_model = late_subscriber(&client, 9);
+    let late_frames = late_subscriber(&client, 10);
     let (ok, stdout, stderr) = bridge.finish();
     assert!(ok, "{stdout}{stderr}");
     assert!(
@@ -206,16 +222,28 @@ fn a_ros_client_finds_the_node_and_its_topics_and_decodes_the_run_on_each() {
         "a late console heard {logs:?}"
     );
     assert!(late.iter().all(|(_, a)| a.len() == 33), "{late:?}");
+    // rviz2 started late still gets the robot's model and its fixed frames: the last one.
+    assert_eq!(late_model.len(), 1);
+    let urdf: StringMsg = decode(&late_model[0].0).unwrap();
+    assert!(
+        urdf.data
+            .contains("<joint name=\"steering\" type=\"revolute\">")
+    );
+    let fixed: TfMessage = decode(&late_frames[0].0).unwrap();
+    let children: Vec<&str> = (fixed.transforms.iter())
+        .map(|t| t.child_frame_id.as_str())
+        .collect();
+    assert_eq!(children, ["tool", "camera_lookahead", "gnss"]);
 }
 
-/// What a /rosout subscriber started now hears in 2 s: rmw_zenoh's transient-local
-/// subscription asks the publishers it detects for their cache.
-fn late_console(client: &zenoh::Session) -> Vec<(Vec<u8>, Vec<u8>)> {
+/// What a transient-local subscriber of `TOPICS[k]` started now hears in 2 s: as
+/// rmw_zenoh's, it asks the publishers it detects for their cache.
+fn late_subscriber(client: &zenoh::Session, k: usize) -> Vec<(Vec<u8>, Vec<u8>)> {
     use zenoh_ext::{AdvancedSubscriberBuilderExt, HistoryConfig};
-    let (_, _, dds, hash, _) = TOPICS[1];
+    let (topic, _, dds, hash, _) = TOPICS[k];
     let (tx, rx) = crossbeam_channel::unbounded();
     let _console = client
-        .declare_subscriber(format!("0/rosout/{dds}/{hash}"))
+        .declare_subscriber(format!("0/{}/{dds}/{hash}", topic.trim_start_matches('/')))
         .history(HistoryConfig::default().detect_late_publishers())
         .callback(move |s| {
             let attachment = s.attachment().map(|a| a.to_bytes().into_owned());
@@ -318,13 +346,41 @@ fn check_the_run(heard: &Heard) {
         "never faster than 0.4 m/s"
     );
 
+    // Each tick's /tf: odom -> base_link, then the three moving links; each status's
+    // while the filter runs: base_link -> row.
     let tf: Vec<TfMessage> = all(heard, "/tf");
-    let t = &tf.last().unwrap().transforms[0];
+    let pairs = |m: &TfMessage| -> Vec<(String, String)> {
+        (m.transforms.iter())
+            .map(|t| (t.header.frame_id.clone(), t.child_frame_id.clone()))
+            .collect()
+    };
+    let ticks: Vec<&TfMessage> = (tf.iter())
+        .filter(|m| m.transforms[0].child_frame_id == "base_link")
+        .collect();
+    let links = [
+        "base_link",
+        "wheel_left_link",
+        "wheel_right_link",
+        "steering_link",
+    ];
+    let expected: Vec<(String, String)> = (links.iter().enumerate())
+        .map(|(k, l)| {
+            (
+                (if k == 0 { "odom" } else { "base_link" }).to_string(),
+                l.to_string(),
+            )
+        })
+        .collect();
+    assert_eq!(pairs(ticks.last().unwrap()), expected);
     assert_eq!(
-        (t.header.frame_id.as_str(), t.child_frame_id.as_str()),
-        ("odom", "base_link")
+        ticks.last().unwrap().transforms[0].transform.translation,
+        *last
     );
-    assert_eq!(t.transform.translation, *last);
+    let row = ("base_link".to_string(), "row".to_string());
+    assert!(
+        tf.iter().any(|m| pairs(m) == [row.clone()]),
+        "no base_link -> row"
+    );
 
     let fixes: Vec<NavSatFix> = all(heard, "/mechweed/fix");
     let fix = fixes.last().unwrap();

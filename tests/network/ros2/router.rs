@@ -21,8 +21,9 @@ fn a_missing_router_is_said_and_tried_again_until_it_comes() {
     std::thread::sleep(Duration::from_secs(10));
     let router = Router::at(port);
     let client = router.client();
-    let found = tokens(&client, 10);
-    assert_eq!(found.len(), 10, "{found:?}");
+    // The node and its 11 publishers.
+    let found = tokens(&client, 12);
+    assert_eq!(found.len(), 12, "{found:?}");
     let fixes = client
         .liveliness()
         .get("@ros2_lv/0/*/0/*/MP/%/%mechweed/ros2_bridge/%mechweed%odom/**")
