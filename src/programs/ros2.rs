@@ -8,6 +8,11 @@ use std::process::ExitCode;
 use crate::config::{Distro, Ros2Settings, parse_namespace, parse_router};
 use crate::console::ctrl_c;
 use crate::programs::{load_settings, print_errors};
+use std::sync::{Arc, Mutex};
+
+use crate::config::TlsFiles;
+use crate::programs::bus::tools::Tool;
+use crate::ros2::halt::AskHalt;
 use crate::ros2::model::RobotModel;
 use crate::ros2::odom::Frames;
 
@@ -104,15 +109,39 @@ pub fn run(args: Ros2Args) -> ExitCode {
         eprintln!("{why}");
         return ExitCode::FAILURE;
     }
+    let halt = (ros.halt_service)
+        .then(|| ask_halt(&args.robot_connect, &args.robot, args.identity.files()));
     let opts = crate::ros2::bridge::Options {
         connect: args.robot_connect,
         robot: args.robot,
+        halt,
         ros,
         model,
         tls: args.identity.files(),
         seconds: args.seconds,
     };
     crate::programs::said(crate::ros2::bridge::run(&opts, &ctrl_c()))
+}
+
+/// How the HALT service asks the robot: `request halt` on its bus, as `mechweed bus
+/// request halt` does, through a session made at the first call and made again after
+/// a call that failed (the robot restarted, say).
+fn ask_halt(endpoint: &str, robot: &str, tls: Option<TlsFiles>) -> AskHalt {
+    let (endpoint, robot) = (endpoint.to_string(), robot.to_string());
+    let tool: Mutex<Option<Tool>> = Mutex::new(None);
+    Arc::new(move || {
+        let mut tool = tool.lock().unwrap_or_else(|e| e.into_inner());
+        if tool.is_none() {
+            *tool = Some(Tool::connect(&endpoint, &robot, false, tls.as_ref())?);
+        }
+        let halt = serde_json::json!({ "request": "halt" }).to_string();
+        let answer = tool.as_ref().map(|t| t.ask("request", Some(halt)));
+        let answer = answer.unwrap_or_else(|| Err("no session".to_string()));
+        if answer.is_err() {
+            *tool = None;
+        }
+        answer
+    })
 }
 
 #[cfg(test)]

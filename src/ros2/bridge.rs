@@ -1,7 +1,8 @@
 //! `mechweed ros2`: the robot's flows, heard on its bus, published as ROS 2 topics on
 //! the ROS machines' router in rmw_zenoh's format. Two sessions: a tool's on the
 //! robot's bus (a viewer, when the bus is secured) and a client's of the ROS router.
-//! Nothing goes the other way: the bridge declares no subscriber on the ROS side.
+//! Nothing else goes the other way: the bridge declares no subscriber on the ROS side,
+//! and its one service, HALT, is offered only with `[ros2] halt_service = yes`.
 
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -16,6 +17,7 @@ use zenoh_ext::{AdvancedPublisher, AdvancedPublisherBuilderExt, CacheConfig, Mis
 use mechweed_core::config::{Ros2Settings, TlsFiles};
 
 use super::flows::Outgoing;
+use super::halt::{AskHalt, HaltService};
 use super::model::RobotModel;
 use super::pump::Robot;
 use super::topics::Topic;
@@ -35,6 +37,8 @@ pub struct Options {
     pub ros: Ros2Settings,
     /// The robot's geometry: robot_description, /tf_static and the covariances.
     pub model: RobotModel,
+    /// With `[ros2] halt_service = yes`: how a call of the HALT service asks the robot.
+    pub halt: Option<AskHalt>,
     /// This program's identity on a secured robot bus.
     pub tls: Option<TlsFiles>,
     /// Stop after this long (None: at Ctrl-C).
@@ -46,6 +50,7 @@ struct RosSide {
     /// Each topic's publisher, its GID and its last sequence number.
     publishers: HashMap<Topic, (Out, [u8; 16], i64)>,
     _tokens: Vec<LivelinessToken>,
+    _halt: Option<HaltService>,
     /// Last: dropped after what it declared.
     _session: zenoh::Session,
 }
@@ -124,9 +129,13 @@ fn open_ros(opts: &Options) -> Result<RosSide, String> {
         };
         publishers.insert(topic, (publisher, node.gid(topic), 0));
     }
+    let halt = (opts.halt.clone())
+        .map(|ask| HaltService::offer(&session, &node, ask))
+        .transpose()?;
     Ok(RosSide {
         publishers,
         _tokens: tokens,
+        _halt: halt,
         _session: session,
     })
 }
@@ -182,6 +191,12 @@ pub fn run(opts: &Options, stop: &AtomicBool) -> Result<String, String> {
         super::wire::NODE_NAME,
         names.join(", ")
     );
+    if opts.halt.is_some() {
+        println!(
+            "ros2: the HALT service {}/halt is offered ([ros2] halt_service = yes)",
+            ros.namespace.trim_end_matches('/')
+        );
+    }
     let pumped = robot.pump(ros, &opts.model, stop, end, "ros2", |m| side.put(m));
     Ok(format!(
         "ros2: {}",

@@ -1,7 +1,8 @@
 //! ROS 2 tools see the robot (docs/ros2.md): `mechweed ros2` publishes the robot's
 //! flows as standard ROS 2 messages in the wire format of ROS 2's Zenoh middleware
 //! (rmw_zenoh), and `mechweed record --ros2` writes the same messages to an MCAP bag
-//! that `ros2 bag` plays. Read-only: nothing from ROS drives the robot.
+//! that `ros2 bag` plays. Nothing from ROS drives the robot: with `[ros2]
+//! halt_service = yes` ROS may ask for HALT (`halt`), and nothing else.
 //!
 //! - `msgs`, `types`, `cdr`: the messages, their definitions and type hashes, CDR;
 //! - `wire`: keys, liveliness tokens, the attachment (rmw_zenoh's rules);
@@ -19,6 +20,7 @@ pub mod clock;
 pub mod covariance;
 pub mod diagnostics;
 pub mod flows;
+pub mod halt;
 pub mod model;
 pub mod msgs;
 pub mod odom;

@@ -53,6 +53,19 @@ pub struct StringMsg {
     pub data: String,
 }
 
+/// std_srvs/srv/Trigger's request: no fields, so rosidl gives it one byte.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct TriggerRequest {
+    pub structure_needs_at_least_one_member: u8,
+}
+
+/// std_srvs/srv/Trigger's response.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct TriggerResponse {
+    pub success: bool,
+    pub message: String,
+}
+
 /// geometry_msgs/Point and geometry_msgs/Vector3 have the same fields.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Vector3 {

@@ -79,6 +79,14 @@ pub static STRING: MsgType = MsgType {
     uses: &[],
 };
 
+/// std_srvs/srv/Trigger, the HALT service's type: its DDS name and rosidl's hash of the
+/// service (of its request, response and event types), the same in Jazzy, Kilted and
+/// Rolling. The hash is the published one, as several projects' tests read it from a
+/// ROS install; the hash tests here compute messages', not services'.
+pub const TRIGGER_DDS: &str = "std_srvs::srv::dds_::Trigger_";
+pub const TRIGGER_HASH: &str =
+    "RIHS01_eeff2cd6fa5ad9d27cdf4dec64818317839b62f212a91e6b5304b634b2062c5f";
+
 pub static POINT: MsgType = MsgType {
     name: "geometry_msgs/msg/Point",
     definition: "float64 x\nfloat64 y\nfloat64 z\n",

@@ -10,6 +10,10 @@
 use mechweed_core::config::Distro;
 
 use super::topics::{Offered, Topic};
+use super::types::{TRIGGER_DDS, TRIGGER_HASH};
+
+/// The HALT service's entity id: the next after the publishers'.
+pub const HALT_ENTITY_ID: u32 = Topic::ALL.len() as u32 + 1;
 
 /// The node's name; its namespace is `[ros2] namespace`.
 pub const NODE_NAME: &str = "ros2_bridge";
@@ -81,6 +85,33 @@ impl Node {
             t.dds_name(),
             t.hash(self.distro),
             qos(topic.offered())
+        )
+    }
+
+    /// The HALT service's name: /NAMESPACE/halt.
+    pub fn halt_name(&self) -> String {
+        format!("{}/halt", self.namespace.trim_end_matches('/'))
+    }
+
+    /// The key a HALT call is a query on: `DOMAIN/NAME/TYPE/HASH`, as a topic's.
+    pub fn halt_key(&self) -> String {
+        let name = self.halt_name();
+        let name = name.trim_start_matches('/');
+        format!("{}/{name}/{TRIGGER_DDS}/{TRIGGER_HASH}", self.domain_id)
+    }
+
+    /// The service server's token (SS), with rcl's services QoS (reliable, keep last 10).
+    pub fn halt_token(&self) -> String {
+        let services = Offered {
+            depth: 10,
+            transient_local: false,
+            lifespan_s: None,
+        };
+        format!(
+            "{}/{}/{TRIGGER_DDS}/{TRIGGER_HASH}/{}",
+            self.entity(HALT_ENTITY_ID, "SS"),
+            mangle(&self.halt_name()),
+            qos(services)
         )
     }
 

@@ -39,6 +39,8 @@ pub struct Ros2Settings {
     pub wheel_radius_m: f64,
     /// Put before every frame id (odom, base_link, row, gnss): "" or e.g. "robot2/".
     pub frame_prefix: String,
+    /// Offer the HALT service /NAMESPACE/halt (std_srvs/srv/Trigger) to ROS.
+    pub halt_service: bool,
 }
 
 impl Ros2Settings {
@@ -51,6 +53,7 @@ impl Ros2Settings {
             distro: Distro::Jazzy,
             wheel_radius_m: 0.2,
             frame_prefix: String::new(),
+            halt_service: false,
         }
     }
 }
@@ -119,6 +122,7 @@ pub(super) fn load(r: &mut Reader) -> Option<Ros2Settings> {
         distro: Distro::ALL[r.choice(s, "distro", &Distro::NAMES)],
         wheel_radius_m: r.f64(s, "wheel_radius_m", 0.01, 2.0),
         frame_prefix: (r.parsed(s, "frame_prefix", parse_frame_prefix)).unwrap_or_default(),
+        halt_service: r.choice(s, "halt_service", &["yes", "no"]) == 0,
     })
 }
 

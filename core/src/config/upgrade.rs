@@ -32,6 +32,12 @@ const OLDER: &[(&str, &str, &str, &str)] = &[
         "",
         "frame ids without a prefix, as every release before [ros2] frame_prefix",
     ),
+    (
+        "ros2",
+        "halt_service",
+        "no",
+        "nothing from ROS reaches the robot, as in every release before [ros2] halt_service",
+    ),
 ];
 
 /// Settings of older releases that a setting of this one replaced, with the same
@@ -284,7 +290,8 @@ mod tests {
 
     #[test]
     fn a_missing_key_comes_with_its_comment_at_the_end_of_its_section_and_the_rest_stays() {
-        // Today's file without [steer] law and without [test]; a tuned gain kept.
+        // Today's file without [steer] law, [record] keep_gb, [ros2] frame_prefix and
+        // halt_service, and without [test]; a tuned gain kept.
         let mut older = String::new();
         let mut skip = false;
         for line in DEFAULT_INI.lines() {
@@ -293,7 +300,7 @@ mod tests {
             } else if line.trim().starts_with('[') {
                 skip = false;
             }
-            let dropped = ["law =", "keep_gb =", "frame_prefix ="];
+            let dropped = ["law =", "keep_gb =", "frame_prefix =", "halt_service ="];
             if skip || dropped.iter().any(|d| line.trim_start().starts_with(d)) {
                 continue;
             }
@@ -315,6 +322,10 @@ mod tests {
         let prefix = added.iter().find(|a| a.key == "frame_prefix").unwrap();
         assert_eq!((prefix.value.as_str(), prefix.why.is_some()), ("", true));
         assert_eq!(upgraded.ros2.as_ref().unwrap().frame_prefix, "");
+        // And ROS may not HALT it, as before there was a HALT service.
+        let halt = added.iter().find(|a| a.key == "halt_service").unwrap();
+        assert_eq!(halt.value, "no");
+        assert!(!upgraded.ros2.as_ref().unwrap().halt_service);
         assert!(added.iter().any(|a| a.section == "test" && a.new_section));
         // Every line of the older file is there, in its order.
         let mut new_lines = text.lines();

@@ -5,6 +5,7 @@
 
 mod bag;
 mod bridge;
+mod halt;
 mod router;
 
 use std::process::{Child, Command, Stdio};
