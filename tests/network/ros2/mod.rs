@@ -6,6 +6,7 @@
 mod bag;
 mod bridge;
 mod halt;
+mod heard;
 mod router;
 
 use std::process::{Child, Command, Stdio};
