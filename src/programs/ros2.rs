@@ -4,14 +4,12 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-
-use crate::config::{Distro, Ros2Settings, parse_namespace, parse_router};
-use crate::console::ctrl_c;
-use crate::programs::{load_settings, print_errors};
 use std::sync::{Arc, Mutex};
 
-use crate::config::TlsFiles;
+use crate::config::{Distro, Ros2Settings, TlsFiles, parse_namespace, parse_router};
+use crate::console::ctrl_c;
 use crate::programs::bus::tools::Tool;
+use crate::programs::{load_settings, print_errors};
 use crate::ros2::halt::AskHalt;
 use crate::ros2::model::RobotModel;
 use crate::ros2::odom::Frames;

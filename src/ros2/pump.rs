@@ -47,7 +47,6 @@ pub struct Pumped {
 }
 
 impl Pumped {
-    /// One line for the end: what came and what went.
     /// One message given to the ROS side: taken, or not.
     fn count(&mut self, taken: bool) {
         if taken {
@@ -57,6 +56,7 @@ impl Pumped {
         }
     }
 
+    /// One line for the end: what came and what went.
     pub fn line(&self, robot: &str, what: &str) -> String {
         let c = self.counts;
         format!(
