@@ -15,9 +15,11 @@
 //! - z, roll and pitch, and their rates: the robot does not measure them (a plane), so
 //!   their variance is 1e6, which nothing trusts.
 
+use nalgebra::Matrix3;
+
 use super::model::RobotModel;
 use super::msgs::Covariance6;
-use super::sensors::UNKNOWN_VARIANCE_M2;
+use super::sensors::off_the_plane_unknown;
 
 /// One step of dead reckoning: distance (- = backwards), mean heading and time.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -30,7 +32,7 @@ pub struct Move {
 /// The pose's covariance so far: x, y, yaw (m², m·rad, rad²).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct PoseSpread {
-    p: [[f64; 3]; 3],
+    p: Matrix3<f64>,
 }
 
 /// The variance of a uniform rounding to steps of `step`, each end rounded: 2 × step²/12.
@@ -52,22 +54,14 @@ impl PoseSpread {
     /// into x and y, Q is the step's own heading error.
     pub fn step(&mut self, step: Move, wheel_angle_rad: f64, model: &RobotModel) {
         let (s, c) = step.mid_rad.sin_cos();
-        let f = [
-            [1.0, 0.0, -step.ds_m * s],
-            [0.0, 1.0, step.ds_m * c],
-            [0.0, 0.0, 1.0],
-        ];
-        let mut next = [[0.0; 3]; 3];
-        for (i, row) in next.iter_mut().enumerate() {
-            for (j, cell) in row.iter_mut().enumerate() {
-                *cell = (0..3)
-                    .flat_map(|k| (0..3).map(move |l| (k, l)))
-                    .map(|(k, l)| f[i][k] * self.p[k][l] * f[j][l])
-                    .sum();
-            }
-        }
-        next[2][2] += heading_step_var(step.ds_m, wheel_angle_rad, model);
-        self.p = next;
+        #[rustfmt::skip]
+        let f = Matrix3::new(
+            1.0, 0.0, -step.ds_m * s,
+            0.0, 1.0, step.ds_m * c,
+            0.0, 0.0, 1.0,
+        );
+        self.p = f * self.p * f.transpose();
+        self.p[(2, 2)] += heading_step_var(step.ds_m, wheel_angle_rad, model);
     }
 
     /// The 6 × 6 covariance of nav_msgs/Odometry's pose.
@@ -78,14 +72,12 @@ impl PoseSpread {
         let at = [0, 1, 5];
         for (i, &a) in at.iter().enumerate() {
             for (j, &b) in at.iter().enumerate() {
-                cov[6 * a + b] = self.p[i][j];
+                cov[6 * a + b] = self.p[(i, j)];
             }
         }
         cov[0] += rounding;
         cov[7] += rounding;
-        for k in [2, 3, 4] {
-            cov[6 * k + k] = UNKNOWN_VARIANCE_M2;
-        }
+        off_the_plane_unknown(&mut cov);
         cov
     }
 }
@@ -112,9 +104,7 @@ pub fn twist_covariance(
     cov[0] = speed_var;
     cov[7] = speed_var;
     cov[35] = yaw_rate_var;
-    for k in [2, 3, 4] {
-        cov[6 * k + k] = UNKNOWN_VARIANCE_M2;
-    }
+    off_the_plane_unknown(&mut cov);
     cov
 }
 

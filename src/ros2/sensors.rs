@@ -5,13 +5,21 @@
 use serde_json::Value;
 
 use super::msgs::{
-    NavSatFix, NavSatStatus, Pose, PoseWithCovariance, PoseWithCovarianceStamped, Quaternion,
-    TfMessage, Time, Transform, TransformStamped, Vector3,
+    Covariance6, NavSatFix, NavSatStatus, Pose, PoseWithCovariance, PoseWithCovarianceStamped,
+    Quaternion, TfMessage, Time, Transform, TransformStamped, Vector3,
 };
 use super::odom::header;
 
 /// Up's variance when the robot does not know it, m²: so large that nothing trusts it.
 pub const UNKNOWN_VARIANCE_M2: f64 = 1e6;
+
+/// z, roll and pitch of a 6 × 6 covariance (rows 2, 3, 4): a robot on a plane does not
+/// measure them, so their variance is one nothing trusts.
+pub fn off_the_plane_unknown(cov: &mut Covariance6) {
+    for k in [2, 3, 4] {
+        cov[7 * k] = UNKNOWN_VARIANCE_M2;
+    }
+}
 /// A heading's s.d. the robot did not say (a status from before it said one), rad.
 const UNKNOWN_SD_RAD: f64 = 1e3;
 
@@ -75,9 +83,7 @@ pub(super) fn row(filter: &Value, stamp: Time, frame: &str) -> Option<PoseWithCo
     let mut covariance = [0.0; 36];
     covariance[7] = sd_m * sd_m;
     covariance[35] = heading_sd_rad * heading_sd_rad;
-    for k in [2, 3, 4] {
-        covariance[7 * k] = UNKNOWN_VARIANCE_M2;
-    }
+    off_the_plane_unknown(&mut covariance);
     Some(PoseWithCovarianceStamped {
         header: header(stamp, frame),
         pose: PoseWithCovariance {
